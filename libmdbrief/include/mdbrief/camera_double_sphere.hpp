@@ -1,0 +1,44 @@
+#pragma once
+// Double sphere model (Usenko, Demmel, Cremers, "The Double Sphere Camera Model", 3DV 2018):
+//   d1 = |X|,  d2 = sqrt(x^2 + y^2 + (xi d1 + z)^2),
+//   (u, v) = (fx x, fy y) / (alpha d2 + (1 - alpha)(xi d1 + z)) + (cx, cy).
+// Closed-form inverse. Validity (from the paper): rays with z > -w2 d1, where
+//   w1 = alpha / (1 - alpha) if alpha <= 0.5 else (1 - alpha) / alpha,
+//   w2 = (w1 + xi) / sqrt(2 w1 xi + xi^2 + 1);
+// pixels with r^2 = mx^2 + my^2 < 1 / (2 alpha - 1) when alpha > 0.5 (mx = (u - cx) / fx, ...).
+#include "mdbrief/camera.hpp"
+#include "mdbrief/camera_intrinsics.hpp"
+
+namespace mdbrief {
+
+struct DoubleSphereParams {
+  CameraIntrinsics intrinsics;
+  double xi = 0.0;     // in (-1, 1]
+  double alpha = 0.5;  // in [0, 1]
+};
+
+class DoubleSphereCamera final : public Camera {
+ public:
+  // Throws std::invalid_argument naming the bad parameter.
+  explicit DoubleSphereCamera(const DoubleSphereParams& params);
+
+  const DoubleSphereParams& params() const { return p_; }
+
+  std::string modelName() const override { return "double_sphere"; }
+  cv::Size imageSize() const override { return p_.intrinsics.size(); }
+  bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
+  bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
+  bool isValid(const cv::Point2d& pixel) const override;
+  // (fx + fy) / 2. At the image centre the local scale is f / (1 + xi) for this model; the
+  // focal length is kept so that all perspective-family models share one definition.
+  double tangentPlaneScale() const override { return 0.5 * (p_.intrinsics.fx + p_.intrinsics.fy); }
+  std::shared_ptr<Camera> resized(cv::Size newSize) const override;
+
+ private:
+  bool unprojectable(double r2) const;
+
+  DoubleSphereParams p_;
+  double w2_;
+};
+
+}  // namespace mdbrief

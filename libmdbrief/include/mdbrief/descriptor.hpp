@@ -1,0 +1,91 @@
+#pragma once
+// BRIEF, dBRIEF and mdBRIEF extraction (paper sections "dBRIEF - Distorted BRIEF" and
+// "Improving dBRIEF by On-line Mask Learning").
+//
+// Output layout: descriptors and masks are N x (bits / 8) CV_8U matrices, row i for keypoint i.
+// Bit order: test d is bit (d % 8) of byte (d / 8), least significant bit first (as cv::ORB),
+// so the first n tests of a longer set give exactly the first n/8 bytes.
+// Test d is 1 when I(p1) < I(p2) on the smoothed pyramid level of the keypoint's octave.
+// Mask bit d is 1 when test d is stable: the same outcome for the test set rotated by 0,
+// +maskRotationDeg and -maskRotationDeg.
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "mdbrief/camera.hpp"
+#include "mdbrief/image_pyramid.hpp"
+#include "mdbrief/test_set.hpp"
+
+namespace mdbrief {
+
+enum class DescriptorKind {
+  Brief,    // tests rotated by the keypoint angle, no camera model
+  DBrief,   // tests anchored on the undistorted keypoint, projected through the camera
+  MdBrief,  // dBRIEF plus an on-line learned mask
+};
+
+// How dBRIEF maps the test set into the image.
+enum class DistortionForm {
+  // The paper's eq. 8-11 literally: tests added on the plane Pi_lambda at the undistorted
+  // keypoint (scaled by the octave's scale), every test point projected through the camera.
+  Paper,
+  // Scale-consistent: the footprint's shape (rotation, anisotropy) comes from the camera, its
+  // size from the detector: the local Jacobian of plane -> pixel at the keypoint, normalised
+  // to unit determinant, maps the (octave-scaled) tests. The detector's octave already
+  // reflects the compressed appearance near the rim, so the paper's form shrinks twice there.
+  Affine,
+};
+
+enum class Sampling { Bilinear, Nearest };
+
+struct DescriptorOptions {
+  DescriptorKind kind = DescriptorKind::MdBrief;
+  int bits = 256;                   // 32..512 in steps of 32: the first `bits` tests of the set
+  std::string pattern;              // registry name or path to a JSON test set; empty = default
+  bool useOrientation = true;       // rotate the tests by the keypoint angle
+  DistortionForm form = DistortionForm::Affine;
+  Sampling sampling = Sampling::Bilinear;
+  double maskRotationDeg = 10.0;    // mdBRIEF: the two extra rotations are +/- this angle
+  // dBRIEF/mdBRIEF: keypoints whose ray is further than this from the optical axis are dropped;
+  // Pi_lambda degenerates towards 90 degrees (the test footprint stretches without bound).
+  double maxIncidenceDeg = 80.0;
+  PyramidOptions pyramid;           // must match the detector's pyramid (octave -> scale)
+};
+
+// Throws std::invalid_argument with a message naming the option if the options are unusable.
+void validate(const DescriptorOptions& options);
+
+class DescriptorExtractor {
+ public:
+  // camera may be null only for DescriptorKind::Brief.
+  DescriptorExtractor(CameraPtr camera, DescriptorOptions options);
+  // With an explicit test set (options.pattern is ignored); its first options.bits tests are used.
+  DescriptorExtractor(CameraPtr camera, DescriptorOptions options, const TestSet& tests);
+
+  // Keypoints: level-0 pixels, octave = pyramid level, angle in degrees (cv::KeyPoint's
+  // convention, -1 = none). Keypoints whose tests cannot all be sampled inside the image and
+  // the camera's valid area are removed from `keypoints` (as cv::Feature2D::compute does), so
+  // rows stay aligned. masks is filled only for MdBrief (otherwise released).
+  void compute(const ImagePyramid& pyramid, std::vector<cv::KeyPoint>& keypoints,
+               cv::Mat& descriptors, cv::Mat* masks = nullptr) const;
+  // Same, building the pyramid levels the keypoints need.
+  void compute(const cv::Mat& image, std::vector<cv::KeyPoint>& keypoints,
+               cv::Mat& descriptors, cv::Mat* masks = nullptr) const;
+
+  int descriptorBytes() const { return options_.bits / 8; }
+  const DescriptorOptions& options() const { return options_; }
+  const TestSet& testSet() const { return tests_; }
+  const CameraPtr& camera() const { return camera_; }
+
+  // The image positions (level-0 pixels) of the test points of one keypoint, for drawing:
+  // element d is (p1, p2) of test d for rotation 0. Empty if the keypoint would be dropped.
+  std::vector<std::pair<cv::Point2f, cv::Point2f>> testPositions(const cv::KeyPoint& keypoint) const;
+
+ private:
+  CameraPtr camera_;
+  DescriptorOptions options_;
+  TestSet tests_;
+};
+
+}  // namespace mdbrief

@@ -1,0 +1,81 @@
+#pragma once
+// The keypoint detector ("modORB" in the paper): ORB's detection scheme on the shared
+// ImagePyramid. Per level: FAST or AGAST corners, Harris-score ranking, a feature budget that
+// decreases geometrically with the level (as cv::ORB), optional quadtree spreading, and the
+// intensity-centroid orientation. Keypoints are in level-0 pixels with octave = level,
+// size = patchSize * scale(level) and response = Harris score, as cv::ORB's.
+//
+// Keypoints are only returned where the descriptor's rotated 32x32 patch fits: at least
+// borderMargin level pixels from the level's border and, with a camera, from the boundary
+// of the camera's valid area. An explicit mask is tested at the keypoint's position only
+// (cv::Feature2D's semantics).
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "mdbrief/camera.hpp"
+#include "mdbrief/image_pyramid.hpp"
+
+namespace mdbrief {
+
+enum class CornerDetector { Fast, Agast };
+
+struct DetectorOptions {
+  int nfeatures = 1000;               // upper bound on the number of keypoints returned
+  // Levels and scale factor (cv::ORB's nlevels / scaleFactor). Level 0 is the input image:
+  // the agreed pyramid has no upsampled levels, so cv::ORB's firstLevel is always 0 here.
+  PyramidOptions pyramid;
+  CornerDetector corners = CornerDetector::Fast;  // FAST-9/16 or AGAST OAST-9/16
+  int threshold = 20;                 // FAST/AGAST intensity threshold (cv::ORB's default)
+  // Used instead on a level where `threshold` finds fewer corners than the level's budget
+  // (low-contrast images), as ORB-SLAM does; equal to `threshold` disables the retry.
+  int fallbackThreshold = 7;
+  int harrisBlockSize = 7;            // window of the Harris score (cv::ORB: 7)
+  double harrisK = 0.04;              // Harris' k (cv::ORB: 0.04)
+  // Spread each level's keypoints with a quadtree (one keypoint per cell, the cell with the
+  // most candidates split first) instead of keeping the strongest. Off by default: on
+  // Oxford graf it lowers repeatability (tests/test_detector.cpp measures both).
+  bool spread = false;
+  int orientationRadius = 15;         // circular patch of the intensity centroid (cv::ORB: 15)
+  int patchSize = 31;                 // keypoint size = patchSize * scale (cv::ORB: 31)
+  // Minimum distance (level pixels) to the level's border and to the camera's invalid area.
+  // 24 = ceil(16 * sqrt(2)) + 1: the 32x32 patch at any rotation plus one bilinear neighbour.
+  int borderMargin = 24;
+};
+
+// Throws std::invalid_argument naming the option if the options are unusable.
+void validate(const DetectorOptions& options);
+
+// Features per level, as cv::ORB distributes them: level k gets a share proportional to
+// (1 / scaleFactor)^k, the last level the remainder, so the shares add up to nfeatures.
+std::vector<int> featuresPerLevel(int nfeatures, int levels, double scaleFactor);
+
+// 255 where camera.isValid(pixel), 0 elsewhere, for an image of `size` (the camera is resized
+// when size differs from its calibration size). Throws std::invalid_argument on an empty size.
+cv::Mat validAreaMask(const Camera& camera, cv::Size size);
+
+class Detector {
+ public:
+  // With a camera, keypoints keep borderMargin level pixels away from its invalid area, and
+  // images must have the camera's imageSize().
+  explicit Detector(DetectorOptions options = {}, CameraPtr camera = nullptr);
+
+  // The pyramid must have been built with options().pyramid's levels and scale factor.
+  // mask: empty, or CV_8UC1 of the level-0 size, nonzero = allowed. Output sorted by
+  // response (descending), then y, then x, then octave. Throws std::invalid_argument on a
+  // mismatching pyramid, mask or image size.
+  std::vector<cv::KeyPoint> detect(const ImagePyramid& pyramid, const cv::Mat& mask = {}) const;
+  // Builds the pyramid (8UC1/8UC3/8UC4 input) and detects on it.
+  std::vector<cv::KeyPoint> detect(const cv::Mat& image, const cv::Mat& mask = {}) const;
+
+  const DetectorOptions& options() const { return options_; }
+  const CameraPtr& camera() const { return camera_; }
+
+ private:
+  DetectorOptions options_;
+  CameraPtr camera_;
+  // Per level, with a camera: distance (level pixels) to the nearest invalid pixel.
+  std::vector<cv::Mat> validDistance_;
+};
+
+}  // namespace mdbrief

@@ -1,0 +1,46 @@
+#pragma once
+// ORB-style scale pyramid shared by the detector and the descriptors. Level k is the input
+// resampled by 1 / scaleFactor^k (area-preserving bilinear resize of level k-1, as cv::ORB);
+// keypoint coordinates are always level-0 pixels, level coordinates are pt / scale(k).
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace mdbrief {
+
+struct PyramidOptions {
+  int levels = 8;               // number of levels (cv::ORB default)
+  double scaleFactor = 1.2;     // ratio between neighbouring levels (cv::ORB default)
+  // Descriptor smoothing, as ORB/BRIEF: Gaussian 7x7, sigma 2, applied per level.
+  int smoothingKernel = 7;
+  double smoothingSigma = 2.0;
+};
+
+class ImagePyramid {
+ public:
+  ImagePyramid() = default;
+  // image: 8UC1 (8UC3/8UC4 are converted to grey). Throws std::invalid_argument if empty or of
+  // another type. Only levels < maxLevels are built (all when maxLevels < 0).
+  ImagePyramid(const cv::Mat& image, const PyramidOptions& options, int maxLevels = -1);
+
+  int levels() const { return static_cast<int>(images_.size()); }
+  double scale(int level) const { return scales_.at(level); }
+  const PyramidOptions& options() const { return options_; }
+  const cv::Mat& image(int level) const { return images_.at(level); }
+  // Smoothed level, computed on first use (not thread-safe for the same level: call
+  // prepareSmoothed() before parallel sampling).
+  const cv::Mat& smoothed(int level) const;
+  void prepareSmoothed(int maxLevel) const;
+
+ private:
+  PyramidOptions options_;
+  std::vector<cv::Mat> images_;
+  std::vector<double> scales_;
+  mutable std::vector<cv::Mat> smoothed_;
+};
+
+// Converts 8UC1/8UC3/8UC4 to an 8UC1 grey image (no copy for 8UC1). Throws
+// std::invalid_argument naming the type otherwise, or if the image is empty.
+cv::Mat toGrey(const cv::Mat& image);
+
+}  // namespace mdbrief

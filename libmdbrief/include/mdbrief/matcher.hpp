@@ -1,0 +1,47 @@
+#pragma once
+// Brute-force nearest-neighbour matching of binary descriptors, plain and masked
+// (hamming.hpp, masked_hamming.hpp). Exhaustive: every query is compared with every train
+// descriptor, keeping only the two nearest on the fly (no distance matrix).
+//
+// Results are deterministic and independent of threading: each query is processed by one
+// task, trains are visited in index order and ties go to the lowest train index.
+#include <optional>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace mdbrief {
+
+struct MatchOptions {
+  // Lowe's ratio test: keep a match only if best < ratio * secondBest (the second nearest
+  // train descriptor; with a single train descriptor the test passes). Must be in (0, 1].
+  // Unset (default) = off.
+  std::optional<float> ratio;
+  // Keep a match only if the query and its nearest train descriptor are mutual nearest
+  // neighbours (the train's nearest query, ties to the lowest query index, is this query).
+  // Costs a second pass. Default off.
+  bool crossCheck = false;
+  // Keep a match only if distance <= maxDistance (bits; for masked matching the scaled masked
+  // distance of masked_hamming.hpp). Must be >= 0. Unset (default) = off.
+  std::optional<float> maxDistance;
+  // Spread queries over TBB workers; results are identical either way. Default on.
+  bool parallel = true;
+};
+
+// Throws std::invalid_argument naming the option if it is out of range.
+void validate(const MatchOptions& options);
+
+// One match per query that passes the enabled tests, in query order: queryIdx = query row,
+// trainIdx = train row, distance = Hamming distance in bits, imgIdx = 0.
+// query and train: N x bytes CV_8UC1, the same width, a multiple of 4 in [4, 64]. Empty
+// query or train gives no matches. Throws std::invalid_argument naming the argument otherwise.
+std::vector<cv::DMatch> matchBruteForce(const cv::Mat& query, const cv::Mat& train,
+                                        const MatchOptions& options = {});
+
+// The same with the masked Hamming distance: queryMasks and trainMasks have the sizes of query
+// and train (CV_8UC1). distance = masked distance in bits (masked_hamming.hpp).
+std::vector<cv::DMatch> matchBruteForceMasked(const cv::Mat& query, const cv::Mat& queryMasks,
+                                              const cv::Mat& train, const cv::Mat& trainMasks,
+                                              const MatchOptions& options = {});
+
+}  // namespace mdbrief

@@ -1,0 +1,79 @@
+#include "mdbrief/camera_kannala_brandt.hpp"
+
+#include "camera_model_utils.hpp"
+
+namespace mdbrief {
+
+KannalaBrandtCamera::KannalaBrandtCamera(const KannalaBrandtParams& params) : p_(params) {
+  validateIntrinsics(p_.intrinsics, "kannala_brandt");
+  detail::requireFinite("kannala_brandt", "k1", p_.k1);
+  detail::requireFinite("kannala_brandt", "k2", p_.k2);
+  detail::requireFinite("kannala_brandt", "k3", p_.k3);
+  detail::requireFinite("kannala_brandt", "k4", p_.k4);
+  // Stop just short of pi, where the ray direction in the image plane is undefined.
+  thetaMax_ = detail::firstNonIncreasing([this](double t) { return thetaDPrime(t); }, 0.0,
+                                         CV_PI * (1.0 - 1e-9));
+  thetaDMax_ = thetaD(thetaMax_);
+}
+
+double KannalaBrandtCamera::thetaD(double t) const {
+  const double t2 = t * t;
+  return t * (1.0 + t2 * (p_.k1 + t2 * (p_.k2 + t2 * (p_.k3 + t2 * p_.k4))));
+}
+
+double KannalaBrandtCamera::thetaDPrime(double t) const {
+  const double t2 = t * t;
+  return 1.0 + t2 * (3.0 * p_.k1 + t2 * (5.0 * p_.k2 + t2 * (7.0 * p_.k3 + t2 * 9.0 * p_.k4)));
+}
+
+bool KannalaBrandtCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const {
+  const CameraIntrinsics& k = p_.intrinsics;
+  const double mx = (pixel.x - k.cx) / k.fx, my = (pixel.y - k.cy) / k.fy;
+  const double rd = std::hypot(mx, my);
+  if (!std::isfinite(rd) || !(rd < thetaDMax_)) return false;
+  if (rd == 0.0) {
+    bearing = {0.0, 0.0, 1.0};
+    return true;
+  }
+  // Newton on the increasing thetaD over [0, thetaMax], kept inside a shrinking bracket.
+  double lo = 0.0, hi = thetaMax_, t = std::min(rd, thetaMax_);
+  for (int i = 0; i < 60; ++i) {
+    const double f = thetaD(t) - rd;
+    (f > 0.0 ? hi : lo) = t;
+    double next = t - f / thetaDPrime(t);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (std::abs(next - t) < 1e-15) break;
+    t = next;
+  }
+  const double s = std::sin(t) / rd;
+  bearing = {mx * s, my * s, std::cos(t)};
+  return true;
+}
+
+bool KannalaBrandtCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
+  const double r = std::hypot(b[0], b[1]);
+  const double t = std::atan2(r, b[2]);
+  if (!std::isfinite(t) || !(t < thetaMax_) || (r == 0.0 && !(b[2] > 0.0))) return false;
+  const CameraIntrinsics& k = p_.intrinsics;
+  if (r == 0.0) {
+    pixel = {k.cx, k.cy};
+    return true;
+  }
+  const double s = thetaD(t) / r;
+  pixel = {k.fx * b[0] * s + k.cx, k.fy * b[1] * s + k.cy};
+  return true;
+}
+
+bool KannalaBrandtCamera::isValid(const cv::Point2d& pixel) const {
+  const CameraIntrinsics& k = p_.intrinsics;
+  return detail::insideImage(pixel, k.size()) &&
+         std::hypot((pixel.x - k.cx) / k.fx, (pixel.y - k.cy) / k.fy) < thetaDMax_;
+}
+
+std::shared_ptr<Camera> KannalaBrandtCamera::resized(cv::Size newSize) const {
+  KannalaBrandtParams r = p_;
+  r.intrinsics = resizeIntrinsics(p_.intrinsics, newSize);
+  return std::make_shared<KannalaBrandtCamera>(r);
+}
+
+}  // namespace mdbrief

@@ -1,0 +1,59 @@
+#include "mdbrief/camera_radial.hpp"
+
+#include "camera_model_utils.hpp"
+
+namespace mdbrief {
+
+RadialCamera::RadialCamera(const RadialParams& params) : p_(params) {
+  validateIntrinsics(p_.intrinsics, "radial");
+  detail::requireFinite("radial", "xi", p_.xi);
+  detail::requirePositive("radial", "unit_px", p_.unitPx);
+  mPerNormalised_ = p_.intrinsics.fx / p_.unitPx;
+}
+
+double RadialCamera::unitRadius2(double x, double y) const {
+  return (x * x + y * y) * mPerNormalised_ * mPerNormalised_;
+}
+
+bool RadialCamera::invertible(double xd, double yd) const {
+  // |xi m_d^2| < 1 covers both signs: the denominator 1 + xi |m_d|^2 stays positive (xi < 0)
+  // and the division model stays monotonic (xi > 0).
+  return std::abs(p_.xi * unitRadius2(xd, yd)) < 1.0;
+}
+
+bool RadialCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const {
+  const CameraIntrinsics& k = p_.intrinsics;
+  const double xd = (pixel.x - k.cx) / k.fx;
+  const double yd = (pixel.y - k.cy) / k.fy;
+  if (!std::isfinite(xd) || !std::isfinite(yd) || !invertible(xd, yd)) return false;
+  const double s = 1.0 / (1.0 + p_.xi * unitRadius2(xd, yd));
+  bearing = detail::normalized({xd * s, yd * s, 1.0});
+  return true;
+}
+
+bool RadialCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
+  if (!(b[2] > 0.0)) return false;
+  const double x = b[0] / b[2], y = b[1] / b[2];
+  const double disc = 1.0 - 4.0 * p_.xi * unitRadius2(x, y);
+  if (!(disc > 0.0)) return false;  // beyond the pincushion model's range
+  // Scale factor of eq. radialDistModel; exactly 1 for xi = 0 so the model equals the pinhole.
+  const double s = 2.0 / (1.0 + std::sqrt(disc));
+  const CameraIntrinsics& k = p_.intrinsics;
+  pixel = {k.fx * (x * s) + k.cx, k.fy * (y * s) + k.cy};
+  return std::isfinite(pixel.x) && std::isfinite(pixel.y);
+}
+
+bool RadialCamera::isValid(const cv::Point2d& pixel) const {
+  const CameraIntrinsics& k = p_.intrinsics;
+  return detail::insideImage(pixel, k.size()) &&
+         invertible((pixel.x - k.cx) / k.fx, (pixel.y - k.cy) / k.fy);
+}
+
+std::shared_ptr<Camera> RadialCamera::resized(cv::Size newSize) const {
+  RadialParams r = p_;
+  r.intrinsics = resizeIntrinsics(p_.intrinsics, newSize);
+  r.unitPx = p_.unitPx * r.intrinsics.fx / p_.intrinsics.fx;  // keeps m per normalised unit
+  return std::make_shared<RadialCamera>(r);
+}
+
+}  // namespace mdbrief

@@ -1,0 +1,59 @@
+#include "mdbrief/camera_unified.hpp"
+
+#include "camera_model_utils.hpp"
+
+namespace mdbrief {
+
+UnifiedCamera::UnifiedCamera(const UnifiedParams& params) : p_(params) {
+  const std::string model = modelName();
+  validateIntrinsics(p_.intrinsics, model);
+  if (!(p_.alpha >= 0.0) || !std::isfinite(p_.alpha))
+    detail::throwBadParameter(model, "alpha", "must be finite and >= 0", p_.alpha);
+  detail::requirePositive(model, "beta", p_.beta);
+  const double a = p_.alpha;
+  w_ = a <= 0.5 ? a / (1.0 - a) : (1.0 - a) / a;
+}
+
+bool UnifiedCamera::unprojectable(double r2) const {
+  return std::isfinite(r2) && (p_.alpha <= 0.5 || p_.beta * r2 * (2.0 * p_.alpha - 1.0) < 1.0);
+}
+
+bool UnifiedCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const {
+  const CameraIntrinsics& k = p_.intrinsics;
+  const double mx = (pixel.x - k.cx) / k.fx, my = (pixel.y - k.cy) / k.fy;
+  const double r2 = mx * mx + my * my;
+  if (!unprojectable(r2)) return false;
+  const double a = p_.alpha, br2 = p_.beta * r2;
+  // z of the ray (mx, my, z) with alpha d + (1 - alpha) z = 1: the larger root of
+  // (2a - 1) z^2 + 2 (1 - a) z + a^2 beta r^2 - 1 = 0. The rationalised form is stable near
+  // alpha = 0.5 but 0/0 at the edge of the image when alpha > 1, where the plain form is fine.
+  const double s = std::sqrt(1.0 - (2.0 * a - 1.0) * br2);
+  const double mz = a <= 1.0 ? (1.0 - a * a * br2) / (a * s + 1.0 - a)
+                             : (a * s - (1.0 - a)) / (2.0 * a - 1.0);
+  bearing = detail::normalized({mx, my, mz});
+  return true;
+}
+
+bool UnifiedCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
+  const double d = std::sqrt(p_.beta * (b[0] * b[0] + b[1] * b[1]) + b[2] * b[2]);
+  if (!(d > 0.0) || !(b[2] > -w_ * d)) return false;
+  const double denom = p_.alpha * d + (1.0 - p_.alpha) * b[2];
+  if (!(denom > 0.0)) return false;
+  const CameraIntrinsics& k = p_.intrinsics;
+  pixel = {k.fx * b[0] / denom + k.cx, k.fy * b[1] / denom + k.cy};
+  return std::isfinite(pixel.x) && std::isfinite(pixel.y);
+}
+
+bool UnifiedCamera::isValid(const cv::Point2d& pixel) const {
+  const CameraIntrinsics& k = p_.intrinsics;
+  const double mx = (pixel.x - k.cx) / k.fx, my = (pixel.y - k.cy) / k.fy;
+  return detail::insideImage(pixel, k.size()) && unprojectable(mx * mx + my * my);
+}
+
+std::shared_ptr<Camera> UnifiedCamera::resized(cv::Size newSize) const {
+  UnifiedParams r = p_;
+  r.intrinsics = resizeIntrinsics(p_.intrinsics, newSize);
+  return std::make_shared<UnifiedCamera>(r);
+}
+
+}  // namespace mdbrief

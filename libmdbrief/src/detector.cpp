@@ -1,0 +1,206 @@
+#include "mdbrief/detector.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "detector_candidate.hpp"
+#include "detector_harris.hpp"
+#include "detector_orientation.hpp"
+#include "detector_quadtree.hpp"
+
+namespace mdbrief {
+
+namespace {
+
+std::string sizeText(cv::Size size) {
+  return std::to_string(size.width) + "x" + std::to_string(size.height);
+}
+
+void requireRange(const char* name, double value, double low, double high) {
+  if (!(value >= low && value <= high))
+    throw std::invalid_argument(std::string("DetectorOptions::") + name + " must be in [" +
+                                std::to_string(low) + ", " + std::to_string(high) + "], got " +
+                                std::to_string(value));
+}
+
+// Corners of one level inside `inner` (level pixels). FAST/AGAST ignore the 3 pixels next
+// to their input's border, so they run on `inner` grown by 3: no work is wasted on the
+// margin and every corner lands inside `inner`.
+std::vector<cv::KeyPoint> detectCorners(const cv::Mat& image, const cv::Rect& inner,
+                                        CornerDetector kind, int threshold) {
+  const cv::Rect roi(inner.x - 3, inner.y - 3, inner.width + 6, inner.height + 6);
+  std::vector<cv::KeyPoint> corners;
+  if (kind == CornerDetector::Fast)
+    cv::FAST(image(roi), corners, threshold, true, cv::FastFeatureDetector::TYPE_9_16);
+  else
+    cv::AGAST(image(roi), corners, threshold, true, cv::AgastFeatureDetector::OAST_9_16);
+  for (cv::KeyPoint& corner : corners) corner.pt += cv::Point2f(roi.tl());
+  return corners;
+}
+
+}  // namespace
+
+void validate(const DetectorOptions& options) {
+  requireRange("nfeatures", options.nfeatures, 1, 1e7);
+  requireRange("pyramid.levels", options.pyramid.levels, 1, 32);
+  if (!(options.pyramid.scaleFactor > 1.0) || !std::isfinite(options.pyramid.scaleFactor))
+    throw std::invalid_argument("DetectorOptions::pyramid.scaleFactor must be a finite number > 1, got " +
+                                std::to_string(options.pyramid.scaleFactor));
+  requireRange("threshold", options.threshold, 1, 254);
+  requireRange("fallbackThreshold", options.fallbackThreshold, 1, options.threshold);
+  if (options.harrisBlockSize % 2 == 0)
+    throw std::invalid_argument("DetectorOptions::harrisBlockSize must be odd, got " +
+                                std::to_string(options.harrisBlockSize));
+  requireRange("harrisBlockSize", options.harrisBlockSize, 3, 15);
+  requireRange("harrisK", options.harrisK, 0.0, 0.25);
+  requireRange("orientationRadius", options.orientationRadius, 1, 64);
+  requireRange("patchSize", options.patchSize, 1, 1024);
+  // The orientation disc and the Harris window (plus its Sobel ring) must fit in the margin.
+  const int needed = std::max(options.orientationRadius, options.harrisBlockSize / 2 + 1);
+  if (options.borderMargin < needed)
+    throw std::invalid_argument("DetectorOptions::borderMargin must be >= " + std::to_string(needed) +
+                                " (orientationRadius and harrisBlockSize / 2 + 1), got " +
+                                std::to_string(options.borderMargin));
+}
+
+std::vector<int> featuresPerLevel(int nfeatures, int levels, double scaleFactor) {
+  if (nfeatures < 0) throw std::invalid_argument("featuresPerLevel: nfeatures must be >= 0");
+  if (levels < 1) throw std::invalid_argument("featuresPerLevel: levels must be >= 1");
+  if (!(scaleFactor > 1.0) || !std::isfinite(scaleFactor))
+    throw std::invalid_argument("featuresPerLevel: scaleFactor must be a finite number > 1");
+  // Geometric series n0 * f^k, f = 1 / scaleFactor, summing to nfeatures over the levels.
+  const double factor = 1.0 / scaleFactor;
+  double share = nfeatures * (1.0 - factor) / (1.0 - std::pow(factor, levels));
+  std::vector<int> perLevel(levels);
+  int assigned = 0;
+  for (int level = 0; level + 1 < levels; ++level) {
+    perLevel[level] = std::min(nfeatures - assigned, static_cast<int>(std::lround(share)));
+    assigned += perLevel[level];
+    share *= factor;
+  }
+  perLevel[levels - 1] = nfeatures - assigned;
+  return perLevel;
+}
+
+cv::Mat validAreaMask(const Camera& camera, cv::Size size) {
+  if (size.width <= 0 || size.height <= 0)
+    throw std::invalid_argument("validAreaMask: empty image size " + sizeText(size));
+  std::shared_ptr<Camera> resized;
+  const Camera* model = &camera;
+  if (size != camera.imageSize()) {
+    resized = camera.resized(size);
+    model = resized.get();
+  }
+  cv::Mat mask(size, CV_8UC1);
+  for (int y = 0; y < size.height; ++y) {
+    uchar* row = mask.ptr<uchar>(y);
+    for (int x = 0; x < size.width; ++x) row[x] = model->isValid(cv::Point2d(x, y)) ? 255 : 0;
+  }
+  return mask;
+}
+
+Detector::Detector(DetectorOptions options, CameraPtr camera)
+    : options_(std::move(options)), camera_(std::move(camera)) {
+  validate(options_);
+  if (!camera_) return;
+  // The valid area, resampled like the image and shrunk so that a level pixel counts as valid
+  // only if everything it was resampled from was (255 after resizing), then turned into a
+  // distance so detect() can test any margin with one lookup.
+  const ImagePyramid area(validAreaMask(*camera_, camera_->imageSize()), options_.pyramid);
+  for (int level = 0; level < area.levels(); ++level) {
+    cv::Mat valid, distance;
+    cv::compare(area.image(level), 255, valid, cv::CMP_EQ);
+    cv::distanceTransform(valid, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+    validDistance_.push_back(distance);
+  }
+}
+
+std::vector<cv::KeyPoint> Detector::detect(const cv::Mat& image, const cv::Mat& mask) const {
+  if (image.empty()) throw std::invalid_argument("Detector::detect: the image is empty");
+  return detect(ImagePyramid(image, options_.pyramid), mask);
+}
+
+std::vector<cv::KeyPoint> Detector::detect(const ImagePyramid& pyramid, const cv::Mat& mask) const {
+  if (pyramid.levels() == 0) throw std::invalid_argument("Detector::detect: the pyramid is empty");
+  if (pyramid.options().levels != options_.pyramid.levels ||
+      pyramid.options().scaleFactor != options_.pyramid.scaleFactor)
+    throw std::invalid_argument(
+        "Detector::detect: the pyramid's levels/scaleFactor (" +
+        std::to_string(pyramid.options().levels) + ", " + std::to_string(pyramid.options().scaleFactor) +
+        ") differ from DetectorOptions::pyramid (" + std::to_string(options_.pyramid.levels) + ", " +
+        std::to_string(options_.pyramid.scaleFactor) + ")");
+  const cv::Size imageSize = pyramid.image(0).size();
+  if (!mask.empty() && (mask.type() != CV_8UC1 || mask.size() != imageSize))
+    throw std::invalid_argument("Detector::detect: the mask must be 8UC1 of the image's size " +
+                                sizeText(imageSize) + ", got " + cv::typeToString(mask.type()) + " " +
+                                sizeText(mask.size()));
+  if (camera_ && camera_->imageSize() != imageSize)
+    throw std::invalid_argument("Detector::detect: image size " + sizeText(imageSize) +
+                                " differs from the camera's " + sizeText(camera_->imageSize()));
+
+  const std::vector<int> budgets =
+      featuresPerLevel(options_.nfeatures, options_.pyramid.levels, options_.pyramid.scaleFactor);
+  const detail::IntensityCentroid centroid(options_.orientationRadius);
+  const int margin = options_.borderMargin;
+  std::vector<cv::KeyPoint> keypoints;
+  keypoints.reserve(options_.nfeatures);
+
+  for (int level = 0; level < pyramid.levels(); ++level) {
+    const cv::Mat& image = pyramid.image(level);
+    const double scale = pyramid.scale(level);
+    const int budget = budgets[level];
+    const cv::Rect inner(margin, margin, image.cols - 2 * margin, image.rows - 2 * margin);
+    if (budget == 0 || inner.width <= 0 || inner.height <= 0) continue;
+    const cv::Mat* distance = camera_ ? &validDistance_[level] : nullptr;
+
+    const auto allowed = [&](const cv::Point2f& corner) {
+      const int x = cvRound(corner.x), y = cvRound(corner.y);
+      if (distance && distance->at<float>(y, x) < margin) return false;
+      if (mask.empty()) return true;
+      const int x0 = std::min(cvRound(x * scale), imageSize.width - 1);
+      const int y0 = std::min(cvRound(y * scale), imageSize.height - 1);
+      return mask.at<uchar>(y0, x0) != 0;
+    };
+    const auto findCandidates = [&](int threshold) {
+      std::vector<detail::Candidate> found;
+      for (const cv::KeyPoint& corner : detectCorners(image, inner, options_.corners, threshold)) {
+        if (allowed(corner.pt)) found.push_back({cvRound(corner.pt.x), cvRound(corner.pt.y), 0.f});
+      }
+      return found;
+    };
+    std::vector<detail::Candidate> candidates = findCandidates(options_.threshold);
+    if (static_cast<int>(candidates.size()) < budget && options_.fallbackThreshold < options_.threshold)
+      candidates = findCandidates(options_.fallbackThreshold);
+    for (detail::Candidate& c : candidates)
+      c.response = detail::harrisResponse(image, c.x, c.y, options_.harrisBlockSize, options_.harrisK);
+
+    if (options_.spread) {
+      candidates = detail::spreadWithQuadtree(candidates, budget, inner);
+    } else if (static_cast<int>(candidates.size()) > budget) {
+      std::nth_element(candidates.begin(), candidates.begin() + budget, candidates.end(),
+                       detail::strongerThan);
+      candidates.resize(budget);
+    }
+
+    for (const detail::Candidate& c : candidates) {
+      keypoints.emplace_back(cv::Point2f(static_cast<float>(c.x * scale), static_cast<float>(c.y * scale)),
+                             static_cast<float>(options_.patchSize * scale),
+                             centroid.angleDegrees(image, c.x, c.y), c.response, level);
+    }
+  }
+
+  std::sort(keypoints.begin(), keypoints.end(), [](const cv::KeyPoint& a, const cv::KeyPoint& b) {
+    if (a.response != b.response) return a.response > b.response;
+    return std::tie(a.pt.y, a.pt.x, a.octave) < std::tie(b.pt.y, b.pt.x, b.octave);
+  });
+  return keypoints;
+}
+
+}  // namespace mdbrief

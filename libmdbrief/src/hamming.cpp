@@ -1,0 +1,41 @@
+#include "mdbrief/hamming.hpp"
+
+#include <stdexcept>
+
+namespace mdbrief {
+
+void validateDescriptorMatrix(const cv::Mat& m, const std::string& name) {
+  if (m.empty()) return;
+  if (m.type() != CV_8UC1) {
+    throw std::invalid_argument(name + ": descriptors must be CV_8UC1, got " +
+                                cv::typeToString(m.type()));
+  }
+  if (m.dims != 2 || m.cols < kMinDescriptorBytes || m.cols > kMaxDescriptorBytes ||
+      m.cols % 4 != 0) {
+    throw std::invalid_argument(name + ": descriptor width must be a multiple of 4 in [4, 64] "
+                                       "bytes, got " + std::to_string(m.cols));
+  }
+}
+
+namespace {
+void requireRow(const cv::Mat& m, const char* name) {
+  if (m.empty()) throw std::invalid_argument(std::string(name) + ": empty descriptor");
+  validateDescriptorMatrix(m, name);
+  if (m.rows != 1) {
+    throw std::invalid_argument(std::string(name) + ": expected a single row, got " +
+                                std::to_string(m.rows) + " rows");
+  }
+}
+}  // namespace
+
+int hammingDistance(const cv::Mat& a, const cv::Mat& b) {
+  requireRow(a, "a");
+  requireRow(b, "b");
+  if (a.cols != b.cols) {
+    throw std::invalid_argument("b: width " + std::to_string(b.cols) +
+                                " bytes differs from a's " + std::to_string(a.cols));
+  }
+  return hammingDistance(a.ptr<uint8_t>(0), b.ptr<uint8_t>(0), a.cols);
+}
+
+}  // namespace mdbrief

@@ -1,0 +1,98 @@
+#include "mdbrief/image_pyramid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <opencv2/imgproc.hpp>
+
+namespace mdbrief {
+
+namespace {
+
+void validatePyramidOptions(const PyramidOptions& options) {
+  if (options.levels < 1)
+    throw std::invalid_argument("PyramidOptions::levels must be >= 1, got " +
+                                std::to_string(options.levels));
+  // Exactly 1 would make every level a copy of the input; ORB requires > 1 as well.
+  if (!(options.scaleFactor > 1.0) || !std::isfinite(options.scaleFactor))
+    throw std::invalid_argument("PyramidOptions::scaleFactor must be a finite number > 1, got " +
+                                std::to_string(options.scaleFactor));
+  if (options.smoothingKernel < 1 || options.smoothingKernel % 2 == 0)
+    throw std::invalid_argument("PyramidOptions::smoothingKernel must be odd and >= 1, got " +
+                                std::to_string(options.smoothingKernel));
+  if (!(options.smoothingSigma > 0.0) || !std::isfinite(options.smoothingSigma))
+    throw std::invalid_argument("PyramidOptions::smoothingSigma must be a finite number > 0, got " +
+                                std::to_string(options.smoothingSigma));
+}
+
+}  // namespace
+
+cv::Mat toGrey(const cv::Mat& image) {
+  if (image.empty()) throw std::invalid_argument("toGrey: the image is empty");
+  switch (image.type()) {
+    case CV_8UC1:
+      return image;
+    case CV_8UC3: {
+      cv::Mat grey;
+      cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+      return grey;
+    }
+    case CV_8UC4: {
+      cv::Mat grey;
+      cv::cvtColor(image, grey, cv::COLOR_BGRA2GRAY);
+      return grey;
+    }
+    default:
+      throw std::invalid_argument("toGrey: unsupported image type " +
+                                  cv::typeToString(image.type()) +
+                                  " (expected 8UC1, 8UC3 or 8UC4)");
+  }
+}
+
+ImagePyramid::ImagePyramid(const cv::Mat& image, const PyramidOptions& options, int maxLevels)
+    : options_(options) {
+  validatePyramidOptions(options);
+  const cv::Mat grey = toGrey(image);
+  const int wanted = maxLevels < 0 ? options.levels : std::min(options.levels, maxLevels);
+  images_.reserve(wanted);
+  scales_.reserve(wanted);
+  for (int level = 0; level < wanted; ++level) {
+    const double scale = std::pow(options.scaleFactor, level);
+    if (level == 0) {
+      images_.push_back(grey);
+      scales_.push_back(1.0);
+      continue;
+    }
+    // Sizes come from the input's size (not the previous level's) so rounding does not
+    // accumulate; the pixels come from the previous level, as cv::ORB does.
+    const cv::Size size(static_cast<int>(std::lround(grey.cols / scale)),
+                        static_cast<int>(std::lround(grey.rows / scale)));
+    if (size.width < 1 || size.height < 1) break;  // nothing left to sample
+    cv::Mat level_image;
+    cv::resize(images_.back(), level_image, size, 0, 0, cv::INTER_LINEAR_EXACT);
+    images_.push_back(level_image);
+    scales_.push_back(scale);
+  }
+  // Sized once so that filling one level lazily never moves another.
+  smoothed_.resize(images_.size());
+}
+
+const cv::Mat& ImagePyramid::smoothed(int level) const {
+  const cv::Mat& source = images_.at(level);
+  cv::Mat& target = smoothed_.at(level);
+  if (target.empty()) {
+    cv::GaussianBlur(source, target, cv::Size(options_.smoothingKernel, options_.smoothingKernel),
+                     options_.smoothingSigma, options_.smoothingSigma, cv::BORDER_REFLECT_101);
+  }
+  return target;
+}
+
+void ImagePyramid::prepareSmoothed(int maxLevel) const {
+  // maxLevel is inclusive; a negative value or one past the last level prepares all levels.
+  const int last = (maxLevel < 0 || maxLevel >= levels()) ? levels() - 1 : maxLevel;
+  for (int level = 0; level <= last; ++level) smoothed(level);
+}
+
+}  // namespace mdbrief

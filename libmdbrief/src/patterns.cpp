@@ -1,0 +1,100 @@
+#include "mdbrief/patterns.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "patterns/registry.hpp"
+
+namespace mdbrief {
+
+namespace {
+
+const PatternInfo* findBuiltin(const std::string& name) {
+  for (const PatternInfo* info : patterns::kRegistry)
+    if (name == info->name) return info;
+  return nullptr;
+}
+
+std::string knownNames() {
+  std::string list;
+  for (const auto& n : builtinTestSetNames()) list += (list.empty() ? "" : ", ") + n;
+  return list;
+}
+
+}  // namespace
+
+std::vector<std::string> builtinTestSetNames() {
+  std::vector<std::string> names;
+  for (const PatternInfo* info : patterns::kRegistry) names.emplace_back(info->name);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::string defaultTestSetName() { return patterns::kDefaultPattern; }
+
+TestSet builtinTestSet(const std::string& name) {
+  const PatternInfo* info = findBuiltin(name);
+  if (!info)
+    throw std::invalid_argument("unknown test set '" + name + "' (built-in: " + knownNames() +
+                                ")");
+  return TestSet{info->name, std::vector<TestPair>(info->tests, info->tests + info->count)};
+}
+
+TestSet resolveTestSet(const std::string& nameOrPath) {
+  if (findBuiltin(nameOrPath)) return builtinTestSet(nameOrPath);
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(nameOrPath, ec)) return loadTestSetJson(nameOrPath);
+  throw std::invalid_argument("test set '" + nameOrPath +
+                              "' is neither a built-in set (" + knownNames() +
+                              ") nor an existing JSON file");
+}
+
+TestSet loadTestSetJson(const std::string& path) {
+  const auto fail = [&](const std::string& problem) {
+    return std::runtime_error(path + ": " + problem);
+  };
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw fail("cannot open test set file");
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(f);
+  } catch (const nlohmann::json::exception& e) {
+    throw fail(std::string("not valid JSON: ") + e.what());
+  }
+  if (!doc.is_object()) throw fail("top level is not a JSON object");
+  if (!doc.contains("name") || !doc["name"].is_string())
+    throw fail("missing string key \"name\"");
+  if (!doc.contains("tests") || !doc["tests"].is_array())
+    throw fail("missing array key \"tests\"");
+
+  TestSet set;
+  set.name = doc["name"].get<std::string>();
+  const auto& tests = doc["tests"];
+  set.tests.reserve(tests.size());
+  for (size_t i = 0; i < tests.size(); ++i) {
+    const auto& t = tests[i];
+    const std::string where = "test " + std::to_string(i);
+    if (!t.is_array() || t.size() != 4)
+      throw fail(where + " is not an array of 4 offsets [x1, y1, x2, y2]");
+    int v[4];
+    for (int k = 0; k < 4; ++k) {
+      if (!t[k].is_number_integer()) throw fail(where + " has a non-integer offset");
+      const auto value = t[k].get<long long>();
+      if (value < -kPatchHalf || value >= kPatchHalf)
+        throw fail(where + " has offset " + std::to_string(value) + " outside [-16, 15]");
+      v[k] = static_cast<int>(value);
+    }
+    set.tests.push_back(TestPair{static_cast<int8_t>(v[0]), static_cast<int8_t>(v[1]),
+                                 static_cast<int8_t>(v[2]), static_cast<int8_t>(v[3])});
+  }
+  if (set.tests.empty() || set.tests.size() % 32 != 0)
+    throw fail(std::to_string(set.tests.size()) +
+               " tests: the count must be a positive multiple of 32");
+  return set;
+}
+
+}  // namespace mdbrief

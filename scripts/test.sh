@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# The README's test command: installs the Debian dependencies, builds (Release) and runs ctest.
+# Usage: scripts/test.sh [build-dir]   (default: build)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD_DIR=${1:-build}
+bash scripts/setup-deps.sh
+cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release
+cmake --build "$BUILD_DIR" -j"$(nproc)"
+ctest --test-dir "$BUILD_DIR" --output-on-failure -j"$(nproc)"

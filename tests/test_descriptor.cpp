@@ -1,0 +1,150 @@
+// BRIEF / mdBRIEF semantics on images whose answer is known in closed form.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include <opencv2/imgproc.hpp>
+
+#include "mdbrief/descriptor.hpp"
+
+namespace mdbrief {
+namespace {
+
+TestSet randomTests(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> u(-15, 14);
+  TestSet set{"test_random", {}};
+  while (static_cast<int>(set.tests.size()) < n) {
+    TestPair t{int8_t(u(rng)), int8_t(u(rng)), int8_t(u(rng)), int8_t(u(rng))};
+    if (t.x1 != t.x2 || t.y1 != t.y2) set.tests.push_back(t);
+  }
+  return set;
+}
+
+// I(x, y) = x: bilinear interpolation of a ramp is exact, so test d is 1 iff its first point
+// lies left of its second, after rotation by the keypoint angle.
+cv::Mat horizontalRamp() {
+  cv::Mat img(256, 256, CV_8U);
+  for (int y = 0; y < img.rows; ++y)
+    for (int x = 0; x < img.cols; ++x) img.at<uchar>(y, x) = static_cast<uchar>(x);
+  return img;
+}
+
+bool bit(const cv::Mat& desc, int row, int d) { return (desc.at<uchar>(row, d / 8) >> (d % 8)) & 1; }
+
+// x coordinate offset of a test point after rotating it by deg.
+double rotatedX(int qx, int qy, double deg) {
+  const double a = deg * CV_PI / 180.0;
+  return std::cos(a) * qx - std::sin(a) * qy;
+}
+
+DescriptorOptions briefOptions(int bits) {
+  DescriptorOptions o;
+  o.kind = DescriptorKind::Brief;
+  o.bits = bits;  // the default smoothing keeps a ramp a ramp away from the border
+  return o;
+}
+
+TEST(Brief, BitsFollowTheTestsAndTheBitOrderOnARamp) {
+  const TestSet tests = randomTests(256, 1);
+  const DescriptorExtractor brief(nullptr, briefOptions(256), tests);
+  for (const float angle : {-1.f, 0.f, 90.f, 33.f, 210.f}) {
+    std::vector<cv::KeyPoint> kps{cv::KeyPoint(128.3f, 127.6f, 31.f, angle, 1.f, 0)};
+    cv::Mat desc;
+    brief.compute(horizontalRamp(), kps, desc);
+    ASSERT_EQ(desc.rows, 1);
+    ASSERT_EQ(desc.cols, 32);
+    const double deg = angle < 0 ? 0.0 : angle;
+    int checked = 0;
+    for (int d = 0; d < 256; ++d) {
+      const TestPair& t = tests.tests[d];
+      const double dx = rotatedX(t.x2, t.y2, deg) - rotatedX(t.x1, t.y1, deg);
+      if (std::abs(dx) < 0.1) continue;  // closer than the 1/32 px sampling grid can resolve
+      EXPECT_EQ(bit(desc, 0, d), dx > 0) << "test " << d << " angle " << angle;
+      ++checked;
+    }
+    EXPECT_GT(checked, 230);
+  }
+}
+
+TEST(Brief, ShorterDescriptorIsThePrefixOfTheLongerOne) {
+  const TestSet tests = randomTests(512, 2);
+  cv::Mat img(200, 300, CV_8U);
+  cv::randu(img, 0, 256);
+  std::vector<cv::KeyPoint> kps;
+  for (int i = 0; i < 40; ++i) kps.emplace_back(40.f + 5.5f * i, 60.f + 2.25f * i, 31.f, 7.f * i, 1.f, i % 2);
+  std::vector<cv::KeyPoint> kps512 = kps, kps96 = kps;
+  cv::Mat d512, d96;
+  DescriptorExtractor(nullptr, briefOptions(512), tests).compute(img, kps512, d512);
+  DescriptorExtractor(nullptr, briefOptions(96), tests).compute(img, kps96, d96);
+  ASSERT_EQ(d512.rows, d96.rows);
+  ASSERT_GT(d96.rows, 0);
+  EXPECT_EQ(cv::norm(d512.colRange(0, 12), d96, cv::NORM_L1), 0.0);
+}
+
+TEST(Brief, KeypointsWhoseTestsLeaveTheImageAreDroppedConsistently) {
+  const TestSet tests = randomTests(256, 3);
+  cv::Mat img(120, 160, CV_8U);
+  cv::randu(img, 0, 256);
+  std::vector<cv::KeyPoint> kps{
+      cv::KeyPoint(80, 60, 31, 45, 1, 0),    // central: kept
+      cv::KeyPoint(2, 60, 31, 0, 1, 0),      // at the left border: dropped
+      cv::KeyPoint(80, 118, 31, 0, 1, 0),    // at the bottom border: dropped
+      cv::KeyPoint(1e30f, 5, 31, 0, 1, 0),   // absurd coordinates: dropped, no overflow
+      cv::KeyPoint(NAN, 5, 31, 0, 1, 0),     // not a number: dropped
+      cv::KeyPoint(70, 50, 31, 300, 1, 1),   // octave 1 (level 133x100): kept
+      cv::KeyPoint(150, 60, 31, 0, 1, 1),    // right border at octave 1: dropped
+  };
+  cv::Mat desc;
+  DescriptorExtractor(nullptr, briefOptions(256), tests).compute(img, kps, desc);
+  ASSERT_EQ(kps.size(), 2u);
+  EXPECT_EQ(desc.rows, 2);
+  EXPECT_FLOAT_EQ(kps[0].pt.x, 80.f);
+  EXPECT_FLOAT_EQ(kps[1].pt.x, 70.f);
+}
+
+TEST(Brief, OctaveBeyondThePyramidIsAnError) {
+  const TestSet tests = randomTests(256, 4);
+  cv::Mat img(120, 160, CV_8U, cv::Scalar(10));
+  const ImagePyramid pyramid(img, PyramidOptions{}, 2);
+  std::vector<cv::KeyPoint> kps{cv::KeyPoint(80, 60, 31, 0, 1, 5)};
+  cv::Mat desc;
+  EXPECT_THROW(DescriptorExtractor(nullptr, briefOptions(256), tests).compute(pyramid, kps, desc),
+               std::invalid_argument);
+}
+
+TEST(Brief, InvalidOptionsAreRejected) {
+  const TestSet tests = randomTests(256, 5);
+  for (const int bits : {0, 16, 100, 544}) {
+    auto o = briefOptions(256);
+    o.bits = bits;
+    EXPECT_THROW(DescriptorExtractor(nullptr, o, tests), std::invalid_argument) << bits;
+  }
+  auto o = briefOptions(512);
+  EXPECT_THROW(DescriptorExtractor(nullptr, o, tests), std::invalid_argument);  // set too short
+  o = briefOptions(256);
+  o.kind = DescriptorKind::DBrief;
+  EXPECT_THROW(DescriptorExtractor(nullptr, o, tests), std::invalid_argument);  // no camera
+}
+
+TEST(Brief, ParallelExtractionIsDeterministic) {
+  const TestSet tests = randomTests(256, 6);
+  cv::Mat img(480, 752, CV_8U);
+  cv::randu(img, 0, 256);
+  std::vector<cv::KeyPoint> kps;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> ux(0, 752), uy(0, 480), ua(0, 360);
+  for (int i = 0; i < 3000; ++i) kps.emplace_back(ux(rng), uy(rng), 31.f, ua(rng), 1.f, i % 4);
+  const DescriptorExtractor brief(nullptr, briefOptions(256), tests);
+  std::vector<cv::KeyPoint> a = kps, b = kps;
+  cv::Mat da, db;
+  brief.compute(img, a, da);
+  brief.compute(img, b, db);
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_GT(a.size(), 1500u);
+  EXPECT_EQ(cv::norm(da, db, cv::NORM_HAMMING), 0.0);
+}
+
+}  // namespace
+}  // namespace mdbrief

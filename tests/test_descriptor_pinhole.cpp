@@ -1,0 +1,142 @@
+// dBRIEF and mdBRIEF with a distortion-free camera: they must reduce to BRIEF.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "mdbrief/camera_pinhole.hpp"
+#include "mdbrief/camera_radial.hpp"
+#include "mdbrief/descriptor.hpp"
+#include "mdbrief/patterns.hpp"
+#include "test_data.hpp"
+
+namespace mdbrief {
+namespace {
+
+cv::Mat loadGraf() {
+  const auto dir = testing::opencvDocDataDir();
+  if (!dir) return {};
+  return cv::imread((*dir / "graf1.png").string(), cv::IMREAD_GRAYSCALE);
+}
+
+CameraIntrinsics intrinsicsFor(const cv::Mat& img) {
+  CameraIntrinsics k;
+  k.width = img.cols, k.height = img.rows;
+  k.fx = k.fy = 420.0;
+  k.cx = img.cols / 2.0 - 7.3, k.cy = img.rows / 2.0 + 3.1;
+  return k;
+}
+
+struct Described {
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors, masks;
+};
+
+Described describe(const cv::Mat& img, CameraPtr camera, DescriptorKind kind, DistortionForm form,
+                   const std::vector<cv::KeyPoint>& kps) {
+  DescriptorOptions o;
+  o.kind = kind;
+  o.form = form;
+  Described d{kps, {}, {}};
+  DescriptorExtractor(std::move(camera), o).compute(img, d.keypoints, d.descriptors, &d.masks);
+  return d;
+}
+
+class PinholeReducesToBrief : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    img_ = loadGraf();
+    if (img_.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed (scripts/setup-deps.sh)";
+    cv::ORB::create(1000)->detect(img_, kps_);
+    ASSERT_GT(kps_.size(), 500u);
+  }
+  cv::Mat img_;
+  std::vector<cv::KeyPoint> kps_;
+};
+
+TEST_F(PinholeReducesToBrief, BitForBitInBothForms) {
+  const auto camera = std::make_shared<PinholeCamera>(intrinsicsFor(img_));
+  const Described brief = describe(img_, camera, DescriptorKind::Brief, DistortionForm::Affine, kps_);
+  ASSERT_GT(brief.keypoints.size(), 400u);
+  for (const auto form : {DistortionForm::Paper, DistortionForm::Affine}) {
+    const Described dbrief = describe(img_, camera, DescriptorKind::DBrief, form, kps_);
+    ASSERT_EQ(dbrief.keypoints.size(), brief.keypoints.size());
+    EXPECT_EQ(cv::norm(dbrief.descriptors, brief.descriptors, cv::NORM_HAMMING), 0.0)
+        << "form " << static_cast<int>(form);
+  }
+}
+
+TEST_F(PinholeReducesToBrief, RadialModelWithZeroXiToo) {
+  RadialParams p;
+  p.intrinsics = intrinsicsFor(img_);
+  p.xi = 0.0;
+  const auto radial = std::make_shared<RadialCamera>(p);
+  const auto pinhole = std::make_shared<PinholeCamera>(intrinsicsFor(img_));
+  const Described brief = describe(img_, pinhole, DescriptorKind::Brief, DistortionForm::Paper, kps_);
+  const Described dbrief = describe(img_, radial, DescriptorKind::DBrief, DistortionForm::Paper, kps_);
+  ASSERT_EQ(dbrief.keypoints.size(), brief.keypoints.size());
+  EXPECT_EQ(cv::norm(dbrief.descriptors, brief.descriptors, cv::NORM_HAMMING), 0.0);
+}
+
+TEST_F(PinholeReducesToBrief, MdBriefDescriptorIsDBriefPlusAMask) {
+  const auto camera = std::make_shared<PinholeCamera>(intrinsicsFor(img_));
+  const Described dbrief = describe(img_, camera, DescriptorKind::DBrief, DistortionForm::Affine, kps_);
+  const Described mdbrief = describe(img_, camera, DescriptorKind::MdBrief, DistortionForm::Affine, kps_);
+  ASSERT_LE(mdbrief.keypoints.size(), dbrief.keypoints.size());  // rotated sets may leave the image
+  ASSERT_GT(mdbrief.keypoints.size(), 0.9 * dbrief.keypoints.size());
+  ASSERT_EQ(mdbrief.masks.size(), mdbrief.descriptors.size());
+  EXPECT_TRUE(dbrief.masks.empty());
+  // Same keypoint -> same descriptor row.
+  size_t j = 0;
+  for (size_t i = 0; i < mdbrief.keypoints.size(); ++i) {
+    while (dbrief.keypoints[j].pt != mdbrief.keypoints[i].pt) ++j;
+    ASSERT_EQ(cv::norm(mdbrief.descriptors.row(int(i)), dbrief.descriptors.row(int(j)), cv::NORM_HAMMING), 0.0);
+  }
+  // On natural texture most, not all, tests survive +-10 degrees.
+  double ones = 0;
+  for (int r = 0; r < mdbrief.masks.rows; ++r)
+    for (int c = 0; c < mdbrief.masks.cols; ++c) ones += __builtin_popcount(mdbrief.masks.at<uchar>(r, c));
+  const double stable = ones / (mdbrief.masks.rows * 256.0);
+  EXPECT_GT(stable, 0.5);
+  EXPECT_LT(stable, 0.98);
+}
+
+// On a ramp I = x the outcome of every rotated test is known: the mask must be exactly the set
+// of tests whose sign of (x2 - x1) is the same at 0 and +-delta.
+TEST(MdBriefMask, EqualsTheAgreementOfTheThreeRotationsOnARamp) {
+  cv::Mat ramp(256, 256, CV_8U);
+  for (int y = 0; y < ramp.rows; ++y)
+    for (int x = 0; x < ramp.cols; ++x) ramp.at<uchar>(y, x) = static_cast<uchar>(x);
+  CameraIntrinsics k;
+  k.width = k.height = 256, k.fx = k.fy = 300, k.cx = k.cy = 127.5;
+  DescriptorOptions o;
+  o.kind = DescriptorKind::MdBrief;
+  o.maskRotationDeg = 15.0;
+  const DescriptorExtractor ex(std::make_shared<PinholeCamera>(k), o);
+  std::vector<cv::KeyPoint> kps{cv::KeyPoint(127.5f, 127.5f, 31.f, 40.f, 1.f, 0)};
+  cv::Mat desc, masks;
+  ex.compute(ramp, kps, desc, &masks);
+  ASSERT_EQ(masks.rows, 1);
+  const auto dx = [](const TestPair& t, double deg) {
+    const double a = deg * CV_PI / 180.0;
+    return (std::cos(a) * t.x2 - std::sin(a) * t.y2) - (std::cos(a) * t.x1 - std::sin(a) * t.y1);
+  };
+  int checked = 0, unstable = 0;
+  for (int d = 0; d < 256; ++d) {
+    const TestPair& t = ex.testSet().tests[d];
+    const double v[3] = {dx(t, 40.0), dx(t, 55.0), dx(t, 25.0)};
+    if (std::abs(v[0]) < 0.1 || std::abs(v[1]) < 0.1 || std::abs(v[2]) < 0.1) continue;
+    const bool expected = (v[0] > 0) == (v[1] > 0) && (v[0] > 0) == (v[2] > 0);
+    EXPECT_EQ(((masks.at<uchar>(0, d / 8) >> (d % 8)) & 1) != 0, expected) << "test " << d;
+    ++checked;
+    unstable += !expected;
+  }
+  EXPECT_GT(checked, 200);
+  EXPECT_GT(unstable, 5);  // the check would be vacuous if every test were stable
+}
+
+}  // namespace
+}  // namespace mdbrief

@@ -1,0 +1,444 @@
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <numeric>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "mdbrief/detector.hpp"
+#include "test_data.hpp"
+
+namespace {
+
+using mdbrief::Detector;
+using mdbrief::DetectorOptions;
+namespace fs = std::filesystem;
+
+std::string messageOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "<no std::invalid_argument>";
+}
+
+cv::Mat loadGrey(const fs::path& path) {
+  return cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
+}
+
+// graf1.png from opencv-doc: a textured 800x640 photograph.
+cv::Mat textured() {
+  const auto dir = mdbrief::testing::opencvDocDataDir();
+  if (!dir) return {};
+  return loadGrey(*dir / "graf1.png");
+}
+
+#define REQUIRE_IMAGE(image) \
+  if ((image).empty()) GTEST_SKIP() << "opencv-doc's graf1.png not found"
+
+// A fisheye-like camera whose valid area is a disc: enough for the detector, which only
+// asks isValid() and imageSize().
+class DiscCamera : public mdbrief::Camera {
+ public:
+  DiscCamera(cv::Size size, cv::Point2d centre, double radius)
+      : size_(size), centre_(centre), radius_(radius) {}
+  std::string modelName() const override { return "disc"; }
+  cv::Size imageSize() const override { return size_; }
+  bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override {
+    if (!isValid(pixel)) return false;
+    // Equidistant: angle from the axis proportional to the distance from the centre.
+    const cv::Point2d d = pixel - centre_;
+    const double r = std::hypot(d.x, d.y), theta = r / radius_ * CV_PI / 2;
+    bearing = r == 0 ? cv::Vec3d(0, 0, 1)
+                     : cv::Vec3d(std::sin(theta) * d.x / r, std::sin(theta) * d.y / r, std::cos(theta));
+    return true;
+  }
+  bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override {
+    const double n = cv::norm(bearing);
+    if (n == 0) return false;
+    const double theta = std::acos(bearing[2] / n), rxy = std::hypot(bearing[0], bearing[1]);
+    const double r = theta / (CV_PI / 2) * radius_;
+    pixel = rxy == 0 ? centre_ : centre_ + cv::Point2d(bearing[0] / rxy * r, bearing[1] / rxy * r);
+    return true;
+  }
+  bool isValid(const cv::Point2d& pixel) const override {
+    return pixel.x >= 0 && pixel.y >= 0 && pixel.x <= size_.width - 1 && pixel.y <= size_.height - 1 &&
+           std::hypot(pixel.x - centre_.x, pixel.y - centre_.y) <= radius_;
+  }
+  double tangentPlaneScale() const override { return radius_ / (CV_PI / 2); }
+  std::shared_ptr<Camera> resized(cv::Size newSize) const override {
+    const double sx = static_cast<double>(newSize.width) / size_.width;
+    return std::make_shared<DiscCamera>(newSize, centre_ * sx, radius_ * sx);
+  }
+
+ private:
+  cv::Size size_;
+  cv::Point2d centre_;
+  double radius_;
+};
+
+bool identical(const std::vector<cv::KeyPoint>& a, const std::vector<cv::KeyPoint>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i].pt != b[i].pt || a[i].size != b[i].size || a[i].angle != b[i].angle ||
+        a[i].response != b[i].response || a[i].octave != b[i].octave)
+      return false;
+  }
+  return true;
+}
+
+// --- options and the per-level budget ---
+
+TEST(FeaturesPerLevel, GeometricSharesThatAddUpToTheTotal) {
+  const std::vector<int> shares = mdbrief::featuresPerLevel(1000, 8, 1.2);
+  ASSERT_EQ(shares.size(), 8u);
+  EXPECT_EQ(std::accumulate(shares.begin(), shares.end(), 0), 1000);
+  // n0 = 1000 (1 - 1/1.2) / (1 - 1.2^-8) = 217.4
+  EXPECT_EQ(shares[0], 217);
+  for (size_t k = 1; k + 1 < shares.size(); ++k) {
+    EXPECT_LT(shares[k], shares[k - 1]);
+    EXPECT_NEAR(static_cast<double>(shares[k]) / shares[k - 1], 1 / 1.2, 0.01);
+  }
+  EXPECT_EQ(mdbrief::featuresPerLevel(500, 1, 1.2), std::vector<int>{500});
+  EXPECT_THROW(mdbrief::featuresPerLevel(10, 0, 1.2), std::invalid_argument);
+  EXPECT_THROW(mdbrief::featuresPerLevel(10, 3, 1.0), std::invalid_argument);
+}
+
+TEST(DetectorOptions, InvalidOptionsAreNamed) {
+  const auto problem = [](const std::function<void(DetectorOptions&)>& change) {
+    DetectorOptions options;
+    change(options);
+    return messageOf([&] { Detector detector(options); });
+  };
+  EXPECT_NE(problem([](auto& o) { o.nfeatures = 0; }).find("nfeatures"), std::string::npos);
+  EXPECT_NE(problem([](auto& o) { o.pyramid.levels = 0; }).find("levels"), std::string::npos);
+  EXPECT_NE(problem([](auto& o) { o.pyramid.scaleFactor = 0.9; }).find("scaleFactor"), std::string::npos);
+  EXPECT_NE(problem([](auto& o) { o.threshold = 0; }).find("threshold"), std::string::npos);
+  EXPECT_NE(problem([](auto& o) { o.fallbackThreshold = 30; }).find("fallbackThreshold"), std::string::npos);
+  EXPECT_NE(problem([](auto& o) { o.harrisBlockSize = 6; }).find("harrisBlockSize"), std::string::npos);
+  EXPECT_NE(problem([](auto& o) { o.harrisK = -1; }).find("harrisK"), std::string::npos);
+  EXPECT_NE(problem([](auto& o) { o.borderMargin = 10; }).find("borderMargin"), std::string::npos);
+  EXPECT_NO_THROW(Detector(DetectorOptions{}));
+}
+
+TEST(Detector, BadInputIsRejectedWithAReason) {
+  const Detector detector;
+  EXPECT_NE(messageOf([&] { detector.detect(cv::Mat()); }).find("empty"), std::string::npos);
+  EXPECT_NE(messageOf([&] { detector.detect(cv::Mat(50, 50, CV_16UC1, cv::Scalar(0))); }).find("16UC1"),
+            std::string::npos);
+  const cv::Mat image(100, 120, CV_8UC1, cv::Scalar(0));
+  EXPECT_NE(messageOf([&] { detector.detect(image, cv::Mat(100, 100, CV_8UC1, cv::Scalar(1))); }).find("mask"),
+            std::string::npos);
+  EXPECT_NE(messageOf([&] { detector.detect(image, cv::Mat(100, 120, CV_32FC1, cv::Scalar(1))); }).find("mask"),
+            std::string::npos);
+  EXPECT_NE(messageOf([&] { detector.detect(mdbrief::ImagePyramid()); }).find("empty"), std::string::npos);
+  mdbrief::PyramidOptions other;
+  other.scaleFactor = 1.5;
+  EXPECT_NE(messageOf([&] { detector.detect(mdbrief::ImagePyramid(image, other)); }).find("scaleFactor"),
+            std::string::npos);
+  const Detector withCamera({}, std::make_shared<DiscCamera>(cv::Size(200, 100), cv::Point2d(100, 50), 50));
+  EXPECT_NE(messageOf([&] { withCamera.detect(image); }).find("camera"), std::string::npos);
+}
+
+TEST(Detector, ImagesSmallerThanThePatchGiveNoKeypoints) {
+  cv::Mat tiny(40, 40, CV_8UC1);
+  cv::randu(tiny, 0, 256);
+  EXPECT_TRUE(Detector().detect(tiny).empty());
+  EXPECT_TRUE(Detector().detect(cv::Mat(1, 1, CV_8UC1, cv::Scalar(3))).empty());
+}
+
+// --- output on a textured image ---
+
+TEST(Detector, CountPropertiesAndOrderOnATexturedImage) {
+  const cv::Mat image = textured();
+  REQUIRE_IMAGE(image);
+  for (const int nfeatures : {300, 1000}) {
+    DetectorOptions options;
+    options.nfeatures = nfeatures;
+    const std::vector<cv::KeyPoint> keypoints = Detector(options).detect(image);
+    EXPECT_LE(static_cast<int>(keypoints.size()), nfeatures);
+    EXPECT_GT(static_cast<double>(keypoints.size()), 0.8 * nfeatures);
+    const mdbrief::ImagePyramid pyramid(image, options.pyramid);
+    std::vector<int> perOctave(options.pyramid.levels, 0);
+    for (size_t i = 0; i < keypoints.size(); ++i) {
+      const cv::KeyPoint& kp = keypoints[i];
+      ASSERT_GE(kp.octave, 0);
+      ASSERT_LT(kp.octave, options.pyramid.levels);
+      ++perOctave[kp.octave];
+      const double scale = std::pow(1.2, kp.octave);
+      EXPECT_NEAR(kp.size, 31 * scale, 1e-3);
+      EXPECT_GE(kp.angle, 0.f);
+      EXPECT_LT(kp.angle, 360.f);
+      // The whole rotated 32x32 patch (radius 16 sqrt 2 + 1 bilinear neighbour) at the level.
+      const cv::Point2d level(kp.pt.x / scale, kp.pt.y / scale);
+      const cv::Size levelSize = pyramid.image(kp.octave).size();
+      const double reach = 16 * std::sqrt(2.0) + 1;
+      EXPECT_GE(level.x - reach, -1e-3);
+      EXPECT_GE(level.y - reach, -1e-3);
+      EXPECT_LE(level.x + reach, levelSize.width - 1 + 1e-3);
+      EXPECT_LE(level.y + reach, levelSize.height - 1 + 1e-3);
+      if (i > 0) EXPECT_GE(keypoints[i - 1].response, kp.response);
+    }
+    // Every level contributes, the finest the most.
+    for (int level = 0; level < options.pyramid.levels; ++level) EXPECT_GT(perOctave[level], 0);
+    EXPECT_EQ(std::max_element(perOctave.begin(), perOctave.end()) - perOctave.begin(), 0);
+  }
+}
+
+TEST(Detector, SameInputGivesIdenticalKeypoints) {
+  const cv::Mat image = textured();
+  REQUIRE_IMAGE(image);
+  for (const bool spread : {false, true}) {
+    for (const auto corners : {mdbrief::CornerDetector::Fast, mdbrief::CornerDetector::Agast}) {
+      DetectorOptions options;
+      options.spread = spread;
+      options.corners = corners;
+      const Detector detector(options);
+      const std::vector<cv::KeyPoint> first = detector.detect(image);
+      const std::vector<cv::KeyPoint> second = detector.detect(image.clone());
+      ASSERT_FALSE(first.empty());
+      EXPECT_TRUE(identical(first, second));
+      // A pyramid built by the caller (and shared with the descriptor) gives the same result.
+      EXPECT_TRUE(identical(first, detector.detect(mdbrief::ImagePyramid(image, options.pyramid))));
+      // Colour input is converted first.
+      cv::Mat bgr;
+      cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);
+      EXPECT_TRUE(identical(first, detector.detect(bgr)));
+    }
+  }
+}
+
+TEST(Detector, FallbackThresholdFindsCornersOnLowContrastImages) {
+  const cv::Mat image = textured();
+  REQUIRE_IMAGE(image);
+  // Contrast divided by 5: most corners fall below threshold 20.
+  cv::Mat faint;
+  image.convertTo(faint, CV_8U, 0.2, 100);
+  DetectorOptions strict;
+  strict.fallbackThreshold = strict.threshold;
+  const size_t withoutFallback = Detector(strict).detect(faint).size();
+  const size_t withFallback = Detector().detect(faint).size();
+  std::printf("low contrast: %zu keypoints without fallback, %zu with\n", withoutFallback, withFallback);
+  EXPECT_GT(withFallback, withoutFallback + 200);
+}
+
+TEST(Detector, SpreadingCoversMoreOfTheImage) {
+  const cv::Mat image = textured();
+  REQUIRE_IMAGE(image);
+  // Coverage: fraction of 40x40 cells of the image holding at least one level-0 keypoint.
+  const auto coverage = [&](const std::vector<cv::KeyPoint>& keypoints) {
+    const int cell = 40;
+    cv::Mat hit = cv::Mat::zeros(image.rows / cell + 1, image.cols / cell + 1, CV_8UC1);
+    for (const auto& kp : keypoints) hit.at<uchar>(int(kp.pt.y) / cell, int(kp.pt.x) / cell) = 1;
+    return cv::countNonZero(hit) / static_cast<double>(hit.total());
+  };
+  DetectorOptions options;
+  options.nfeatures = 500;
+  const double plain = coverage(Detector(options).detect(image));
+  options.spread = true;
+  const std::vector<cv::KeyPoint> spreadKeypoints = Detector(options).detect(image);
+  const double spread = coverage(spreadKeypoints);
+  std::printf("coverage of 40x40 cells: %.3f strongest, %.3f spread\n", plain, spread);
+  EXPECT_GT(spread, plain + 0.05);
+  EXPECT_GT(spreadKeypoints.size(), 400u);
+}
+
+// --- masks ---
+
+TEST(Detector, ExplicitMaskIsRespected) {
+  const cv::Mat image = textured();
+  REQUIRE_IMAGE(image);
+  cv::Mat mask = cv::Mat::zeros(image.size(), CV_8UC1);
+  cv::circle(mask, {300, 400}, 180, cv::Scalar(255), cv::FILLED);
+  mask(cv::Rect(500, 50, 250, 200)).setTo(1);  // any nonzero value allows
+  const std::vector<cv::KeyPoint> keypoints = Detector().detect(image, mask);
+  EXPECT_GT(keypoints.size(), 300u);
+  size_t inRectangle = 0;
+  for (const auto& kp : keypoints) {
+    EXPECT_NE(mask.at<uchar>(cvRound(kp.pt.y), cvRound(kp.pt.x)), 0) << kp.pt;
+    inRectangle += kp.pt.x >= 500 ? 1 : 0;
+  }
+  EXPECT_GT(inRectangle, 50u);
+}
+
+TEST(Detector, ValidAreaMaskFollowsTheCamera) {
+  const DiscCamera camera({200, 100}, {100, 50}, 40);
+  const cv::Mat mask = mdbrief::validAreaMask(camera, camera.imageSize());
+  ASSERT_EQ(mask.type(), CV_8UC1);
+  ASSERT_EQ(mask.size(), cv::Size(200, 100));
+  EXPECT_NEAR(cv::countNonZero(mask), CV_PI * 40 * 40, 0.02 * CV_PI * 40 * 40);
+  EXPECT_EQ(mask.at<uchar>(50, 100), 255);
+  EXPECT_EQ(mask.at<uchar>(50, 141), 0);
+  EXPECT_EQ(mask.at<uchar>(5, 5), 0);
+  // At another resolution the camera is resized, the disc with it.
+  const cv::Mat half = mdbrief::validAreaMask(camera, {100, 50});
+  EXPECT_NEAR(cv::countNonZero(half), CV_PI * 20 * 20, 0.04 * CV_PI * 20 * 20);
+  EXPECT_THROW(mdbrief::validAreaMask(camera, {0, 10}), std::invalid_argument);
+}
+
+TEST(Detector, KeypointsKeepThePatchInsideTheCameraValidArea) {
+  const cv::Mat image = textured();
+  REQUIRE_IMAGE(image);
+  const cv::Point2d centre(400, 320);
+  const double radius = 300;
+  const Detector detector({}, std::make_shared<DiscCamera>(image.size(), centre, radius));
+  const std::vector<cv::KeyPoint> keypoints = detector.detect(image);
+  EXPECT_GT(keypoints.size(), 600u);
+  double outermost = 0;
+  for (const auto& kp : keypoints) {
+    const double scale = std::pow(1.2, kp.octave);
+    const double r = std::hypot(kp.pt.x - centre.x, kp.pt.y - centre.y);
+    // The patch (24 level pixels) stays inside the disc; one level pixel of slack for the
+    // valid area's resampling.
+    EXPECT_LE(r + 24 * scale, radius + scale) << kp.pt << " octave " << kp.octave;
+    outermost = std::max(outermost, r + 24 * scale);
+  }
+  // ...and the detector does use the disc up to its rim, not some smaller area.
+  EXPECT_GT(outermost, radius - 15);
+}
+
+// --- orientation ---
+
+// The angle of a keypoint at the apex of a bright 90-degree wedge is the wedge's bisector
+// (the intensity centroid lies on it), in image axes (y down).
+TEST(Detector, OrientationPointsAlongTheBisectorOfAWedge) {
+  for (const double bisector : {0.0, 37.0, 90.0, 135.0, 200.0, 290.0, 333.0}) {
+    cv::Mat image(200, 200, CV_8UC1, cv::Scalar(40));
+    const cv::Point apex(100, 100);
+    cv::ellipse(image, apex, {60, 60}, 0, bisector - 45, bisector + 45, cv::Scalar(220), cv::FILLED,
+                cv::LINE_AA);
+    DetectorOptions options;
+    options.pyramid.levels = 1;
+    const std::vector<cv::KeyPoint> keypoints = Detector(options).detect(image);
+    const auto nearest = std::min_element(keypoints.begin(), keypoints.end(), [&](auto& a, auto& b) {
+      return cv::norm(a.pt - cv::Point2f(apex)) < cv::norm(b.pt - cv::Point2f(apex));
+    });
+    ASSERT_NE(nearest, keypoints.end()) << "bisector " << bisector;
+    ASSERT_LT(cv::norm(nearest->pt - cv::Point2f(apex)), 2.5) << "bisector " << bisector;
+    const double error = std::remainder(nearest->angle - bisector, 360.0);
+    EXPECT_LT(std::abs(error), 5.0) << "bisector " << bisector << " angle " << nearest->angle;
+  }
+}
+
+TEST(Detector, AnglesTurnWithTheImage) {
+  const cv::Mat image = textured();
+  REQUIRE_IMAGE(image);
+  cv::Mat rotated;
+  cv::rotate(image, rotated, cv::ROTATE_90_CLOCKWISE);  // (x, y) -> (rows - 1 - y, x)
+  const Detector detector;
+  const std::vector<cv::KeyPoint> original = detector.detect(image);
+  const std::vector<cv::KeyPoint> turned = detector.detect(rotated);
+  int matched = 0, agreeing = 0;
+  for (const auto& kp : original) {
+    const cv::Point2f expected(image.rows - 1 - kp.pt.y, kp.pt.x);
+    const double tolerance = 1.5 * std::pow(1.2, kp.octave);
+    for (const auto& other : turned) {
+      if (other.octave != kp.octave || cv::norm(other.pt - expected) > tolerance) continue;
+      ++matched;
+      // Clockwise in the picture is +90 degrees in image axes (y down).
+      if (std::abs(std::remainder(other.angle - kp.angle - 90.0, 360.0)) < 3.0) ++agreeing;
+      break;
+    }
+  }
+  std::printf("rotation by 90 degrees: %d of %zu keypoints found again, %d with angle +90 +- 3\n", matched,
+              original.size(), agreeing);
+  EXPECT_GT(matched, 0.8 * original.size());
+  EXPECT_GT(agreeing, 0.97 * matched);
+}
+
+// --- repeatability under a known homography ---
+
+std::optional<cv::Matx33d> readHomographyText(const fs::path& path) {
+  std::ifstream in(path);
+  cv::Matx33d h;
+  for (int i = 0; i < 9; ++i)
+    if (!(in >> h.val[i])) return std::nullopt;
+  return h;
+}
+
+// Fraction of keypoints of image 1 that, mapped by h into image 2 and landing inside it,
+// have a keypoint of image 2 within 3 pixels.
+double repeatability(const std::vector<cv::KeyPoint>& first, const std::vector<cv::KeyPoint>& second,
+                     const cv::Matx33d& h, cv::Size secondSize) {
+  int visible = 0, repeated = 0;
+  for (const auto& kp : first) {
+    const cv::Vec3d p = h * cv::Vec3d(kp.pt.x, kp.pt.y, 1.0);
+    const cv::Point2d q(p[0] / p[2], p[1] / p[2]);
+    if (q.x < 0 || q.y < 0 || q.x > secondSize.width - 1 || q.y > secondSize.height - 1) continue;
+    ++visible;
+    for (const auto& other : second) {
+      if (std::hypot(other.pt.x - q.x, other.pt.y - q.y) <= 3.0) {
+        ++repeated;
+        break;
+      }
+    }
+  }
+  return visible == 0 ? 0.0 : static_cast<double>(repeated) / visible;
+}
+
+struct Pair {
+  std::string name;
+  cv::Mat first, second;
+  cv::Matx33d h;
+};
+
+void expectAtLeastOrbRepeatability(const Pair& pair) {
+  ASSERT_FALSE(pair.first.empty()) << pair.name;
+  ASSERT_FALSE(pair.second.empty()) << pair.name;
+  const int nfeatures = 1000;
+  const cv::Ptr<cv::ORB> orb = cv::ORB::create(nfeatures);
+  std::vector<cv::KeyPoint> orb1, orb2;
+  orb->detect(pair.first, orb1);
+  orb->detect(pair.second, orb2);
+  const double orbRate = repeatability(orb1, orb2, pair.h, pair.second.size());
+  DetectorOptions options;
+  options.nfeatures = nfeatures;
+  for (const bool spread : {false, true}) {
+    for (const auto corners : {mdbrief::CornerDetector::Fast, mdbrief::CornerDetector::Agast}) {
+      options.spread = spread;
+      options.corners = corners;
+      const Detector detector(options);
+      const auto ours1 = detector.detect(pair.first), ours2 = detector.detect(pair.second);
+      const double ourRate = repeatability(ours1, ours2, pair.h, pair.second.size());
+      std::printf("%s repeatability within 3 px: ours (%s, %s) %.3f (%zu/%zu keypoints), cv::ORB %.3f (%zu/%zu)\n",
+                  pair.name.c_str(), corners == mdbrief::CornerDetector::Fast ? "FAST" : "AGAST",
+                  spread ? "spread" : "strongest", ourRate, ours1.size(), ours2.size(), orbRate, orb1.size(),
+                  orb2.size());
+      // The default configuration must do at least as well as cv::ORB.
+      if (!spread && corners == DetectorOptions{}.corners) EXPECT_GE(ourRate, orbRate - 0.02) << pair.name;
+    }
+  }
+}
+
+TEST(DetectorRepeatability, OpencvDocGraf1To3AtLeastAsOrb) {
+  const auto dir = mdbrief::testing::opencvDocDataDir();
+  if (!dir || !fs::exists(*dir / "graf3.png")) GTEST_SKIP() << "opencv-doc's graf images not found";
+  cv::FileStorage fs((*dir / "H1to3p.xml").string(), cv::FileStorage::READ);
+  ASSERT_TRUE(fs.isOpened());
+  cv::Mat h;
+  fs["H13"] >> h;
+  ASSERT_EQ(h.size(), cv::Size(3, 3));
+  expectAtLeastOrbRepeatability(
+      {"opencv-doc graf 1->3", loadGrey(*dir / "graf1.png"), loadGrey(*dir / "graf3.png"), cv::Matx33d(h)});
+}
+
+TEST(DetectorRepeatability, OxfordGraf1To2AtLeastAsOrb) {
+  MDBRIEF_REQUIRE_SHARED_DATA(data);
+  const fs::path dir = data / "oxford-affine" / "graf";
+  if (!fs::exists(dir / "img2.png") || !fs::exists(dir / "H1to2p")) GTEST_SKIP() << "Oxford graf not found";
+  const auto h = readHomographyText(dir / "H1to2p");
+  ASSERT_TRUE(h) << "unreadable " << dir / "H1to2p";
+  expectAtLeastOrbRepeatability({"Oxford graf 1->2", loadGrey(dir / "img1.png"), loadGrey(dir / "img2.png"), *h});
+}
+
+}  // namespace

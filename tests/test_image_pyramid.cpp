@@ -1,0 +1,184 @@
+#include <cmath>
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "mdbrief/image_pyramid.hpp"
+
+namespace {
+
+using mdbrief::ImagePyramid;
+using mdbrief::PyramidOptions;
+using mdbrief::toGrey;
+
+cv::Mat noiseImage(cv::Size size) {
+  cv::Mat image(size, CV_8UC1);
+  cv::RNG rng(7);
+  rng.fill(image, cv::RNG::UNIFORM, 0, 256);
+  return image;
+}
+
+std::string messageOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "<no std::invalid_argument>";
+}
+
+TEST(ImagePyramid, LevelSizesAndScalesFollowTheScaleFactor) {
+  const ImagePyramid pyramid(noiseImage({800, 640}), PyramidOptions{});
+  ASSERT_EQ(pyramid.levels(), 8);
+  // 800 / 1.2 = 666.7, 640 / 1.2 = 533.3; 800 / 1.44 = 555.6, 640 / 1.44 = 444.4;
+  // 800 / 1.2^7 = 223.3, 640 / 1.2^7 = 178.6.
+  EXPECT_EQ(pyramid.image(0).size(), cv::Size(800, 640));
+  EXPECT_EQ(pyramid.image(1).size(), cv::Size(667, 533));
+  EXPECT_EQ(pyramid.image(2).size(), cv::Size(556, 444));
+  EXPECT_EQ(pyramid.image(7).size(), cv::Size(223, 179));
+  for (int level = 0; level < pyramid.levels(); ++level) {
+    EXPECT_NEAR(pyramid.scale(level), std::pow(1.2, level), 1e-12) << "level " << level;
+    EXPECT_EQ(pyramid.image(level).type(), CV_8UC1);
+  }
+}
+
+TEST(ImagePyramid, OtherScaleFactorAndLevelCount) {
+  PyramidOptions options;
+  options.levels = 3;
+  options.scaleFactor = 2.0;
+  const ImagePyramid pyramid(noiseImage({100, 60}), options);
+  ASSERT_EQ(pyramid.levels(), 3);
+  EXPECT_EQ(pyramid.image(1).size(), cv::Size(50, 30));
+  EXPECT_EQ(pyramid.image(2).size(), cv::Size(25, 15));
+  EXPECT_DOUBLE_EQ(pyramid.scale(2), 4.0);
+}
+
+TEST(ImagePyramid, MaxLevelsLimitsTheLevelsBuilt) {
+  const ImagePyramid pyramid(noiseImage({200, 100}), PyramidOptions{}, 3);
+  EXPECT_EQ(pyramid.levels(), 3);
+  EXPECT_THROW(pyramid.image(3), std::out_of_range);
+}
+
+TEST(ImagePyramid, StopsBeforeLevelsWouldBeEmpty) {
+  // 1 / 1.2^4 = 0.48 rounds to 0: levels 0..3 only.
+  const ImagePyramid pyramid(noiseImage({1, 1}), PyramidOptions{});
+  EXPECT_EQ(pyramid.levels(), 4);
+}
+
+TEST(ImagePyramid, ResamplingPreservesConstantImagesAndMeanIntensity) {
+  const ImagePyramid flat(cv::Mat(120, 160, CV_8UC1, cv::Scalar(77)), PyramidOptions{});
+  for (int level = 0; level < flat.levels(); ++level) {
+    double lo = 0, hi = 0;
+    cv::minMaxLoc(flat.image(level), &lo, &hi);
+    EXPECT_EQ(lo, 77);
+    EXPECT_EQ(hi, 77);
+  }
+  const cv::Mat noise = noiseImage({320, 240});
+  const ImagePyramid pyramid(noise, PyramidOptions{});
+  const double mean0 = cv::mean(noise)[0];
+  for (int level = 1; level < pyramid.levels(); ++level)
+    EXPECT_NEAR(cv::mean(pyramid.image(level))[0], mean0, 2.0) << "level " << level;
+}
+
+TEST(ImagePyramid, ColourInputIsConvertedToGrey) {
+  cv::Mat colour(50, 60, CV_8UC3, cv::Scalar(10, 200, 30));
+  const ImagePyramid pyramid(colour, PyramidOptions{});
+  EXPECT_EQ(pyramid.image(0).type(), CV_8UC1);
+  // 0.114 * 10 + 0.587 * 200 + 0.299 * 30 = 127.9
+  EXPECT_EQ(pyramid.image(0).at<uchar>(10, 10), 128);
+}
+
+TEST(ImagePyramid, SmoothedLevelIsTheGaussianOfTheLevelAndIsCached) {
+  PyramidOptions options;
+  options.smoothingKernel = 5;
+  options.smoothingSigma = 1.5;
+  const ImagePyramid pyramid(noiseImage({90, 70}), options);
+  for (int level = 0; level < pyramid.levels(); ++level) {
+    cv::Mat expected;
+    cv::GaussianBlur(pyramid.image(level), expected, cv::Size(5, 5), 1.5, 1.5, cv::BORDER_REFLECT_101);
+    const cv::Mat& smoothed = pyramid.smoothed(level);
+    ASSERT_EQ(smoothed.size(), expected.size());
+    EXPECT_EQ(cv::norm(smoothed, expected, cv::NORM_INF), 0) << "level " << level;
+    EXPECT_EQ(&pyramid.smoothed(level), &smoothed);
+    EXPECT_EQ(pyramid.smoothed(level).data, smoothed.data);
+  }
+  // Smoothing actually happened: the noise's spread drops.
+  cv::Scalar mean, rawStd, smoothStd;
+  cv::meanStdDev(pyramid.image(0), mean, rawStd);
+  cv::meanStdDev(pyramid.smoothed(0), mean, smoothStd);
+  EXPECT_LT(smoothStd[0], 0.5 * rawStd[0]);
+  EXPECT_THROW(pyramid.smoothed(pyramid.levels()), std::out_of_range);
+}
+
+TEST(ImagePyramid, PrepareSmoothedFillsTheLevelsUpToMaxLevel) {
+  const ImagePyramid pyramid(noiseImage({90, 70}), PyramidOptions{});
+  pyramid.prepareSmoothed(2);
+  const uchar* before = pyramid.smoothed(2).data;
+  pyramid.prepareSmoothed(-1);
+  EXPECT_EQ(pyramid.smoothed(2).data, before);  // already prepared: not recomputed
+  EXPECT_FALSE(pyramid.smoothed(pyramid.levels() - 1).empty());
+}
+
+TEST(ImagePyramid, RejectsBadInputAndOptions) {
+  EXPECT_NE(messageOf([] { ImagePyramid(cv::Mat(), PyramidOptions{}); }).find("empty"), std::string::npos);
+  EXPECT_NE(messageOf([] { ImagePyramid(cv::Mat(10, 10, CV_32FC1, cv::Scalar(0)), PyramidOptions{}); })
+                .find("32FC1"),
+            std::string::npos);
+  PyramidOptions options;
+  options.levels = 0;
+  EXPECT_NE(messageOf([&] { ImagePyramid(noiseImage({10, 10}), options); }).find("levels"), std::string::npos);
+  options = {};
+  options.scaleFactor = 1.0;
+  EXPECT_NE(messageOf([&] { ImagePyramid(noiseImage({10, 10}), options); }).find("scaleFactor"),
+            std::string::npos);
+  options = {};
+  options.smoothingKernel = 4;
+  EXPECT_NE(messageOf([&] { ImagePyramid(noiseImage({10, 10}), options); }).find("smoothingKernel"),
+            std::string::npos);
+  options = {};
+  options.smoothingSigma = 0.0;
+  EXPECT_NE(messageOf([&] { ImagePyramid(noiseImage({10, 10}), options); }).find("smoothingSigma"),
+            std::string::npos);
+}
+
+TEST(ToGrey, GreyInputIsReturnedWithoutCopy) {
+  const cv::Mat grey = noiseImage({20, 10});
+  const cv::Mat out = toGrey(grey);
+  EXPECT_EQ(out.data, grey.data);
+  EXPECT_EQ(out.type(), CV_8UC1);
+}
+
+TEST(ToGrey, ColourUsesBgrOrderAndIgnoresAlpha) {
+  // Pure blue, green and red in BGR order: luma weights 0.114, 0.587, 0.299.
+  cv::Mat bgr(1, 3, CV_8UC3);
+  bgr.at<cv::Vec3b>(0, 0) = {255, 0, 0};
+  bgr.at<cv::Vec3b>(0, 1) = {0, 255, 0};
+  bgr.at<cv::Vec3b>(0, 2) = {0, 0, 255};
+  const cv::Mat grey3 = toGrey(bgr);
+  ASSERT_EQ(grey3.type(), CV_8UC1);
+  EXPECT_NEAR(grey3.at<uchar>(0, 0), 29, 1);
+  EXPECT_NEAR(grey3.at<uchar>(0, 1), 150, 1);
+  EXPECT_NEAR(grey3.at<uchar>(0, 2), 76, 1);
+
+  cv::Mat bgra(1, 3, CV_8UC4);
+  bgra.at<cv::Vec4b>(0, 0) = {255, 0, 0, 0};
+  bgra.at<cv::Vec4b>(0, 1) = {0, 255, 0, 17};
+  bgra.at<cv::Vec4b>(0, 2) = {0, 0, 255, 255};
+  const cv::Mat grey4 = toGrey(bgra);
+  ASSERT_EQ(grey4.type(), CV_8UC1);
+  EXPECT_EQ(cv::norm(grey4, grey3, cv::NORM_INF), 0);
+}
+
+TEST(ToGrey, RejectsEmptyAndUnsupportedTypes) {
+  EXPECT_NE(messageOf([] { toGrey(cv::Mat()); }).find("empty"), std::string::npos);
+  for (const int type : {CV_8UC2, CV_16UC1, CV_16SC3, CV_32FC1, CV_64FC1}) {
+    const cv::Mat image(4, 4, type, cv::Scalar::all(0));
+    const std::string message = messageOf([&] { toGrey(image); });
+    EXPECT_NE(message.find(cv::typeToString(type)), std::string::npos) << message;
+  }
+}
+
+}  // namespace

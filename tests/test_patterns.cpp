@@ -1,0 +1,228 @@
+// Runtime test sets: the compiled-in registry, TestSet::first, JSON loading and the pattern
+// writer (header, JSON copy, registry).
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <tuple>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "mdbrief/pattern_io.hpp"
+#include "mdbrief/patterns.hpp"
+#include "test_data.hpp"
+
+namespace fs = std::filesystem;
+using namespace mdbrief;
+
+namespace {
+
+// A fresh empty folder, removed at the end of the test.
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const std::string& tag) {
+    path = fs::temp_directory_path() /
+           ("mdbrief_test_patterns_" + tag + "_" + std::to_string(::getpid()));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+};
+
+std::string readFile(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+void writeText(const fs::path& p, const std::string& text) {
+  std::ofstream(p, std::ios::binary) << text;
+}
+
+bool sameTests(const std::vector<TestPair>& a, const std::vector<TestPair>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const TestPair& l, const TestPair& r) {
+    return l.x1 == r.x1 && l.y1 == r.y1 && l.x2 == r.x2 && l.y2 == r.y2;
+  });
+}
+
+PatternDocument smallDocument(const std::string& name, int count = 64) {
+  PatternDocument d;
+  d.name = name;
+  d.description = "test set \"quoted\" \\ backslash";
+  d.generator = "test_patterns";
+  d.provenance = {"line one", "line two"};
+  for (int i = 0; i < count; ++i)
+    d.tests.push_back({static_cast<int8_t>(i % 30 - 15), static_cast<int8_t>(i % 7 - 3),
+                       static_cast<int8_t>(14 - i % 30), static_cast<int8_t>(-16 + i % 32)});
+  return d;
+}
+
+// loadTestSetJson on a file with `text` must throw a runtime_error naming the file and `what`.
+void expectJsonError(const std::string& text, const std::string& what) {
+  TempDir dir("bad");
+  const fs::path p = dir.path / "bad.json";
+  writeText(p, text);
+  try {
+    loadTestSetJson(p.string());
+    ADD_FAILURE() << "no exception for: " << text;
+  } catch (const std::runtime_error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(p.string()), std::string::npos) << msg;
+    EXPECT_NE(msg.find(what), std::string::npos) << msg;
+  }
+}
+
+}  // namespace
+
+TEST(Registry, ListsTheRandomSetSortedWithAValidDefault) {
+  const auto names = builtinTestSetNames();
+  EXPECT_TRUE(std::is_sorted(names.begin(), names.end()));
+  EXPECT_NE(std::find(names.begin(), names.end(), "brief_random_512"), names.end());
+  EXPECT_NE(std::find(names.begin(), names.end(), defaultTestSetName()), names.end());
+  EXPECT_NO_THROW(builtinTestSet(defaultTestSetName()));
+}
+
+TEST(Registry, EveryBuiltinSetHasInRangeDistinctTests) {
+  for (const auto& name : builtinTestSetNames()) {
+    const TestSet set = builtinTestSet(name);
+    EXPECT_EQ(set.name, name);
+    EXPECT_GE(set.tests.size(), 32u);
+    EXPECT_EQ(set.tests.size() % 32, 0u);
+    std::set<std::tuple<int, int, int, int>> seen;
+    for (const TestPair& t : set.tests) {
+      for (int v : {t.x1, t.y1, t.x2, t.y2}) {
+        EXPECT_GE(v, -15) << name;  // the trainer's and generator's range: no border pixels
+        EXPECT_LE(v, 14) << name;
+      }
+      EXPECT_FALSE(t.x1 == t.x2 && t.y1 == t.y2) << name << ": self-comparison";
+      EXPECT_TRUE(seen.insert({t.x1, t.y1, t.x2, t.y2}).second) << name << ": repeated test";
+      EXPECT_FALSE(seen.count({t.x2, t.y2, t.x1, t.y1})) << name << ": swapped repeat";
+    }
+  }
+}
+
+TEST(Registry, RandomSetHas512Tests) {
+  EXPECT_EQ(builtinTestSet("brief_random_512").tests.size(), 512u);
+}
+
+TEST(Registry, UnknownNameThrowsListingKnownNames) {
+  try {
+    builtinTestSet("no_such_set");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("brief_random_512"), std::string::npos);
+  }
+  EXPECT_THROW(resolveTestSet("no_such_set_or_file"), std::invalid_argument);
+}
+
+TEST(TestSetFirst, TakesPrefixesInStepsOf32) {
+  const TestSet set = builtinTestSet("brief_random_512");
+  for (int n = 32; n <= 512; n += 32) {
+    const TestSet sub = set.first(n);
+    ASSERT_EQ(sub.tests.size(), static_cast<size_t>(n));
+    EXPECT_EQ(sub.name, set.name);
+    EXPECT_TRUE(sameTests(sub.tests, {set.tests.begin(), set.tests.begin() + n}));
+  }
+  for (int n : {-32, 0, 1, 31, 33, 100, 511, 544, 1024})
+    EXPECT_THROW(set.first(n), std::invalid_argument) << n;
+}
+
+TEST(PatternJson, ShippedCopyMatchesTheCompiledSet) {
+  const fs::path json = mdbrief::testing::sourceDir() / "patterns" / "brief_random_512.json";
+  const TestSet loaded = loadTestSetJson(json.string());
+  EXPECT_EQ(loaded.name, "brief_random_512");
+  EXPECT_TRUE(sameTests(loaded.tests, builtinTestSet("brief_random_512").tests));
+  EXPECT_TRUE(sameTests(resolveTestSet(json.string()).tests, loaded.tests));
+}
+
+TEST(PatternJson, RoundTrip) {
+  TempDir dir("roundtrip");
+  PatternDocument doc = smallDocument("round_trip");
+  doc.testComments.assign(doc.tests.size(), "mean 0.50 max corr 0.10");
+  const fs::path p = dir.path / "round_trip.json";
+  writeFileAtomically(p, patternJsonText(doc));
+  const TestSet loaded = loadTestSetJson(p.string());
+  EXPECT_EQ(loaded.name, doc.name);
+  EXPECT_TRUE(sameTests(loaded.tests, doc.tests));
+}
+
+TEST(PatternJson, MalformedFilesThrowNamingFileAndProblem) {
+  const std::string tests32 = [] {
+    std::string s;
+    for (int i = 0; i < 32; ++i) s += std::string(i ? "," : "") + "[1,2,3,4]";
+    return s;
+  }();
+  expectJsonError("{\"name\": \"x\", \"tests\": [", "not valid JSON");
+  expectJsonError("[1, 2]", "not a JSON object");
+  expectJsonError("{\"tests\": [" + tests32 + "]}", "\"name\"");
+  expectJsonError("{\"name\": \"x\"}", "\"tests\"");
+  expectJsonError("{\"name\": \"x\", \"tests\": [[1,2,3]]}", "4 offsets");
+  expectJsonError("{\"name\": \"x\", \"tests\": [[1,2,3,16]]}", "outside [-16, 15]");
+  expectJsonError("{\"name\": \"x\", \"tests\": [[1,2,3,-17]]}", "outside [-16, 15]");
+  expectJsonError("{\"name\": \"x\", \"tests\": [[1,2.5,3,4]]}", "non-integer");
+  expectJsonError("{\"name\": \"x\", \"tests\": [[1,2,3,4]]}", "multiple of 32");
+  expectJsonError("{\"name\": \"x\", \"tests\": []}", "multiple of 32");
+  EXPECT_THROW(loadTestSetJson("/nonexistent/set.json"), std::runtime_error);
+}
+
+TEST(PatternHeader, HasIdentifiersInfoAndPerTestComments) {
+  PatternDocument doc = smallDocument("my_set_64");
+  doc.testComments.assign(doc.tests.size(), "mean 0.50 max corr 0.10");
+  const std::string text = patternHeaderText(doc);
+  EXPECT_EQ(patternIdentifier("my_set_64"), "kMySet64");
+  EXPECT_EQ(text.rfind("// Generated by test_patterns. Do not edit.\n", 0), 0u);
+  EXPECT_NE(text.find("inline constexpr TestPair kMySet64[64] = {"), std::string::npos);
+  EXPECT_NE(text.find("inline constexpr PatternInfo kMySet64Info{\"my_set_64\", kMySet64, 64,"),
+            std::string::npos);
+  EXPECT_NE(text.find("{-15, -3, 14, -16},  // 0: mean 0.50 max corr 0.10\n"), std::string::npos);
+  EXPECT_NE(text.find("\"test set \\\"quoted\\\" \\\\ backslash\""), std::string::npos);
+}
+
+TEST(PatternHeader, RejectsBadDocuments) {
+  PatternDocument doc = smallDocument("ok");
+  doc.name = "Bad-Name";
+  EXPECT_THROW(patternHeaderText(doc), std::invalid_argument);
+  doc.name = "registry";
+  EXPECT_THROW(patternHeaderText(doc), std::invalid_argument);
+  doc = smallDocument("ok");
+  doc.tests[3].x2 = 16;
+  EXPECT_THROW(patternHeaderText(doc), std::invalid_argument);
+  doc = smallDocument("ok");
+  doc.testComments = {"one"};
+  EXPECT_THROW(patternHeaderText(doc), std::invalid_argument);
+  doc = smallDocument("ok");
+  doc.provenance.push_back("two\nlines");
+  EXPECT_THROW(patternHeaderText(doc), std::invalid_argument);
+}
+
+TEST(PatternWriter, RegeneratesRegistryAndKeepsDefault) {
+  TempDir dir("writer");
+  writePattern(smallDocument("zeta_set"), dir.path);
+  EXPECT_EQ(registryDefaultName(dir.path), "zeta_set");  // first set becomes the default
+  writePattern(smallDocument("alpha_set"), dir.path);
+  EXPECT_EQ(registryDefaultName(dir.path), "zeta_set");
+  EXPECT_EQ(patternHeaderNames(dir.path), (std::vector<std::string>{"alpha_set", "zeta_set"}));
+  const std::string registry = readFile(dir.path / "registry.hpp");
+  EXPECT_LT(registry.find("patterns/alpha_set.hpp"), registry.find("patterns/zeta_set.hpp"));
+  EXPECT_LT(registry.find("&kAlphaSetInfo"), registry.find("&kZetaSetInfo"));
+  writePattern(smallDocument("alpha_set"), dir.path, {true, true});
+  EXPECT_EQ(registryDefaultName(dir.path), "alpha_set");
+  EXPECT_TRUE(fs::exists(dir.path / "alpha_set.json"));
+  for (const auto& e : fs::directory_iterator(dir.path))  // no temporary files left behind
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+}
+
+TEST(PatternWriter, InvalidDocumentOrMissingFolderWritesNothing) {
+  TempDir dir("invalid");
+  writePattern(smallDocument("kept"), dir.path);
+  const std::string before = readFile(dir.path / "kept.hpp");
+  PatternDocument bad = smallDocument("kept");
+  bad.tests[0].y1 = -20;
+  EXPECT_THROW(writePattern(bad, dir.path), std::invalid_argument);
+  EXPECT_EQ(readFile(dir.path / "kept.hpp"), before);
+  EXPECT_THROW(writePattern(smallDocument("x"), dir.path / "missing"), std::runtime_error);
+  EXPECT_THROW(writeFileAtomically(dir.path / "missing" / "f.txt", "x"), std::runtime_error);
+}
