@@ -187,7 +187,9 @@ TEST(Detector, CountPropertiesAndOrderOnATexturedImage) {
       EXPECT_GE(level.y - reach, -1e-3);
       EXPECT_LE(level.x + reach, levelSize.width - 1 + 1e-3);
       EXPECT_LE(level.y + reach, levelSize.height - 1 + 1e-3);
-      if (i > 0) EXPECT_GE(keypoints[i - 1].response, kp.response);
+      if (i > 0) {
+        EXPECT_GE(keypoints[i - 1].response, kp.response);
+      }
     }
     // Every level contributes, the finest the most.
     for (int level = 0; level < options.pyramid.levels; ++level) EXPECT_GT(perOctave[level], 0);
@@ -315,8 +317,11 @@ TEST(Detector, OrientationPointsAlongTheBisectorOfAWedge) {
   for (const double bisector : {0.0, 37.0, 90.0, 135.0, 200.0, 290.0, 333.0}) {
     cv::Mat image(200, 200, CV_8UC1, cv::Scalar(40));
     const cv::Point apex(100, 100);
-    cv::ellipse(image, apex, {60, 60}, 0, bisector - 45, bisector + 45, cv::Scalar(220), cv::FILLED,
+    cv::ellipse(image, apex, {60, 60}, 0, bisector - 45, bisector + 45, cv::Scalar(200), cv::FILLED,
                 cv::LINE_AA);
+    // A brighter apex: on a clean wedge FAST's scores tie around the apex and its
+    // non-maximum suppression then removes them all. One pixel barely moves the centroid.
+    image.at<uchar>(apex) = 255;
     DetectorOptions options;
     options.pyramid.levels = 1;
     const std::vector<cv::KeyPoint> keypoints = Detector(options).detect(image);
@@ -415,7 +420,9 @@ void expectAtLeastOrbRepeatability(const Pair& pair) {
                   spread ? "spread" : "strongest", ourRate, ours1.size(), ours2.size(), orbRate, orb1.size(),
                   orb2.size());
       // The default configuration must do at least as well as cv::ORB.
-      if (!spread && corners == DetectorOptions{}.corners) EXPECT_GE(ourRate, orbRate - 0.02) << pair.name;
+      if (!spread && corners == DetectorOptions{}.corners) {
+        EXPECT_GE(ourRate, orbRate - 0.02) << pair.name;
+      }
     }
   }
 }

@@ -213,7 +213,9 @@ TEST(Matcher, MaskedNearestNeighbourAgreesWithDoubleFormula) {
       }
       EXPECT_NEAR(m.distance, d[m.trainIdx], tol) << "bytes " << bytes;
       EXPECT_LE(d[m.trainIdx], best + 2 * tol) << "bytes " << bytes;
-      if (nearBest == 1) EXPECT_EQ(m.trainIdx, lowestClearWinner) << "bytes " << bytes;
+      if (nearBest == 1) {
+        EXPECT_EQ(m.trainIdx, lowestClearWinner) << "bytes " << bytes;
+      }
     }
   }
 }

@@ -40,9 +40,8 @@ class TestResponses {
   std::vector<uint64_t> bits_;
 };
 
-// Evaluates all tests on all patches in parallel (TBB). progress(done, total) is called from
-// the calling thread's tasks now and then with the number of finished work blocks; it must be
-// thread-safe. Throws std::invalid_argument on an empty patch set or an offset outside [-16, 15].
+// Evaluates all tests on all patches in parallel (TBB). progress(done, total), if set, is called
+// from worker threads after each finished work block, so it must be thread-safe. Throws std::invalid_argument on an empty patch set or an offset outside [-16, 15].
 TestResponses evaluateTests(const PatchMatrix& patches, const std::vector<TestPair>& tests,
                             const std::function<void(size_t, size_t)>& progress = {});
 

@@ -39,11 +39,14 @@ bool KannalaBrandtCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& be
   double lo = 0.0, hi = thetaMax_, t = std::min(rd, thetaMax_);
   for (int i = 0; i < 60; ++i) {
     const double f = thetaD(t) - rd;
+    const double step = f / thetaDPrime(t);
+    if (std::abs(step) < 1e-14) {
+      t -= step;
+      break;
+    }
     (f > 0.0 ? hi : lo) = t;
-    double next = t - f / thetaDPrime(t);
-    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (std::abs(next - t) < 1e-15) break;
-    t = next;
+    t -= step;
+    if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
   }
   const double s = std::sin(t) / rd;
   bearing = {mx * s, my * s, std::cos(t)};

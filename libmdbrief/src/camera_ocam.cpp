@@ -109,11 +109,11 @@ double OcamCamera::solveRho(double norm, double zo, double rho) const {
   if (!(rho > lo && rho < hi)) rho = 0.5 * (lo + hi);
   for (int i = 0; i < 100; ++i) {
     const double value = norm * detail::polyEval(p_.forward, rho) - zo * rho;
+    const double step = value / (norm * detail::polyDerivEval(p_.forward, rho) - zo);
+    if (std::abs(step) < 1e-10) return rho - step;
     (value > 0.0 ? hi : lo) = rho;
-    double next = rho - value / (norm * detail::polyDerivEval(p_.forward, rho) - zo);
-    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (std::abs(next - rho) < 1e-12 * std::max(1.0, rho)) return next;
-    rho = next;
+    rho -= step;
+    if (!(rho > lo && rho < hi)) rho = 0.5 * (lo + hi);
   }
   return rho;
 }

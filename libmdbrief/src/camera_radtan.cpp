@@ -50,11 +50,14 @@ bool RadTanCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) 
   double lo = 0.0, hi = rMax_, r = std::min(rd, rMax_);
   for (int i = 0; i < 60; ++i) {
     const double f = radialDistorted(r) - rd;
+    const double step = f / radialDistortedPrime(r);
+    if (std::abs(step) < 1e-14) {
+      r -= step;
+      break;
+    }
     (f > 0.0 ? hi : lo) = r;
-    double next = r - f / radialDistortedPrime(r);
-    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (std::abs(next - r) < 1e-15) break;
-    r = next;
+    r -= step;
+    if (!(r > lo && r < hi)) r = 0.5 * (lo + hi);
   }
   double x = rd > 0.0 ? xd * r / rd : 0.0, y = rd > 0.0 ? yd * r / rd : 0.0;
   // Newton on the full model with its 2x2 Jacobian to add the tangential part.
@@ -72,7 +75,7 @@ bool RadTanCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) 
     const double dx = (j11 * e[0] - j01 * e[1]) / det, dy = (j00 * e[1] - j01 * e[0]) / det;
     x -= dx;
     y -= dy;
-    if (std::abs(dx) + std::abs(dy) < 1e-15) break;
+    if (std::abs(dx) + std::abs(dy) < 1e-14) break;
   }
   const cv::Vec2d residual = distort(x, y) - cv::Vec2d(xd, yd);
   if (!(cv::norm(residual) < 1e-9) || !(std::hypot(x, y) < rMax_)) return false;
@@ -91,9 +94,10 @@ bool RadTanCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const 
 }
 
 bool RadTanCamera::isValid(const cv::Point2d& pixel) const {
-  const CameraIntrinsics& k = p_.intrinsics;
-  return detail::insideImage(pixel, k.size()) &&
-         std::hypot((pixel.x - k.cx) / k.fx, (pixel.y - k.cy) / k.fy) < rdMax_;
+  // Near the limit the tangential terms decide whether the inverse stays inside rMax, so the
+  // test is the inversion itself (no closed form for the folded region).
+  cv::Vec3d bearing;
+  return detail::insideImage(pixel, p_.intrinsics.size()) && pixelToBearing(pixel, bearing);
 }
 
 std::shared_ptr<Camera> RadTanCamera::resized(cv::Size newSize) const {

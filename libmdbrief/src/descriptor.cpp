@@ -8,6 +8,10 @@
 
 #include <tbb/parallel_for.h>
 
+#ifdef __AVX2__
+#include <immintrin.h>
+#endif
+
 #include "mdbrief/patterns.hpp"
 #include "mdbrief/tangent_plane.hpp"
 
@@ -20,40 +24,39 @@ namespace {
 constexpr int kSubBits = 5;
 constexpr int kSub = 1 << kSubBits;
 
-struct FixedPoint {
-  int x, y;
+// Quantised sample positions of one placement, structure of arrays so placement, bounds check
+// and sampling vectorise: with n tests, element d is the first point of test d, element n + d
+// its second point.
+struct Positions {
+  int* x;
+  int* y;
 };
+
+inline int toFixed(double v) { return static_cast<int>(std::floor(v * kSub + 0.5)); }
 
 // Level coordinates beyond +-2^20 px are outside any image; refusing them keeps the
 // fixed-point conversion far from int overflow.
-inline bool quantise(double x, double y, FixedPoint& p) {
-  constexpr double kLimit = 1 << 20;
-  if (!(std::abs(x) < kLimit && std::abs(y) < kLimit)) return false;
-  p = {static_cast<int>(std::floor(x * kSub + 0.5)), static_cast<int>(std::floor(y * kSub + 0.5))};
-  return true;
-}
+constexpr double kCoordinateLimit = 1 << 20;
 
 // Bilinear reads pixel x0 + 1, which must be <= width - 1; nearest reads a subset of those.
-bool allInside(const FixedPoint* pts, int count, int width, int height) {
-  int minX = 0, minY = 0, maxX = 0, maxY = 0;
-  if (count > 0) minX = maxX = pts[0].x, minY = maxY = pts[0].y;
+bool allInside(const Positions& p, int count, int width, int height) {
+  int minX = p.x[0], minY = p.y[0], maxX = p.x[0], maxY = p.y[0];
   for (int i = 1; i < count; ++i) {
-    minX = std::min(minX, pts[i].x), maxX = std::max(maxX, pts[i].x);
-    minY = std::min(minY, pts[i].y), maxY = std::max(maxY, pts[i].y);
+    minX = std::min(minX, p.x[i]), maxX = std::max(maxX, p.x[i]);
+    minY = std::min(minY, p.y[i]), maxY = std::max(maxY, p.y[i]);
   }
   return minX >= 0 && minY >= 0 && maxX < (width - 1) * kSub && maxY < (height - 1) * kSub;
 }
 
-inline int sampleBilinear(const cv::Mat& img, const FixedPoint& p) {
-  const int x0 = p.x >> kSubBits, y0 = p.y >> kSubBits;
-  const int fx = p.x & (kSub - 1), fy = p.y & (kSub - 1);
-  const uchar* r0 = img.ptr<uchar>(y0) + x0;
-  const uchar* r1 = r0 + img.step[0];
+inline int sampleBilinear(const uchar* data, size_t step, int px, int py) {
+  const int fx = px & (kSub - 1), fy = py & (kSub - 1);
+  const uchar* r0 = data + (py >> kSubBits) * step + (px >> kSubBits);
+  const uchar* r1 = r0 + step;
   return (r0[0] * (kSub - fx) + r0[1] * fx) * (kSub - fy) + (r1[0] * (kSub - fx) + r1[1] * fx) * fy;
 }
 
-inline int sampleNearest(const cv::Mat& img, const FixedPoint& p) {
-  return img.ptr<uchar>((p.y + kSub / 2) >> kSubBits)[(p.x + kSub / 2) >> kSubBits];
+inline int sampleNearest(const uchar* data, size_t step, int px, int py) {
+  return data[((py + kSub / 2) >> kSubBits) * step + ((px + kSub / 2) >> kSubBits)];
 }
 
 cv::Matx22d rotation(double deg) {
@@ -71,31 +74,50 @@ struct Placement {
   double scale = 1.0;        // octave scale (level-0 px per level px)
 };
 
-// Fills pts (2 per test) with quantised level coordinates. False if a point cannot be
-// projected.
-bool placeTests(const Placement& pl, const Camera* camera, const std::vector<TestPair>& tests,
-                FixedPoint* pts) {
-  const int n = static_cast<int>(tests.size());
+// Test offsets as doubles, laid out as Positions.
+struct Offsets {
+  std::vector<double> x, y;
+};
+
+// out[i] = toFixed(c + a * qa[i] + b * qb[i]). GCC 12 does not vectorise the double -> int
+// conversion, so the AVX2 path is written out; both paths round identically.
+void affineCoordinate(double c, double a, double b, const double* qa, const double* qb, int* out, int n) {
+  int i = 0;
+#ifdef __AVX2__
+  const __m256d vc = _mm256_set1_pd(c), va = _mm256_set1_pd(a), vb = _mm256_set1_pd(b);
+  const __m256d scale = _mm256_set1_pd(kSub), half = _mm256_set1_pd(0.5);
+  for (; i + 4 <= n; i += 4) {
+    const __m256d v = _mm256_add_pd(_mm256_add_pd(vc, _mm256_mul_pd(va, _mm256_loadu_pd(qa + i))),
+                                    _mm256_mul_pd(vb, _mm256_loadu_pd(qb + i)));
+    const __m256d f = _mm256_floor_pd(_mm256_add_pd(_mm256_mul_pd(v, scale), half));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), _mm256_cvttpd_epi32(f));
+  }
+#endif
+  for (; i < n; ++i) out[i] = toFixed(c + a * qa[i] + b * qb[i]);
+}
+
+// Fills p with quantised level coordinates. False if a point cannot be projected or lies
+// absurdly far outside any image.
+bool placeTests(const Placement& pl, const Camera* camera, const Offsets& q, Positions p) {
+  const int n = static_cast<int>(q.x.size());
   const auto& m = pl.map;
-  for (int d = 0; d < n; ++d) {
-    const TestPair& t = tests[d];
-    const int qs[2][2] = {{t.x1, t.y1}, {t.x2, t.y2}};
-    for (int k = 0; k < 2; ++k) {
-      const double qx = qs[k][0], qy = qs[k][1];
-      double x, y;
-      if (pl.affine) {
-        x = pl.centre.x + m(0, 0) * qx + m(0, 1) * qy;
-        y = pl.centre.y + m(1, 0) * qx + m(1, 1) * qy;
-      } else {
-        const cv::Point2d plane(pl.frame->anchor.x + m(0, 0) * qx + m(0, 1) * qy,
-                                pl.frame->anchor.y + m(1, 0) * qx + m(1, 1) * qy);
-        cv::Point2d px;
-        if (!planeToPixel(*camera, pl.frame->lambda, plane, px)) return false;
-        x = px.x / pl.scale;
-        y = px.y / pl.scale;
-      }
-      if (!quantise(x, y, pts[2 * d + k])) return false;
-    }
+  if (pl.affine) {
+    const double reach = (std::abs(m(0, 0)) + std::abs(m(0, 1)) + std::abs(m(1, 0)) + std::abs(m(1, 1))) * kPatchHalf;
+    if (!(std::abs(pl.centre.x) + reach < kCoordinateLimit && std::abs(pl.centre.y) + reach < kCoordinateLimit))
+      return false;
+    affineCoordinate(pl.centre.x, m(0, 0), m(0, 1), q.x.data(), q.y.data(), p.x, n);
+    affineCoordinate(pl.centre.y, m(1, 0), m(1, 1), q.x.data(), q.y.data(), p.y, n);
+    return true;
+  }
+  for (int i = 0; i < n; ++i) {
+    const cv::Point2d plane(pl.frame->anchor.x + m(0, 0) * q.x[i] + m(0, 1) * q.y[i],
+                            pl.frame->anchor.y + m(1, 0) * q.x[i] + m(1, 1) * q.y[i]);
+    cv::Point2d px;
+    if (!planeToPixel(*camera, pl.frame->lambda, plane, px)) return false;
+    const double x = px.x / pl.scale, y = px.y / pl.scale;
+    if (!(std::abs(x) < kCoordinateLimit && std::abs(y) < kCoordinateLimit)) return false;
+    p.x[i] = toFixed(x);
+    p.y[i] = toFixed(y);
   }
   return true;
 }
@@ -119,24 +141,74 @@ bool cornersValid(const Placement& pl, const Camera& camera) {
   return true;
 }
 
-template <int (*Sample)(const cv::Mat&, const FixedPoint&)>
-void packBits(const cv::Mat& img, const FixedPoint* pts, int nTests, uchar* out) {
+template <int (*Sample)(const uchar*, size_t, int, int)>
+void packBits(const cv::Mat& img, const Positions& p, int nTests, uchar* out) {
+  const uchar* data = img.data;
+  const size_t step = img.step[0];
   for (int byte = 0; byte < nTests / 8; ++byte) {
     unsigned v = 0;
     for (int b = 0; b < 8; ++b) {
       const int d = byte * 8 + b;
-      v |= static_cast<unsigned>(Sample(img, pts[2 * d]) < Sample(img, pts[2 * d + 1])) << b;
+      v |= static_cast<unsigned>(Sample(data, step, p.x[d], p.y[d]) <
+                                 Sample(data, step, p.x[nTests + d], p.y[nTests + d]))
+           << b;
     }
     out[byte] = static_cast<uchar>(v);
   }
 }
 
-void sampleDescriptor(const cv::Mat& img, const FixedPoint* pts, int nTests, Sampling sampling,
-                      uchar* out) {
-  if (sampling == Sampling::Bilinear)
-    packBits<sampleBilinear>(img, pts, nTests, out);
-  else
-    packBits<sampleNearest>(img, pts, nTests, out);
+#ifdef __AVX2__
+// Eight bilinear samples at once with 32-bit gathers, staying inside the image buffer:
+// the top row is read at x0 (pixels x0, x0 + 1 in the low bytes; the two bytes past them are
+// at worst the start of row y0 + 1, which exists since allInside() keeps y0 + 1 <= height - 1);
+// the bottom row, possibly the last one, is read at x0 - 2 (pixels in the high bytes; x0 - 2
+// is at worst the end of row y0 >= 0).
+inline __m256i bilinear8(const uchar* data, __m256i step, const int* px, const int* py) {
+  const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(px));
+  const __m256i y = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(py));
+  const __m256i mask = _mm256_set1_epi32(kSub - 1), one = _mm256_set1_epi32(kSub), lo = _mm256_set1_epi32(0xff);
+  const __m256i fx = _mm256_and_si256(x, mask), fy = _mm256_and_si256(y, mask);
+  const __m256i idx = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_srai_epi32(y, kSubBits), step),
+                                       _mm256_srai_epi32(x, kSubBits));
+  const __m256i w0 = _mm256_i32gather_epi32(reinterpret_cast<const int*>(data), idx, 1);
+  const __m256i w1 = _mm256_i32gather_epi32(reinterpret_cast<const int*>(data),
+                                            _mm256_add_epi32(idx, _mm256_sub_epi32(step, _mm256_set1_epi32(2))), 1);
+  const __m256i gx = _mm256_sub_epi32(one, fx);
+  const __m256i top = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_and_si256(w0, lo), gx),
+                                       _mm256_mullo_epi32(_mm256_and_si256(_mm256_srli_epi32(w0, 8), lo), fx));
+  const __m256i bottom = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_and_si256(_mm256_srli_epi32(w1, 16), lo), gx),
+                                          _mm256_mullo_epi32(_mm256_srli_epi32(w1, 24), fx));
+  return _mm256_add_epi32(_mm256_mullo_epi32(top, _mm256_sub_epi32(one, fy)), _mm256_mullo_epi32(bottom, fy));
+}
+
+// Same bits as packBits<sampleBilinear>: v1 < v2 per lane, lane d -> bit d of the byte.
+void packBitsBilinearAvx2(const cv::Mat& img, const Positions& p, int nTests, uchar* out) {
+  const __m256i step = _mm256_set1_epi32(static_cast<int>(img.step[0]));
+  for (int d = 0; d < nTests; d += 8) {
+    const __m256i v1 = bilinear8(img.data, step, p.x + d, p.y + d);
+    const __m256i v2 = bilinear8(img.data, step, p.x + nTests + d, p.y + nTests + d);
+    out[d / 8] = static_cast<uchar>(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(v2, v1))));
+  }
+}
+#endif
+
+void sampleDescriptor(const cv::Mat& img, const Positions& p, int nTests, Sampling sampling, uchar* out) {
+  if (sampling == Sampling::Nearest) return packBits<sampleNearest>(img, p, nTests, out);
+#ifdef __AVX2__
+  packBitsBilinearAvx2(img, p, nTests, out);
+#else
+  packBits<sampleBilinear>(img, p, nTests, out);
+#endif
+}
+
+Offsets offsetsOf(const TestSet& tests) {
+  const size_t n = tests.tests.size();
+  Offsets q{std::vector<double>(2 * n), std::vector<double>(2 * n)};
+  for (size_t d = 0; d < n; ++d) {
+    const TestPair& t = tests.tests[d];
+    q.x[d] = t.x1, q.y[d] = t.y1, q.x[n + d] = t.x2, q.y[n + d] = t.y2;
+  }
+  return q;
 }
 
 }  // namespace
@@ -232,9 +304,10 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
   cv::Mat desc(n, bytes, CV_8U, cv::Scalar(0)), mask(wantMasks ? n : 0, bytes, CV_8U, cv::Scalar(0));
   std::vector<uchar> ok(n, 0);
   const Camera* camera = camera_.get();
+  const Offsets offsets = offsetsOf(tests_);
 
   tbb::parallel_for(tbb::blocked_range<int>(0, n, 16), [&](const tbb::blocked_range<int>& range) {
-    std::vector<FixedPoint> pts(3 * 2 * nTests);
+    std::vector<int> xs(3 * 2 * nTests), ys(3 * 2 * nTests);
     std::array<uchar, 64> bits[3];
     TangentPlaneFrame frame;
     std::array<Placement, 3> placements;
@@ -244,12 +317,14 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
       const int count = placementsFor(options_, camera, kp, pyramid.scale(kp.octave), frame, placements);
       bool good = count > 0;
       for (int r = 0; good && r < count; ++r) {
-        FixedPoint* p = &pts[2 * nTests * r];
-        good = placeTests(placements[r], camera, tests_.tests, p) && allInside(p, 2 * nTests, img.cols, img.rows) &&
+        const Positions p{&xs[2 * nTests * r], &ys[2 * nTests * r]};
+        good = placeTests(placements[r], camera, offsets, p) && allInside(p, 2 * nTests, img.cols, img.rows) &&
                (!camera || cornersValid(placements[r], *camera));
       }
       if (!good) continue;
-      for (int r = 0; r < count; ++r) sampleDescriptor(img, &pts[2 * nTests * r], nTests, options_.sampling, bits[r].data());
+      for (int r = 0; r < count; ++r)
+        sampleDescriptor(img, Positions{&xs[2 * nTests * r], &ys[2 * nTests * r]}, nTests, options_.sampling,
+                         bits[r].data());
       std::copy_n(bits[0].data(), bytes, desc.ptr<uchar>(i));
       if (wantMasks) {
         uchar* m = mask.ptr<uchar>(i);
@@ -296,12 +371,12 @@ std::vector<std::pair<cv::Point2f, cv::Point2f>> DescriptorExtractor::testPositi
   std::array<Placement, 3> placements;
   if (placementsFor(options_, camera_.get(), keypoint, scale, frame, placements) == 0) return {};
   const int nTests = options_.bits;
-  std::vector<FixedPoint> pts(2 * nTests);
-  if (!placeTests(placements[0], camera_.get(), tests_.tests, pts.data())) return {};
+  std::vector<int> xs(2 * nTests), ys(2 * nTests);
+  if (!placeTests(placements[0], camera_.get(), offsetsOf(tests_), Positions{xs.data(), ys.data()})) return {};
   std::vector<std::pair<cv::Point2f, cv::Point2f>> out(nTests);
   const float f = static_cast<float>(scale) / kSub;
   for (int d = 0; d < nTests; ++d)
-    out[d] = {cv::Point2f(pts[2 * d].x * f, pts[2 * d].y * f), cv::Point2f(pts[2 * d + 1].x * f, pts[2 * d + 1].y * f)};
+    out[d] = {cv::Point2f(xs[d] * f, ys[d] * f), cv::Point2f(xs[nTests + d] * f, ys[nTests + d] * f)};
   return out;
 }
 

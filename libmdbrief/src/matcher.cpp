@@ -79,17 +79,27 @@ QueryRow loadRow(const cv::Mat& desc, const cv::Mat* masks, int row, int nwords)
   return q;
 }
 
-// The train side transposed once per call so that one load gives word k of 16 consecutive
-// descriptors: element (block b, word k, lane l) is at [(b * nwords + k) * kLanes + l].
-// Padding lanes of the last block hold zeros and are excluded by `count`.
+// The train side packed once per call (contiguous 32-bit words, effective masks, weights) in
+// the layout of the compiled kernel; slot() gives the index of word k of descriptor j.
+// AVX-512: one load gives word k of 16 consecutive descriptors, element (block b, word k,
+// lane l) at [(b * nwords + k) * kLanes + l]; padding lanes of the last block hold zeros and
+// are excluded by `count`. Portable: row-major, so a row is read as 64-bit words.
 struct TrainSet {
   int count = 0;
   int nwords = 0;
   int blocks = 0;
   std::vector<uint32_t> desc, mask, weight;  // mask/weight only when masked
+
+  size_t slot(int j, int k) const {
+#ifdef MDBRIEF_MATCH_AVX512
+    return (static_cast<size_t>(j / kLanes) * nwords + k) * kLanes + j % kLanes;
+#else
+    return static_cast<size_t>(j) * nwords + k;
+#endif
+  }
 };
 
-TrainSet transpose(const cv::Mat& desc, const cv::Mat* masks) {
+TrainSet pack(const cv::Mat& desc, const cv::Mat* masks) {
   TrainSet t;
   t.count = desc.rows;
   t.nwords = desc.cols / 4;
@@ -102,16 +112,17 @@ TrainSet transpose(const cv::Mat& desc, const cv::Mat* masks) {
   }
   uint32_t l[kMaxWords];
   for (int j = 0; j < t.count; ++j) {
-    const size_t base = static_cast<size_t>(j / kLanes) * t.nwords * kLanes + j % kLanes;
     const uint8_t* p = desc.ptr<uint8_t>(j);
-    for (int k = 0; k < t.nwords; ++k) t.desc[base + static_cast<size_t>(k) * kLanes] = word(p, k);
+    for (int k = 0; k < t.nwords; ++k) t.desc[t.slot(j, k)] = word(p, k);
     if (masks) {
       t.weight[j] = maskWords(masks->ptr<uint8_t>(j), t.nwords, l);
-      for (int k = 0; k < t.nwords; ++k) t.mask[base + static_cast<size_t>(k) * kLanes] = l[k];
+      for (int k = 0; k < t.nwords; ++k) t.mask[t.slot(j, k)] = l[k];
     }
   }
   return t;
 }
+
+#ifdef MDBRIEF_MATCH_AVX512
 
 // Lane l of the kernels sees trains l, l + 16, l + 32, ... in increasing order and keeps its
 // own two nearest (strict < keeps the lowest index among ties). Merging the lanes afterwards
@@ -134,8 +145,6 @@ Nearest mergeLanes(const uint32_t* best1, const uint32_t* best2, const int32_t* 
   }
   return r;
 }
-
-#ifdef MDBRIEF_MATCH_AVX512
 
 // AVX-512 VPOPCNTDQ: 16 train descriptors per step, query words broadcast, the per-lane two
 // nearest kept in registers.
@@ -198,43 +207,52 @@ Nearest nearestTwo(const QueryRow& q, const TrainSet& t) {
 
 #else
 
-// Portable form of the same scan, lane by lane.
+// Portable kernel: one train row at a time in index order, 64-bit popcounts plus a 32-bit
+// tail word for odd word counts.
 template <bool Masked>
 Nearest nearestTwo(const QueryRow& q, const TrainSet& t) {
   const int nwords = t.nwords;
-  uint32_t best1[kLanes], best2[kLanes];
-  int32_t index1[kLanes];
-  std::fill(best1, best1 + kLanes, kNone);
-  std::fill(best2, best2 + kLanes, kNone);
-  std::fill(index1, index1 + kLanes, -1);
-  for (int b = 0; b < t.blocks; ++b) {
-    const uint32_t* D = t.desc.data() + static_cast<size_t>(b) * nwords * kLanes;
-    const uint32_t* L = Masked ? t.mask.data() + static_cast<size_t>(b) * nwords * kLanes : nullptr;
-    const int lanes = std::min(kLanes, t.count - b * kLanes);
-    for (int l = 0; l < lanes; ++l) {
-      uint32_t d;
-      if constexpr (!Masked) {
-        d = 0;
-        for (int k = 0; k < nwords; ++k) d += popcount64(D[k * kLanes + l] ^ q.d[k]);
-      } else {
-        uint32_t a = 0, c = 0;
-        for (int k = 0; k < nwords; ++k) {
-          const uint32_t x = D[k * kLanes + l] ^ q.d[k];
-          a += popcount64(x & q.l[k]);
-          c += popcount64(x & L[k * kLanes + l]);
-        }
-        d = a * q.w + c * t.weight[static_cast<size_t>(b) * kLanes + l];
+  const int nlong = nwords / 2;
+  uint64_t qd[kMaxWords / 2], ql[kMaxWords / 2];
+  std::memcpy(qd, q.d, sizeof(uint64_t) * nlong);
+  if constexpr (Masked) std::memcpy(ql, q.l, sizeof(uint64_t) * nlong);
+  auto long_ = [](const uint32_t* p, int k) {
+    uint64_t v;
+    std::memcpy(&v, p + 2 * k, 8);
+    return v;
+  };
+  Nearest n;
+  for (int j = 0; j < t.count; ++j) {
+    const uint32_t* row = t.desc.data() + t.slot(j, 0);
+    uint32_t d;
+    if constexpr (!Masked) {
+      d = 0;
+      for (int k = 0; k < nlong; ++k) d += popcount64(long_(row, k) ^ qd[k]);
+      if (nwords & 1) d += popcount64(row[nwords - 1] ^ q.d[nwords - 1]);
+    } else {
+      const uint32_t* mask = t.mask.data() + t.slot(j, 0);
+      uint32_t a = 0, c = 0;
+      for (int k = 0; k < nlong; ++k) {
+        const uint64_t x = long_(row, k) ^ qd[k];
+        a += popcount64(x & ql[k]);
+        c += popcount64(x & long_(mask, k));
       }
-      if (d < best1[l]) {
-        best2[l] = best1[l];
-        best1[l] = d;
-        index1[l] = b * kLanes + l;
-      } else {
-        best2[l] = std::min(best2[l], d);
+      if (nwords & 1) {
+        const uint32_t x = row[nwords - 1] ^ q.d[nwords - 1];
+        a += popcount64(x & q.l[nwords - 1]);
+        c += popcount64(x & mask[nwords - 1]);
       }
+      d = a * q.w + c * t.weight[j];
+    }
+    if (d < n.best) {  // strict: ties keep the lowest index
+      n.second = n.best;
+      n.best = d;
+      n.index = j;
+    } else {
+      n.second = std::min(n.second, d);
     }
   }
-  return mergeLanes(best1, best2, index1);
+  return n;
 }
 
 #endif
@@ -288,10 +306,10 @@ std::vector<cv::DMatch> match(const cv::Mat& query, const cv::Mat* queryMasks,
   if (query.empty() || train.empty()) return {};
 
   const std::vector<Nearest> forward =
-      nearestAll(query, queryMasks, transpose(train, trainMasks), options.parallel);
+      nearestAll(query, queryMasks, pack(train, trainMasks), options.parallel);
   std::vector<Nearest> backward;
   if (options.crossCheck) {
-    backward = nearestAll(train, trainMasks, transpose(query, queryMasks), options.parallel);
+    backward = nearestAll(train, trainMasks, pack(query, queryMasks), options.parallel);
   }
 
   const bool masked = queryMasks != nullptr;

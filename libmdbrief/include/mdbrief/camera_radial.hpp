@@ -8,7 +8,7 @@
 // With the paper's xi = -2^-6 on the 754x480 example (fx = fy = 377.75, principal point
 // (379.98, 242.82); configs/cameras/radial_example.yaml) this is a clear barrel distortion:
 // the image corner (0, 0) sees the ray a pinhole would image 210 px further out, and a point
-// whose undistorted image is at that corner is displaced 90.8 px towards the centre
+// whose undistorted image is at that corner is displaced 91.2 px towards the centre
 // (tests/test_camera_models.cpp checks these numbers).
 // Validity: xi < 0 (barrel) maps every ray with z > 0 inside radius |m_d| < 1/sqrt(-xi);
 // xi > 0 (pincushion) needs 1 - 4 xi |m|^2 > 0, i.e. |m_d| < 1/sqrt(xi). Pixels beyond these

@@ -6,9 +6,9 @@
 //   (u, v) = (fx x_d + cx, fy y_d + cy).
 // The inverse is a radial-only 1-D solve followed by 2-D Newton steps on the full model
 // (converges to ~1e-12 in normalised units). Valid where the radial part r_d(r) is increasing:
-// r < rMax, the first stationary point of r_d in (0, 50] (50, i.e. 88.9 degrees, if none), and
-// for pixels |m_d| < r_d(rMax). The tangential terms are small corrections and are not part of
-// the limit.
+// r < rMax, the first stationary point of r_d in (0, 50] (50, i.e. 88.9 degrees, if none); a
+// pixel is valid when its inverse exists and lies within rMax (|m_d| < r_d(rMax) is a quick
+// pre-test; the tangential terms move the exact border slightly).
 #include "mdbrief/camera.hpp"
 #include "mdbrief/camera_intrinsics.hpp"
 

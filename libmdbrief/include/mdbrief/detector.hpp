@@ -25,7 +25,9 @@ struct DetectorOptions {
   // Levels and scale factor (cv::ORB's nlevels / scaleFactor). Level 0 is the input image:
   // the agreed pyramid has no upsampled levels, so cv::ORB's firstLevel is always 0 here.
   PyramidOptions pyramid;
-  CornerDetector corners = CornerDetector::Fast;  // FAST-9/16 or AGAST OAST-9/16
+  // FAST-9/16 or AGAST OAST-9/16. FAST by default: OpenCV 4.6's AGAST has no SIMD path and
+  // takes about 3x as long here (bench/bench_detector.cpp), unlike in the paper.
+  CornerDetector corners = CornerDetector::Fast;
   int threshold = 20;                 // FAST/AGAST intensity threshold (cv::ORB's default)
   // Used instead on a level where `threshold` finds fewer corners than the level's budget
   // (low-contrast images), as ORB-SLAM does; equal to `threshold` disables the retry.
@@ -33,8 +35,9 @@ struct DetectorOptions {
   int harrisBlockSize = 7;            // window of the Harris score (cv::ORB: 7)
   double harrisK = 0.04;              // Harris' k (cv::ORB: 0.04)
   // Spread each level's keypoints with a quadtree (one keypoint per cell, the cell with the
-  // most candidates split first) instead of keeping the strongest. Off by default: on
-  // Oxford graf it lowers repeatability (tests/test_detector.cpp measures both).
+  // most candidates split first) instead of keeping the strongest. Off by default: it covers
+  // more of the image but keeps weaker corners, and repeatability under a homography drops
+  // (graf 1->2: 0.54 spread vs 0.86 strongest; tests/test_detector.cpp prints both).
   bool spread = false;
   int orientationRadius = 15;         // circular patch of the intensity centroid (cv::ORB: 15)
   int patchSize = 31;                 // keypoint size = patchSize * scale (cv::ORB: 31)

@@ -1,0 +1,156 @@
+// Description time per keypoint: BRIEF, dBRIEF (both forms) and mdBRIEF, 256 bits, against
+// cv::ORB::compute on the same 752x480 fisheye image and the same 1000 keypoints. Each
+// benchmark builds its own pyramid from the image, as cv::ORB::compute does.
+// The image is Graffiti rendered through the paper's fisheye camera (needs opencv-doc).
+#include <benchmark/benchmark.h>
+
+#include <memory>
+
+#include <opencv2/core/utility.hpp>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "mdbrief/camera_io.hpp"
+#include "mdbrief/descriptor.hpp"
+#include "mdbrief/plane_renderer.hpp"
+#include <tbb/global_control.h>
+
+namespace {
+
+struct Frame {
+  mdbrief::CameraPtr camera;
+  cv::Mat image;
+  std::vector<cv::KeyPoint> keypoints;
+};
+
+const Frame& fisheyeFrame() {
+  static const Frame frame = [] {
+    Frame f;
+    f.camera = mdbrief::loadCamera(MDBRIEF_SOURCE_DIR "/configs/cameras/lafida_fisheye0.yaml");
+    mdbrief::PlaneScene scene;
+    scene.texture = cv::imread("/usr/share/doc/opencv-doc/examples/data/graf1.png", cv::IMREAD_GRAYSCALE);
+    if (scene.texture.empty()) return f;
+    scene.texelSize = 0.004;
+    mdbrief::CameraPose pose;
+    pose.centre = {0.3, 0.1, -0.8};
+    f.image = mdbrief::renderPlane(*f.camera, pose, scene);
+    cv::ORB::create(1000)->detect(f.image, f.keypoints);
+    return f;
+  }();
+  return frame;
+}
+
+void setThreads(benchmark::State& state) {
+  // Arg 1: single thread everywhere (OpenCV and TBB); 0: the libraries' defaults.
+  cv::setNumThreads(state.range(0) == 1 ? 1 : -1);
+}
+
+void BM_OrbCompute(benchmark::State& state) {
+  const Frame& f = fisheyeFrame();
+  if (f.image.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
+  setThreads(state);
+  const auto orb = cv::ORB::create(1000);
+  size_t n = 0;
+  for (auto _ : state) {
+    auto kps = f.keypoints;
+    cv::Mat desc;
+    orb->compute(f.image, kps, desc);
+    n = kps.size();
+    benchmark::DoNotOptimize(desc.data);
+  }
+  state.counters["us_per_kp"] = benchmark::Counter(double(n) * state.iterations(),
+                                                   benchmark::Counter::kIsRate | benchmark::Counter::kInvert,
+                                                   benchmark::Counter::kIs1000);
+  state.counters["keypoints"] = double(n);
+  cv::setNumThreads(-1);
+}
+
+void describe(benchmark::State& state, mdbrief::DescriptorKind kind, mdbrief::DistortionForm form) {
+  const Frame& f = fisheyeFrame();
+  if (f.image.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
+  mdbrief::DescriptorOptions o;
+  o.kind = kind;
+  o.form = form;
+  const mdbrief::DescriptorExtractor ex(f.camera, o);
+  std::unique_ptr<tbb::global_control> single;
+  setThreads(state);
+  if (state.range(0) == 1) single = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, 1);
+  size_t n = 0;
+  for (auto _ : state) {
+    auto kps = f.keypoints;
+    cv::Mat desc, masks;
+    ex.compute(f.image, kps, desc, &masks);
+    n = kps.size();
+    benchmark::DoNotOptimize(desc.data);
+  }
+  state.counters["us_per_kp"] = benchmark::Counter(double(n) * state.iterations(),
+                                                   benchmark::Counter::kIsRate | benchmark::Counter::kInvert,
+                                                   benchmark::Counter::kIs1000);
+  state.counters["keypoints"] = double(n);
+  cv::setNumThreads(-1);
+}
+
+void BM_Brief(benchmark::State& s) { describe(s, mdbrief::DescriptorKind::Brief, mdbrief::DistortionForm::Affine); }
+void BM_DBriefAffine(benchmark::State& s) { describe(s, mdbrief::DescriptorKind::DBrief, mdbrief::DistortionForm::Affine); }
+void BM_DBriefPaper(benchmark::State& s) { describe(s, mdbrief::DescriptorKind::DBrief, mdbrief::DistortionForm::Paper); }
+void BM_MdBriefAffine(benchmark::State& s) { describe(s, mdbrief::DescriptorKind::MdBrief, mdbrief::DistortionForm::Affine); }
+void BM_MdBriefPaper(benchmark::State& s) { describe(s, mdbrief::DescriptorKind::MdBrief, mdbrief::DistortionForm::Paper); }
+
+// Arg: 1 = single-threaded, 0 = default threading.
+BENCHMARK(BM_OrbCompute)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Brief)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DBriefAffine)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DBriefPaper)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_MdBriefAffine)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_MdBriefPaper)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+namespace {
+
+// Description alone on a prebuilt, smoothed pyramid (what a detect-and-describe pipeline pays
+// on top of detection, which builds the pyramid anyway).
+void describePrebuilt(benchmark::State& state, mdbrief::DescriptorKind kind) {
+  const Frame& f = fisheyeFrame();
+  if (f.image.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
+  mdbrief::DescriptorOptions o;
+  o.kind = kind;
+  const mdbrief::DescriptorExtractor ex(f.camera, o);
+  const mdbrief::ImagePyramid pyramid(f.image, o.pyramid);
+  pyramid.prepareSmoothed(pyramid.levels() - 1);
+  tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+  size_t n = 0;
+  for (auto _ : state) {
+    auto kps = f.keypoints;
+    cv::Mat desc, masks;
+    ex.compute(pyramid, kps, desc, &masks);
+    n = kps.size();
+    benchmark::DoNotOptimize(desc.data);
+  }
+  state.counters["us_per_kp"] = benchmark::Counter(double(n) * state.iterations(),
+                                                   benchmark::Counter::kIsRate | benchmark::Counter::kInvert,
+                                                   benchmark::Counter::kIs1000);
+}
+void BM_BriefPrebuiltPyramid(benchmark::State& s) { describePrebuilt(s, mdbrief::DescriptorKind::Brief); }
+void BM_DBriefPrebuiltPyramid(benchmark::State& s) { describePrebuilt(s, mdbrief::DescriptorKind::DBrief); }
+void BM_MdBriefPrebuiltPyramid(benchmark::State& s) { describePrebuilt(s, mdbrief::DescriptorKind::MdBrief); }
+BENCHMARK(BM_BriefPrebuiltPyramid)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DBriefPrebuiltPyramid)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MdBriefPrebuiltPyramid)->Unit(benchmark::kMillisecond);
+
+// The part of every description that does not depend on the descriptor: the 8-level pyramid
+// and its smoothing (shared with the detector in a whole-frame pipeline).
+void BM_PyramidAndSmoothing(benchmark::State& state) {
+  const Frame& f = fisheyeFrame();
+  if (f.image.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
+  cv::setNumThreads(1);
+  for (auto _ : state) {
+    const mdbrief::ImagePyramid pyramid(f.image, mdbrief::PyramidOptions{});
+    pyramid.prepareSmoothed(pyramid.levels() - 1);
+    benchmark::DoNotOptimize(pyramid.smoothed(0).data);
+  }
+  cv::setNumThreads(-1);
+}
+BENCHMARK(BM_PyramidAndSmoothing)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace

@@ -1,0 +1,89 @@
+// Detection time per image: mdbrief::Detector (modORB) against cv::ORB::detect at 1000
+// features on the same images, in the same run.
+//   752x480: the shared fisheye sample (fisheye/calib-adapter/kalibr/image.png), or else
+//            opencv-doc's graf1.png resized to 752x480;
+//   graf:    opencv-doc's graf1.png (800x640).
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "mdbrief/detector.hpp"
+#include "test_data.hpp"
+
+namespace {
+
+constexpr int kFeatures = 1000;
+
+const cv::Mat& grafImage() {
+  static const cv::Mat image = [] {
+    const auto dir = mdbrief::testing::opencvDocDataDir();
+    return dir ? cv::imread((*dir / "graf1.png").string(), cv::IMREAD_GRAYSCALE) : cv::Mat();
+  }();
+  return image;
+}
+
+const cv::Mat& vgaImage() {
+  static const cv::Mat image = [] {
+    const auto data = mdbrief::testing::sharedDataDir();
+    const cv::Mat fisheye =
+        data ? cv::imread((*data / "fisheye/calib-adapter/kalibr/image.png").string(), cv::IMREAD_GRAYSCALE)
+             : cv::Mat();
+    if (!fisheye.empty() && fisheye.size() == cv::Size(752, 480)) return fisheye;
+    cv::Mat resized;
+    if (!grafImage().empty()) cv::resize(grafImage(), resized, cv::Size(752, 480), 0, 0, cv::INTER_AREA);
+    return resized;
+  }();
+  return image;
+}
+
+const cv::Mat& imageFor(int which) { return which == 0 ? vgaImage() : grafImage(); }
+const char* nameOf(int which) { return which == 0 ? "752x480" : "graf 800x640"; }
+
+void ModOrbDetect(benchmark::State& state, mdbrief::CornerDetector corners) {
+  const cv::Mat& image = imageFor(static_cast<int>(state.range(0)));
+  if (image.empty()) {
+    state.SkipWithError("image not found");
+    return;
+  }
+  mdbrief::DetectorOptions options;
+  options.nfeatures = kFeatures;
+  options.corners = corners;
+  const mdbrief::Detector detector(options);
+  size_t count = 0;
+  for (auto _ : state) {
+    const std::vector<cv::KeyPoint> keypoints = detector.detect(image);
+    count = keypoints.size();
+    benchmark::DoNotOptimize(keypoints.data());
+  }
+  state.counters["keypoints"] = static_cast<double>(count);
+  state.SetLabel(nameOf(static_cast<int>(state.range(0))));
+}
+
+void BM_ModOrbDetectFast(benchmark::State& state) { ModOrbDetect(state, mdbrief::CornerDetector::Fast); }
+void BM_ModOrbDetectAgast(benchmark::State& state) { ModOrbDetect(state, mdbrief::CornerDetector::Agast); }
+
+void BM_CvOrbDetect(benchmark::State& state) {
+  const cv::Mat& image = imageFor(static_cast<int>(state.range(0)));
+  if (image.empty()) {
+    state.SkipWithError("image not found");
+    return;
+  }
+  const cv::Ptr<cv::ORB> orb = cv::ORB::create(kFeatures);
+  std::vector<cv::KeyPoint> keypoints;
+  for (auto _ : state) {
+    orb->detect(image, keypoints);
+    benchmark::DoNotOptimize(keypoints.data());
+  }
+  state.counters["keypoints"] = static_cast<double>(keypoints.size());
+  state.SetLabel(nameOf(static_cast<int>(state.range(0))));
+}
+
+}  // namespace
+
+BENCHMARK(BM_ModOrbDetectFast)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ModOrbDetectAgast)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CvOrbDetect)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);

@@ -1,0 +1,216 @@
+#include "eval_commands.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "csv_table.hpp"
+#include "eval_datasets.hpp"
+#include "mdbrief/camera_io.hpp"
+#include "pr_experiment.hpp"
+#include "simulation.hpp"
+#include "timing_table.hpp"
+
+namespace mdbrief::eval {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kDocData = "/usr/share/doc/opencv-doc/examples/data";
+
+std::string sourcePath(const std::string& rel) { return (fs::path(MDBRIEF_SOURCE_DIR) / rel).string(); }
+
+// MDBRIEF_DATA or <source>/../shared/data.
+std::string sharedData() {
+  if (const char* env = std::getenv("MDBRIEF_DATA"); env && *env) return env;
+  return (fs::path(MDBRIEF_SOURCE_DIR) / ".." / "shared" / "data").lexically_normal().string();
+}
+
+CameraPtr loadCameraOrThrow(const std::string& path) {
+  try {
+    return loadCamera(path);
+  } catch (const std::exception& e) {
+    throw InputError(e.what());
+  }
+}
+
+cv::Mat loadGreyOrThrow(const std::string& path) {
+  cv::Mat m = cv::imread(path, cv::IMREAD_GRAYSCALE);
+  if (m.empty()) throw InputError(path + ": cannot read the image");
+  return m;
+}
+
+// "name=path" pairs of the --camera flags.
+std::vector<SimCamera> parseCameras(const std::vector<std::string>& specs) {
+  std::vector<SimCamera> out;
+  for (const auto& s : specs) {
+    const auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == s.size())
+      throw InputError("--camera " + s + ": expected name=path");
+    out.push_back({s.substr(0, eq), loadCameraOrThrow(s.substr(eq + 1))});
+  }
+  return out;
+}
+
+// Runs `body`, turning file errors of the library (std::runtime_error naming the file) into
+// input errors so the caller exits 2.
+template <typename F>
+void asInputErrors(F&& body) {
+  try {
+    body();
+  } catch (const std::invalid_argument&) {
+    throw;
+  } catch (const cv::Exception& e) {
+    throw std::runtime_error(std::string("OpenCV: ") + e.what());
+  } catch (const std::runtime_error& e) {
+    throw InputError(e.what());
+  }
+}
+
+}  // namespace
+
+void addSimCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("sim", "The paper's simulation: Graffiti plane seen by moving pinhole / radial / "
+                                        "fisheye cameras (projected and detected keypoints)");
+  auto o = std::make_shared<SimOptions>();
+  auto cams = std::make_shared<std::vector<std::string>>(std::vector<std::string>{
+      "pinhole=" + sourcePath("configs/cameras/pinhole_example.yaml"),
+      "radial=" + sourcePath("configs/cameras/radial_example.yaml"),
+      "fisheye=" + sourcePath("configs/cameras/lafida_fisheye0.yaml"),
+      "double_sphere=" + sourcePath("configs/cameras/double_sphere_example.yaml")});
+  o->texturePath = kDocData + "/graf1.png";
+  o->outDir = sourcePath("docs/results");
+  auto noProjected = std::make_shared<bool>(false), noDetected = std::make_shared<bool>(false);
+  cmd->add_option("--texture", o->texturePath, "Plane texture (default: opencv-doc graf1.png)");
+  cmd->add_option("--camera", *cams, "name=calibration.yaml, repeatable (default: pinhole, radial, fisheye "
+                                     "(lafida_fisheye0), double_sphere)");
+  cmd->add_option("--out", o->outDir, "Output folder for the CSVs and view images")->capture_default_str();
+  cmd->add_option("--views", o->views, "Positions of the distance-evolution path")->check(CLI::Range(2, 1000))->capture_default_str();
+  cmd->add_option("--recognition-views", o->recognitionViews, "Views of the recognition sequence")->check(CLI::Range(2, 1000))->capture_default_str();
+  cmd->add_option("--keypoints", o->keypoints, "ORB keypoints on the texture")->check(CLI::Range(2, 100000))->capture_default_str();
+  cmd->add_option("--bits", o->bits, "Descriptor length")->check(CLI::Range(32, 512))->capture_default_str();
+  cmd->add_option("--mask-deg", o->maskDeg, "Mask angle of the projected experiment")->check(CLI::Range(0.1, 89.0))->capture_default_str();
+  cmd->add_option("--detected-views", o->detectedViews, "Views of the detected experiment")->check(CLI::Range(2, 1000))->capture_default_str();
+  cmd->add_option("--detected-keypoints", o->detectedKeypoints, "Detector budget per view")->check(CLI::Range(10, 100000))->capture_default_str();
+  cmd->add_option("--mask-angles", o->maskAngles, "Mask angles compared in the detected experiment")->check(CLI::Range(0.1, 89.0));
+  cmd->add_flag("--no-projected", *noProjected, "Skip the projected-keypoint experiment");
+  cmd->add_flag("--no-detected", *noDetected, "Skip the detected-keypoint experiment");
+  cmd->callback([o, cams, noProjected, noDetected] {
+    if (o->bits % 32) throw InputError("--bits " + std::to_string(o->bits) + ": must be a multiple of 32");
+    o->runProjected = !*noProjected;
+    o->runDetected = !*noDetected;
+    const auto cameras = parseCameras(*cams);
+    if (cv::imread(o->texturePath, cv::IMREAD_GRAYSCALE).empty())
+      throw InputError(o->texturePath + ": cannot read the texture image");
+    asInputErrors([&] { runSimulation(cameras, *o); });
+  });
+}
+
+void addEvalCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("eval", "Precision-recall (Mikolajczyk protocol) on Oxford sequences, rendered "
+                                         "fisheye sequences and user data");
+  struct Args {
+    std::string oxfordDir = sharedData() + "/oxford-affine";
+    std::vector<std::string> sequences{"bikes", "boat", "graf", "leuven", "trees", "ubc"};
+    std::vector<std::string> fisheyeCameras{sourcePath("configs/cameras/lafida_fisheye0.yaml"),
+                                            sourcePath("configs/cameras/double_sphere_example.yaml")};
+    std::vector<std::string> textures;
+    int poses = 5;
+    std::vector<std::string> userImages, userHomographies;
+    std::string userCamera;
+    PrOptions pr;
+    bool noPerspective = false, noFisheye = false, quick = false;
+  };
+  auto a = std::make_shared<Args>();
+  a->pr.outDir = sourcePath("docs/results");
+  cmd->add_option("--oxford-dir", a->oxfordDir, "Folder of the Oxford affine sequences")->capture_default_str();
+  cmd->add_option("--sequences", a->sequences, "Oxford sequences to use")->capture_default_str();
+  cmd->add_option("--fisheye-camera", a->fisheyeCameras, "Calibrations to render the fisheye sequences with");
+  cmd->add_option("--texture", a->textures, "Photos rendered as planes (default: Oxford img1 of graf, boat, "
+                                            "bikes and opencv-doc building.jpg)");
+  cmd->add_option("--poses", a->poses, "Rendered poses per fisheye sequence")->check(CLI::Range(2, 50))->capture_default_str();
+  cmd->add_option("--user-images", a->userImages, "User sequence: reference image first");
+  cmd->add_option("--user-camera", a->userCamera, "User sequence: camera calibration");
+  cmd->add_option("--user-homographies", a->userHomographies,
+                  "User sequence: 3x3 bearing-space homographies image 1 -> image k (k = 2..)");
+  cmd->add_option("--keypoints", a->pr.keypoints, "Strongest keypoints per image")->check(CLI::Range(10, 100000))->capture_default_str();
+  cmd->add_option("--radius", a->pr.radiusPx, "Ground-truth radius in pixels")->check(CLI::Range(0.1, 100.0))->capture_default_str();
+  cmd->add_option("--out", a->pr.outDir, "Output folder for the CSVs")->capture_default_str();
+  cmd->add_flag("--no-perspective", a->noPerspective, "Skip the Oxford sequences");
+  cmd->add_flag("--no-fisheye", a->noFisheye, "Skip the rendered fisheye sequences");
+  cmd->add_flag("--quick", a->quick, "Only the paper's main comparison (no length / test-set study)");
+  cmd->callback([a] {
+    if (!a->userImages.empty() && a->userCamera.empty()) throw InputError("--user-images needs --user-camera");
+    std::vector<EvalGroup> groups;
+    asInputErrors([&] {
+      if (!a->noPerspective) {
+        EvalGroup g{"perspective", {}};
+        for (const auto& s : a->sequences) {
+          auto seq = loadOxfordSequence(a->oxfordDir + "/" + s, s);
+          if (seq)
+            g.sequences.push_back(std::move(*seq));
+          else
+            std::fprintf(stderr, "eval: skipping Oxford sequence %s: %s/%s not found or incomplete\n", s.c_str(),
+                         a->oxfordDir.c_str(), s.c_str());
+        }
+        groups.push_back(std::move(g));
+      }
+      if (!a->noFisheye) {
+        std::vector<std::string> textures = a->textures;
+        if (textures.empty()) {
+          for (const char* s : {"graf", "boat", "bikes"}) {
+            const std::string p = a->oxfordDir + "/" + s + "/img1.png";
+            if (fs::exists(p)) textures.push_back(p);
+          }
+          textures.push_back(kDocData + "/building.jpg");
+        }
+        EvalGroup g{"fisheye", {}};
+        for (const auto& camPath : a->fisheyeCameras) {
+          const CameraPtr cam = loadCameraOrThrow(camPath);
+          for (const auto& t : textures) {
+            const std::string name = fs::path(camPath).stem().string() + ":" + fs::path(t).parent_path().filename().string() +
+                                     "/" + fs::path(t).stem().string();
+            g.sequences.push_back(renderedFisheyeSequence(name, loadGreyOrThrow(t), cam, a->poses));
+          }
+        }
+        groups.push_back(std::move(g));
+      }
+      if (!a->userImages.empty())
+        groups.push_back({"user", {loadUserSequence("user", a->userImages, a->userCamera, a->userHomographies)}});
+      auto methods = standardPrMethods();
+      if (a->quick) methods.resize(19);  // the first 19 are the paper's comparison
+      runPrecisionRecall(groups, methods, a->pr);
+    });
+  });
+}
+
+void addTimingCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("timing", "The paper's timing table (detection, description, matching)");
+  auto o = std::make_shared<TimingOptions>();
+  o->outDir = sourcePath("docs/results");
+  auto camPath = std::make_shared<std::string>(sourcePath("configs/cameras/lafida_fisheye0.yaml"));
+  auto texture = std::make_shared<std::string>(kDocData + "/graf1.png");
+  cmd->add_option("--camera", *camPath, "Camera of the timed images")->capture_default_str();
+  cmd->add_option("--texture", *texture, "Photo rendered through the camera at 4 poses")->capture_default_str();
+  cmd->add_option("--repeats", o->repeats, "Repeats (median reported)")->check(CLI::Range(1, 1000))->capture_default_str();
+  cmd->add_option("--keypoints", o->keypoints, "Detector budget")->check(CLI::Range(10, 100000))->capture_default_str();
+  cmd->add_option("--out", o->outDir, "Output folder")->capture_default_str();
+  cmd->callback([o, camPath, texture] {
+    const CameraPtr cam = loadCameraOrThrow(*camPath);
+    const cv::Mat tex = loadGreyOrThrow(*texture);
+    asInputErrors([&] {
+      const auto seq = renderedFisheyeSequence("timing", tex, cam, 4);
+      const auto rows = measureTimingTable(seq.images, cam, *o);
+      writeTimingTable(rows, (fs::path(o->outDir) / "timing_table.csv").string());
+      for (const auto& r : rows)
+        std::printf("%-7s %-13s %6.0f kp  det %7.2f us/kp  desc %7.2f us/kp  match %7.2f ns/pair  total %7.2f us\n",
+                    r.detector.c_str(), r.descriptor.c_str(), r.keypoints, r.detectionUs, r.descriptionUs,
+                    r.matchingNs, r.totalUs);
+    });
+  });
+}
+
+}  // namespace mdbrief::eval

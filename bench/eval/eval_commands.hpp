@@ -1,0 +1,20 @@
+#pragma once
+// The subcommands of mdbrief-eval (and of `mdbrief sim` / `mdbrief eval`): sim, eval, timing.
+// Bad input (unreadable file, inconsistent flags) is reported by throwing InputError, a
+// std::invalid_argument, whose message starts with the file or flag at fault: callers exit 2.
+#include <stdexcept>
+
+#include <CLI/CLI.hpp>
+
+namespace mdbrief::eval {
+
+class InputError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+void addSimCommand(CLI::App& app);
+void addEvalCommand(CLI::App& app);
+void addTimingCommand(CLI::App& app);
+
+}  // namespace mdbrief::eval

@@ -1,0 +1,132 @@
+#include "eval_datasets.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera_pinhole.hpp"
+#include "mdbrief/plane_renderer.hpp"
+#include "plane_geometry.hpp"
+
+namespace mdbrief::eval {
+namespace {
+
+cv::Mat readGrey(const std::string& path) {
+  cv::Mat img = cv::imread(path, cv::IMREAD_GRAYSCALE);
+  if (img.empty()) throw std::runtime_error(path + ": cannot read the image");
+  return img;
+}
+
+GroundTruthMap homographyMap(const cv::Matx33d& h, cv::Size target) {
+  return [h, target](const cv::Point2d& p) -> std::optional<cv::Point2d> {
+    const cv::Vec3d q = h * cv::Vec3d(p.x, p.y, 1.0);
+    if (!(q[2] > 0 || q[2] < 0)) return std::nullopt;
+    const cv::Point2d r(q[0] / q[2], q[1] / q[2]);
+    if (r.x < 0 || r.y < 0 || r.x > target.width - 1 || r.y > target.height - 1) return std::nullopt;
+    return r;
+  };
+}
+
+}  // namespace
+
+cv::Matx33d readHomography(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open the homography file");
+  cv::Matx33d h;
+  for (int i = 0; i < 9; ++i)
+    if (!(in >> h.val[i]) || !std::isfinite(h.val[i]))
+      throw std::runtime_error(path + ": expected nine numbers (a 3x3 homography)");
+  return h;
+}
+
+std::optional<EvalSequence> loadOxfordSequence(const std::string& dir, const std::string& name) {
+  namespace fs = std::filesystem;
+  if (!fs::is_directory(dir)) return std::nullopt;
+  EvalSequence s;
+  s.name = name;
+  for (int k = 1; k <= 6; ++k) {
+    fs::path img = fs::path(dir) / ("img" + std::to_string(k) + ".png");
+    if (!fs::exists(img)) img = fs::path(dir) / ("img" + std::to_string(k) + ".ppm");
+    if (!fs::exists(img)) return std::nullopt;
+    s.images.push_back(readGrey(img.string()));
+  }
+  for (int k = 2; k <= 6; ++k) {
+    const fs::path h = fs::path(dir) / ("H1to" + std::to_string(k) + "p");
+    if (!fs::exists(h)) return std::nullopt;
+    s.pairs.push_back({0, k - 1, homographyMap(readHomography(h.string()), s.images[k - 1].size())});
+  }
+  const cv::Size size = s.images[0].size();
+  CameraIntrinsics k;
+  k.width = size.width;
+  k.height = size.height;
+  k.fx = k.fy = size.width;
+  k.cx = (size.width - 1) / 2.0;
+  k.cy = (size.height - 1) / 2.0;
+  s.camera = std::make_shared<PinholeCamera>(k);
+  return s;
+}
+
+EvalSequence renderedFisheyeSequence(const std::string& name, const cv::Mat& texture, const CameraPtr& camera,
+                                     int poses) {
+  EvalSequence s;
+  s.name = name;
+  s.camera = camera;
+  s.cameraIsModel = true;
+  PlaneScene scene{texture, 3.2 / texture.cols};  // the texture spans 3.2 units, 1 unit away
+  std::vector<CameraPose> ps;
+  for (int k = 0; k < poses; ++k) {
+    const double t = poses > 1 ? static_cast<double>(k) / (poses - 1) : 0.0;
+    CameraPose p;
+    p.centre = {1.2 * t, 0.4 * t, -1.0};
+    p.rotation = cameraRotation(20.0 * t, -10.0 * t, 30.0 * t);
+    ps.push_back(p);
+    s.images.push_back(renderPlane(*camera, p, scene));
+  }
+  for (int k = 1; k < poses; ++k) {
+    const CameraPose a = ps[0], b = ps[k];
+    s.pairs.push_back({0, k, [camera, a, b, scene](const cv::Point2d& px) -> std::optional<cv::Point2d> {
+                         const auto plane = pixelToPlane(*camera, a, px);
+                         cv::Point2d out;
+                         if (!plane || !onTexture(scene, *plane) || !projectPlanePoint(*camera, b, *plane, out) ||
+                             !camera->isValid(out))
+                           return std::nullopt;
+                         return out;
+                       }});
+  }
+  return s;
+}
+
+EvalSequence loadUserSequence(const std::string& name, const std::vector<std::string>& images,
+                              const std::string& cameraPath, const std::vector<std::string>& homographyFiles) {
+  if (images.size() < 2) throw std::runtime_error("user data: at least two images are needed");
+  if (homographyFiles.size() != images.size() - 1)
+    throw std::runtime_error("user data: need one homography per image after the first (" +
+                             std::to_string(images.size() - 1) + "), got " + std::to_string(homographyFiles.size()));
+  EvalSequence s;
+  s.name = name;
+  s.camera = loadCamera(cameraPath);
+  s.cameraIsModel = true;
+  for (const auto& p : images) {
+    s.images.push_back(readGrey(p));
+    if (s.images.back().size() != s.camera->imageSize())
+      throw std::runtime_error(p + ": image size differs from the camera's calibration size");
+  }
+  for (size_t k = 0; k < homographyFiles.size(); ++k) {
+    const cv::Matx33d h = readHomography(homographyFiles[k]);
+    const CameraPtr cam = s.camera;
+    s.pairs.push_back({0, static_cast<int>(k + 1), [h, cam](const cv::Point2d& px) -> std::optional<cv::Point2d> {
+                         cv::Vec3d b;
+                         cv::Point2d out;
+                         if (!cam->pixelToBearing(px, b)) return std::nullopt;
+                         if (!cam->bearingToPixel(h * b, out) || !cam->isValid(out)) return std::nullopt;
+                         return out;
+                       }});
+  }
+  return s;
+}
+
+}  // namespace mdbrief::eval

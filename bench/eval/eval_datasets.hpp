@@ -1,0 +1,52 @@
+#pragma once
+// Image pairs with exact ground truth for the precision-recall evaluation:
+// - perspective: the Oxford affine sequences (img1..6, homographies H1toNp in pixels);
+// - fisheye: a photo rendered as a textured plane through a calibrated camera at several poses
+//   (ground truth through the plane coordinates, exact);
+// - user data: images + camera + homographies between bearings (b2 ~ H * b1, the paper's
+//   ground truth between undistorted coordinates).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "mdbrief/camera.hpp"
+#include "precision_recall.hpp"
+
+namespace mdbrief::eval {
+
+struct EvalPair {
+  int first = 0, second = 0;  // image indices
+  GroundTruthMap map;         // pixel of `first` -> pixel of `second`
+};
+
+struct EvalSequence {
+  std::string name;
+  // The camera dBRIEF/mdBRIEF use; for the perspective Oxford images an ideal pinhole (focal
+  // length = image width, principal point at the centre), where dBRIEF reduces to BRIEF.
+  CameraPtr camera;
+  bool cameraIsModel = false;  // true when the detector should respect the camera's valid area
+  std::vector<cv::Mat> images;  // 8UC1
+  std::vector<EvalPair> pairs;
+};
+
+// <dir>/img1..6.png (or .ppm) and H1to2p..H1to6p. Empty if the folder or a file is missing;
+// throws std::runtime_error naming the file if a present file is unreadable.
+std::optional<EvalSequence> loadOxfordSequence(const std::string& dir, const std::string& name);
+
+// `texture` rendered through `camera` at `poses` poses: the reference faces the plane, the
+// others translate / yaw / pitch / roll progressively towards the rim. Pairs 1-k.
+EvalSequence renderedFisheyeSequence(const std::string& name, const cv::Mat& texture, const CameraPtr& camera,
+                                     int poses);
+
+// User data: images[0] is the reference; homographyFiles[k] relates bearings of image 0 and
+// image k+1 (3x3, nine numbers, whitespace separated). Throws std::runtime_error naming the
+// file and the problem.
+EvalSequence loadUserSequence(const std::string& name, const std::vector<std::string>& images,
+                              const std::string& cameraPath, const std::vector<std::string>& homographyFiles);
+
+// Nine whitespace-separated numbers. Throws std::runtime_error naming the file.
+cv::Matx33d readHomography(const std::string& path);
+
+}  // namespace mdbrief::eval

@@ -1,0 +1,101 @@
+#include "pr_experiment.hpp"
+
+#include <cstdio>
+#include <filesystem>
+
+#include "csv_table.hpp"
+#include "mdbrief/detector.hpp"
+#include "mdbrief/patterns.hpp"
+
+namespace mdbrief::eval {
+
+std::vector<MethodSpec> standardPrMethods() {
+  const auto af = DistortionForm::Affine;
+  std::vector<MethodSpec> m{
+      opencvMethod("ORB-256", MethodFamily::Orb),
+      opencvMethod("BRISK-512", MethodFamily::Brisk),
+      opencvMethod("AKAZE-MLDB-486", MethodFamily::Akaze),
+      opencvMethod("SIFT", MethodFamily::Sift),
+      briefFamilyMethod("BRIEF-256", MethodFamily::Brief, 256, true),
+      briefFamilyMethod("mBRIEF-256", MethodFamily::MaskedBrief, 256, true, af),
+      briefFamilyMethod("dBRIEF-128", MethodFamily::DBrief, 128, true, af),
+      briefFamilyMethod("dBRIEF-256", MethodFamily::DBrief, 256, true, af),
+      briefFamilyMethod("dBRIEF-512", MethodFamily::DBrief, 512, true, af),
+      briefFamilyMethod("mdBRIEF-128", MethodFamily::MdBrief, 128, true, af),
+      briefFamilyMethod("mdBRIEF-256", MethodFamily::MdBrief, 256, true, af),
+      briefFamilyMethod("mdBRIEF-512", MethodFamily::MdBrief, 512, true, af),
+      briefFamilyMethod("dBRIEF-256-paper", MethodFamily::DBrief, 256, true, DistortionForm::Paper),
+      briefFamilyMethod("mdBRIEF-256-paper", MethodFamily::MdBrief, 256, true, DistortionForm::Paper),
+      // Without orientation (the paper's fig. "Ignoring patch orientation").
+      briefFamilyMethod("BRIEF-256-noori", MethodFamily::Brief, 256, false),
+      briefFamilyMethod("mBRIEF-256-noori", MethodFamily::MaskedBrief, 256, false, af),
+      briefFamilyMethod("dBRIEF-256-noori", MethodFamily::DBrief, 256, false, af),
+      briefFamilyMethod("mdBRIEF-128-noori", MethodFamily::MdBrief, 128, false, af),
+      briefFamilyMethod("mdBRIEF-256-noori", MethodFamily::MdBrief, 256, false, af)};
+  // Length study with the default set.
+  for (int bits : {32, 64})
+    m.push_back(briefFamilyMethod("dBRIEF-" + std::to_string(bits), MethodFamily::DBrief, bits, true, af));
+  // Test-set study: every compiled-in set at 256 bits (fewer if the set is shorter).
+  for (const auto& name : builtinTestSetNames()) {
+    const int size = static_cast<int>(builtinTestSet(name).tests.size());
+    const int bits = std::min(256, size / 32 * 32);
+    if (bits < 32) continue;
+    m.push_back(briefFamilyMethod("dBRIEF-" + std::to_string(bits) + "@" + name, MethodFamily::DBrief, bits, true, af,
+                                  10.0, name));
+  }
+  return m;
+}
+
+void runPrecisionRecall(const std::vector<EvalGroup>& groups, const std::vector<MethodSpec>& methods,
+                        const PrOptions& o) {
+  std::filesystem::create_directories(o.outDir);
+  CsvTable summary({"group", "sequence", "method", "auc", "recall_at_0.1", "recall_at_0.2", "pairs",
+                    "mean_ground_truth"});
+  for (const auto& g : groups) {
+    if (g.sequences.empty()) continue;
+    std::fprintf(stderr, "eval: group %s (%zu sequences)\n", g.name.c_str(), g.sequences.size());
+    // Keypoints once per image (shared by all methods).
+    std::vector<std::vector<std::vector<cv::KeyPoint>>> kps(g.sequences.size());
+    std::vector<std::vector<cv::Mat>> masks(g.sequences.size());
+    for (size_t s = 0; s < g.sequences.size(); ++s) {
+      const auto& seq = g.sequences[s];
+      DetectorOptions dopt;
+      dopt.nfeatures = o.keypoints;
+      const Detector det(dopt, seq.cameraIsModel ? seq.camera : nullptr);
+      for (const auto& img : seq.images) {
+        kps[s].push_back(det.detect(img));
+        masks[s].push_back(seq.cameraIsModel ? validAreaMask(*seq.camera, img.size()) : cv::Mat());
+      }
+    }
+    CsvTable curves({"method", "threshold", "one_minus_precision", "recall"});
+    for (const auto& m : methods) {
+      std::vector<PairMatches> all;
+      for (size_t s = 0; s < g.sequences.size(); ++s) {
+        const auto& seq = g.sequences[s];
+        std::vector<Features> f;
+        for (size_t i = 0; i < seq.images.size(); ++i)
+          f.push_back(describe(m, seq.images[i], seq.camera, kps[s][i], o.keypoints, masks[s][i]));
+        std::vector<PairMatches> mine;
+        for (const auto& p : seq.pairs) mine.push_back(matchPair(f[p.first], f[p.second], p.map, o.radiusPx));
+        const PrSummary ss = summarize(meanCurve(mine, o.curveSteps));
+        double gt = 0;
+        for (const auto& pm : mine) gt += pm.groundTruth;
+        summary.row().add(g.name).add(seq.name).add(m.name).add(ss.auc).add(ss.recallAt01).add(ss.recallAt02)
+            .add(static_cast<int>(mine.size())).add(gt / std::max<size_t>(1, mine.size()));
+        all.insert(all.end(), mine.begin(), mine.end());
+      }
+      const PrCurve c = meanCurve(all, o.curveSteps);
+      const PrSummary s = summarize(c);
+      double gt = 0;
+      for (const auto& pm : all) gt += pm.groundTruth;
+      summary.row().add(g.name).add(std::string("ALL")).add(m.name).add(s.auc).add(s.recallAt01).add(s.recallAt02)
+          .add(static_cast<int>(all.size())).add(gt / std::max<size_t>(1, all.size()));
+      for (size_t i = 0; i < c.recall.size(); ++i)
+        curves.row().add(m.name).add(c.threshold[i]).add(c.oneMinusPrecision[i]).add(c.recall[i]);
+    }
+    curves.write((std::filesystem::path(o.outDir) / ("eval_" + g.name + "_curves.csv")).string());
+  }
+  summary.write((std::filesystem::path(o.outDir) / "eval_summary.csv").string());
+}
+
+}  // namespace mdbrief::eval

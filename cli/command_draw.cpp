@@ -1,0 +1,141 @@
+// `mdbrief draw`: a PNG showing what the camera model does: the keypoints (colour = octave),
+// with --other/--matches the matches between two images side by side, and with --keypoint the
+// keypoint's test pairs as distorted on the image (the paper's test-set figure).
+#include <iostream>
+#include <memory>
+#include <optional>
+
+#include <opencv2/imgproc.hpp>
+
+#include "cli/commands.hpp"
+#include "cli/extraction_flags.hpp"
+#include "cli/storage_io.hpp"
+
+namespace mdbrief::cli {
+namespace {
+
+struct DrawArgs {
+  ExtractionFlags flags;
+  std::string image;
+  std::string keypoints;
+  std::string other;
+  std::string otherKeypoints;
+  std::string matches;
+  std::optional<int> keypoint;
+  std::string output;
+};
+
+cv::Scalar octaveColour(int octave) {
+  static const cv::Scalar kColours[] = {{0, 255, 255}, {0, 200, 0},   {255, 160, 0},  {255, 0, 255},
+                                        {0, 128, 255}, {255, 255, 0}, {128, 128, 255}, {0, 0, 255}};
+  return kColours[std::max(0, octave) % 8];
+}
+
+void drawKeypoints(cv::Mat& canvas, const std::vector<cv::KeyPoint>& keypoints, cv::Point2f offset) {
+  for (const auto& kp : keypoints)
+    cv::circle(canvas, kp.pt + offset, std::max(2, cvRound(kp.size / 8)), octaveColour(kp.octave), 1, cv::LINE_AA);
+}
+
+// The test pairs of one keypoint: one line per test from p1 to p2, p1 ends red, p2 ends blue.
+void drawTests(cv::Mat& canvas, const std::vector<std::pair<cv::Point2f, cv::Point2f>>& tests,
+               const cv::KeyPoint& keypoint) {
+  for (const auto& [p1, p2] : tests) cv::line(canvas, p1, p2, {0, 220, 0}, 1, cv::LINE_AA);
+  for (const auto& [p1, p2] : tests) {
+    cv::circle(canvas, p1, 1, {0, 0, 255}, cv::FILLED, cv::LINE_AA);
+    cv::circle(canvas, p2, 1, {255, 0, 0}, cv::FILLED, cv::LINE_AA);
+  }
+  cv::circle(canvas, keypoint.pt, 3, {255, 255, 255}, cv::FILLED, cv::LINE_AA);
+}
+
+// Rows of node `matches` (query, train, distance), checked against the keypoint counts.
+std::vector<std::pair<int, int>> loadMatches(const std::string& path, size_t queryCount, size_t trainCount,
+                                             const std::string& queryImage, const std::string& trainImage) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such file");
+  cv::Mat table;
+  try {
+    cv::FileStorage storage(path, cv::FileStorage::READ);
+    if (!storage.isOpened()) throw InputError(path + ": cannot open as an OpenCV FileStorage file");
+    if (storage["matches"].empty()) throw InputError(path + ": no node 'matches'");
+    storage["matches"] >> table;
+  } catch (const cv::Exception& e) {
+    throw InputError(path + ": cannot parse: " + e.err);
+  }
+  if (table.empty()) return {};
+  if (table.cols != 3 || table.channels() != 1) throw InputError(path + ": 'matches' must be an N x 3 matrix");
+  table.convertTo(table, CV_64F);
+  std::vector<std::pair<int, int>> out;
+  for (int i = 0; i < table.rows; ++i) {
+    const double q = table.at<double>(i, 0), t = table.at<double>(i, 1);
+    if (!(q >= 0 && q < double(queryCount)) || !(t >= 0 && t < double(trainCount)))
+      throw InputError(path + ": match " + std::to_string(i) + " refers to keypoints outside " + queryImage + " (" +
+                       std::to_string(queryCount) + ") or " + trainImage + " (" + std::to_string(trainCount) +
+                       "); draw with the flags used for extract");
+    out.emplace_back(static_cast<int>(q), static_cast<int>(t));
+  }
+  return out;
+}
+
+void runDraw(const DrawArgs& args) {
+  if (args.other.empty() != args.matches.empty()) throw InputError("--other and --matches go together");
+  checkImageOutput(args.output);
+  const CameraPtr calibration = loadCalibration(args.flags);
+  const cv::Mat image = loadImage(args.image);
+  std::optional<std::vector<cv::KeyPoint>> given;
+  if (!args.keypoints.empty()) given = loadKeypoints(args.keypoints);
+  const Features f = extractFeatures(args.flags, calibration, args.image, image, given);
+
+  cv::Mat canvas;
+  cv::cvtColor(image, canvas, cv::COLOR_GRAY2BGR);
+  drawKeypoints(canvas, f.keypoints, {0, 0});
+  if (args.keypoint) {
+    const int k = *args.keypoint;
+    if (k < 0 || k >= static_cast<int>(f.keypoints.size()))
+      throw InputError("--keypoint " + std::to_string(k) + ": " + args.image + " has " +
+                       std::to_string(f.keypoints.size()) + " described keypoints");
+    const auto feature = makeFeature(args.flags, calibration, args.image, image.size());
+    drawTests(canvas, feature->extractor().testPositions(f.keypoints[k]), f.keypoints[k]);
+  }
+
+  if (!args.other.empty()) {
+    const cv::Mat otherImage = loadImage(args.other);
+    std::optional<std::vector<cv::KeyPoint>> otherGiven;
+    if (!args.otherKeypoints.empty()) otherGiven = loadKeypoints(args.otherKeypoints);
+    const Features g = extractFeatures(args.flags, calibration, args.other, otherImage, otherGiven);
+    const auto pairs = loadMatches(args.matches, f.keypoints.size(), g.keypoints.size(), args.image, args.other);
+    cv::Mat right;
+    cv::cvtColor(otherImage, right, cv::COLOR_GRAY2BGR);
+    const cv::Point2f offset(static_cast<float>(canvas.cols), 0.f);
+    cv::Mat both(std::max(canvas.rows, right.rows), canvas.cols + right.cols, CV_8UC3, cv::Scalar::all(0));
+    canvas.copyTo(both(cv::Rect(0, 0, canvas.cols, canvas.rows)));
+    right.copyTo(both(cv::Rect(canvas.cols, 0, right.cols, right.rows)));
+    drawKeypoints(both, g.keypoints, offset);
+    for (const auto& [q, t] : pairs)
+      cv::line(both, f.keypoints[q].pt, g.keypoints[t].pt + offset, {0, 255, 0}, 1, cv::LINE_AA);
+    canvas = both;
+  }
+  writeImageAtomically(args.output, canvas);
+  std::cout << args.image << ": " << f.keypoints.size() << " keypoints drawn -> " << args.output << "\n";
+}
+
+}  // namespace
+
+void addDrawCommand(CLI::App& app) {
+  auto args = std::make_shared<DrawArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "draw",
+      "Draw keypoints (colour = octave), matches between two images, and one keypoint's test pairs as the camera "
+      "model distorts them (green lines, red = first point, blue = second). Keypoints are re-extracted with the "
+      "extraction flags: give the flags used for extract so match indices agree.");
+  addExtractionFlags(*cmd, args->flags);
+  cmd->add_option("image", args->image, "Image to draw on")->required();
+  cmd->add_option("--keypoints", args->keypoints, "Describe these keypoints (node 'keypoints') instead of detecting");
+  cmd->add_option("--other", args->other, "Second image, drawn to the right, for --matches");
+  cmd->add_option("--other-keypoints", args->otherKeypoints, "Keypoints of the second image (as --keypoints)");
+  cmd->add_option("--matches", args->matches, "Output of match (IMAGE's features as A, --other's as B)");
+  cmd->add_option("--keypoint", args->keypoint, "Draw the test pairs of this keypoint (row of the extract output)");
+  cmd->add_option("-o,--output", args->output, "Output image (.png)")->required();
+  cmd->callback([args] { runDraw(*args); });
+}
+
+}  // namespace mdbrief::cli

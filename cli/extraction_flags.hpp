@@ -1,0 +1,55 @@
+#pragma once
+// The detection/description flags shared by `extract` and `draw`, and the input loading both
+// need (images, calibration, keypoint files), each failing with an InputError naming the file.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <opencv2/core.hpp>
+
+#include "mdbrief/camera.hpp"
+#include "mdbrief/feature2d.hpp"
+
+namespace mdbrief::cli {
+
+struct ExtractionFlags {
+  std::string camera;                 // calibration file; required except for --descriptor brief
+  std::string descriptor = "mdbrief"; // brief | dbrief | mdbrief
+  int bits = 256;
+  bool noOrientation = false;
+  int features = 1000;
+  std::string form = "affine";        // affine | paper
+  std::string pattern;                // registry name or JSON file; empty = default set
+  bool allowSizeMismatch = false;     // rescale the calibration to the image instead of failing
+};
+
+// Adds --camera, --descriptor, --bits, --no-orientation, --features, --form, --pattern and
+// --allow-size-mismatch to cmd, bound to flags (which must outlive the parse).
+void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags);
+
+// The calibration of flags.camera, or null when none is given (allowed for brief only).
+CameraPtr loadCalibration(const ExtractionFlags& flags);
+
+// Decoded 8UC1 image. InputError for a missing, empty or undecodable file.
+cv::Mat loadImage(const std::string& path);
+
+// The keypoints of node `keypoints` of an OpenCV FileStorage file.
+std::vector<cv::KeyPoint> loadKeypoints(const std::string& path);
+
+struct Features {
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;
+  cv::Mat masks;  // mdBRIEF only
+};
+
+// Detects and describes the image at imagePath (or describes `given` keypoints) with the
+// flags; the calibration must match the image size unless flags.allowSizeMismatch.
+Features extractFeatures(const ExtractionFlags& flags, const CameraPtr& calibration, const std::string& imagePath,
+                         const cv::Mat& image, const std::optional<std::vector<cv::KeyPoint>>& given);
+
+// The descriptor extractor extractFeatures would use (for drawing test positions).
+cv::Ptr<MdBrief> makeFeature(const ExtractionFlags& flags, const CameraPtr& calibration,
+                             const std::string& imagePath, cv::Size imageSize);
+
+}  // namespace mdbrief::cli

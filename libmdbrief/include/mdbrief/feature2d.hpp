@@ -1,0 +1,96 @@
+#pragma once
+// mdbrief as a cv::Feature2D: a drop-in for cv::ORB (detect, compute, detectAndCompute,
+// BFMatcher(defaultNorm()), FileStorage read/write). Detection and description share one
+// ImagePyramid per image. The mdBRIEF masks, which cv::Feature2D has no place for, come from
+// the extra call detectAndComputeWithMasks().
+//
+// The camera is not part of the serialized state (it is a calibration file of its own, see
+// camera_io.hpp): read() changes the options and keeps the camera.
+#include <string>
+#include <vector>
+
+#include <opencv2/features2d.hpp>
+
+#include "mdbrief/camera.hpp"
+#include "mdbrief/descriptor.hpp"
+#include "mdbrief/detector.hpp"
+
+namespace mdbrief {
+
+struct MdBriefOptions {
+  // detector.pyramid is the one source of truth for the pyramid: the descriptor's octave ->
+  // scale must be the detector's. descriptor.pyramid must equal it (validate() checks it);
+  // setPyramid() sets both.
+  DetectorOptions detector;
+  DescriptorOptions descriptor;
+
+  void setPyramid(const PyramidOptions& pyramid) {
+    detector.pyramid = pyramid;
+    descriptor.pyramid = pyramid;
+  }
+};
+
+// Throws std::invalid_argument naming the option: the detector's and descriptor's own checks,
+// plus detector.pyramid != descriptor.pyramid.
+void validate(const MdBriefOptions& options);
+
+// Option names as used by FileStorage and the command line ("brief", "dbrief", "mdbrief";
+// "affine", "paper"; "bilinear", "nearest"; "fast", "agast"). The parse functions throw
+// std::invalid_argument listing the accepted names.
+std::string toString(DescriptorKind kind);
+std::string toString(DistortionForm form);
+std::string toString(Sampling sampling);
+std::string toString(CornerDetector corners);
+DescriptorKind parseDescriptorKind(const std::string& name);
+DistortionForm parseDistortionForm(const std::string& name);
+Sampling parseSampling(const std::string& name);
+CornerDetector parseCornerDetector(const std::string& name);
+
+class MdBrief : public cv::Feature2D {
+ public:
+  // camera may be null only for DescriptorKind::Brief (then no valid-area mask and any image
+  // size). Throws std::invalid_argument on unusable options or a missing camera.
+  static cv::Ptr<MdBrief> create(CameraPtr camera, const MdBriefOptions& options = {});
+
+  MdBrief(CameraPtr camera, const MdBriefOptions& options);
+
+  // cv::Feature2D: detect() and compute() of the base class forward here. image: 8UC1, 8UC3
+  // or 8UC4 (BGR/BGRA) of the camera's size; mask: empty or 8UC1 of the image size. With
+  // useProvidedKeypoints, keypoints that cannot be described are removed (as cv::ORB does).
+  // Throws std::invalid_argument on bad input.
+  void detectAndCompute(cv::InputArray image, cv::InputArray mask, std::vector<cv::KeyPoint>& keypoints,
+                        cv::OutputArray descriptors, bool useProvidedKeypoints = false) override;
+
+  // The same, plus the mdBRIEF masks (N x bytes CV_8U, row i for keypoint i; released for
+  // BRIEF and dBRIEF). descriptors and masks may be cv::noArray().
+  void detectAndComputeWithMasks(cv::InputArray image, cv::InputArray mask, std::vector<cv::KeyPoint>& keypoints,
+                                 cv::OutputArray descriptors, cv::OutputArray masks,
+                                 bool useProvidedKeypoints = false);
+
+  int descriptorSize() const override { return options_.descriptor.bits / 8; }
+  int descriptorType() const override { return CV_8U; }
+  int defaultNorm() const override { return cv::NORM_HAMMING; }
+  cv::String getDefaultName() const override { return "Feature2D.MdBrief"; }
+  bool empty() const override { return false; }
+
+  // Every option of MdBriefOptions (detector and descriptor; the pyramid once). read() keeps
+  // the current value of a missing key and throws std::invalid_argument naming the key for a
+  // bad value (the object is unchanged then).
+  void write(cv::FileStorage& fs) const override;
+  void read(const cv::FileNode& node) override;
+  using cv::Feature2D::read;
+  using cv::Feature2D::write;
+
+  const MdBriefOptions& options() const { return options_; }
+  const CameraPtr& camera() const { return camera_; }
+  const Detector& detector() const { return detector_; }
+  const DescriptorExtractor& extractor() const { return extractor_; }
+
+ private:
+  CameraPtr camera_;
+  MdBriefOptions options_;
+  Detector detector_;
+  DescriptorExtractor extractor_;
+};
+
+}  // namespace mdbrief

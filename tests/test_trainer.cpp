@@ -1,0 +1,167 @@
+// Trainer core: candidates, bit-packed responses, variance sort, greedy selection.
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "trainer/candidate_tests.hpp"
+#include "trainer/greedy_selection.hpp"
+#include "trainer/test_responses.hpp"
+#include "trainer/trainer.hpp"
+
+using namespace mdbrief;
+using namespace mdbrief::train;
+
+namespace {
+
+std::vector<uint8_t> randomPatches(size_t count, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::vector<uint8_t> px(count * 1024);
+  for (auto& v : px) v = static_cast<uint8_t>(rng() & 0xff);
+  return px;
+}
+
+// Smooth random patches (sums of a few gradients): tests have structured, unequal variances.
+std::vector<uint8_t> structuredPatches(size_t count, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<uint8_t> px(count * 1024);
+  for (size_t p = 0; p < count; ++p) {
+    const double gx = u(rng), gy = u(rng), c = u(rng), bias = u(rng) * 0.5;
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x) {
+        const double v = 128 + 60 * (gx * (x - 16) / 16 + gy * (y - 16) / 16) +
+                         40 * c * std::cos((x + y) / 5.0 + bias) + 8 * u(rng);
+        px[p * 1024 + y * 32 + x] = static_cast<uint8_t>(std::clamp(v, 0.0, 255.0));
+      }
+  }
+  return px;
+}
+
+}  // namespace
+
+TEST(Candidates, Exactly377650InRangeWithinDistanceLimits) {
+  const auto c = candidateTests();
+  ASSERT_EQ(c.size(), kCandidateCount);
+  std::set<std::tuple<int, int, int, int>> seen;
+  for (const TestPair& t : c) {
+    for (int v : {t.x1, t.y1, t.x2, t.y2}) {
+      ASSERT_GE(v, -15);
+      ASSERT_LE(v, 14);
+    }
+    const double d = std::hypot(t.x2 - t.x1, t.y2 - t.y1);
+    ASSERT_GT(d, 3.0);
+    ASSERT_LT(d, 29.0);
+    ASSERT_TRUE(seen.insert({t.x1, t.y1, t.x2, t.y2}).second);
+    ASSERT_FALSE(seen.count({t.x2, t.y2, t.x1, t.y1}));
+  }
+}
+
+TEST(Responses, MatchAScalarEvaluationIncludingPadding) {
+  const size_t P = 137;  // not a multiple of 64: the last word has padding
+  const auto px = randomPatches(P, 7);
+  const auto all = candidateTests();
+  std::vector<TestPair> tests(all.begin(), all.begin() + 500);
+  tests.push_back({-16, -16, 15, 15});  // extreme offsets
+  const TestResponses r = evaluateTests({px.data(), P}, tests);
+  ASSERT_EQ(r.words(), 3u);
+  for (size_t d = 0; d < tests.size(); ++d) {
+    const TestPair& t = tests[d];
+    size_t ones = 0;
+    for (size_t p = 0; p < P; ++p) {
+      const uint8_t a = px[p * 1024 + (t.y1 + 16) * 32 + t.x1 + 16];
+      const uint8_t b = px[p * 1024 + (t.y2 + 16) * 32 + t.x2 + 16];
+      const bool bit = (r.column(d)[p / 64] >> (p % 64)) & 1;
+      ASSERT_EQ(bit, a < b) << d << " " << p;
+      ones += a < b;
+    }
+    EXPECT_EQ(r.ones(d), ones);
+    EXPECT_EQ(r.column(d)[2] >> (P - 128), 0u) << "padding bits must stay 0";
+  }
+  EXPECT_THROW(evaluateTests({px.data(), 0}, tests), std::invalid_argument);
+  EXPECT_THROW(evaluateTests({px.data(), P}, {{0, 0, 16, 0}}), std::invalid_argument);
+}
+
+TEST(Greedy, SortIsByVarianceThenIndex) {
+  const size_t P = 300;
+  const auto px = structuredPatches(P, 3);
+  const auto all = candidateTests();
+  const std::vector<TestPair> tests(all.begin(), all.begin() + 3000);
+  const TestResponses r = evaluateTests({px.data(), P}, tests);
+  const auto order = sortByVariance(r);
+  ASSERT_EQ(order.size(), tests.size());
+  for (size_t i = 1; i < order.size(); ++i) {
+    const double a = r.ones(order[i - 1]) * double(P - r.ones(order[i - 1]));
+    const double b = r.ones(order[i]) * double(P - r.ones(order[i]));
+    ASSERT_GE(a, b);
+    if (a == b) {
+      ASSERT_LT(order[i - 1], order[i]);
+    }
+  }
+}
+
+TEST(Greedy, KeptTestsAreBelowTheFinalThresholdAndMatchASequentialWalk) {
+  const size_t P = 256;
+  const auto px = structuredPatches(P, 11);
+  const auto all = candidateTests();
+  std::vector<TestPair> tests;
+  for (size_t i = 0; i < all.size(); i += 97) tests.push_back(all[i]);
+  const TestResponses r = evaluateTests({px.data(), P}, tests);
+  const auto order = sortByVariance(r);
+  GreedyOptions opt;
+  opt.tests = 128;
+  const GreedyResult g = selectUncorrelated(r, order, opt);
+  ASSERT_EQ(g.kept.size(), 128u);
+  EXPECT_GE(g.passes, 1);
+  EXPECT_NEAR(g.finalThreshold, 0.2 + 0.1 * (g.passes - 1), 1e-9);
+  for (size_t i = 0; i < g.kept.size(); ++i)
+    for (size_t j = i + 1; j < g.kept.size(); ++j)
+      ASSERT_LT(correlation(r, g.kept[i], g.kept[j]), g.finalThreshold + 1e-12);
+  EXPECT_EQ(g.kept.front(), order.front()) << "the highest-variance test is always kept";
+
+  // The plain sequential algorithm of the paper gives the same list.
+  std::vector<size_t> kept;
+  std::vector<char> taken(r.tests(), 0);
+  for (int pass = 0; kept.size() < opt.tests; ++pass) {
+    const double tc = 0.2 + 0.1 * pass;
+    for (size_t d : order) {
+      if (kept.size() == opt.tests) break;
+      if (taken[d]) continue;
+      bool ok = true;
+      for (size_t k : kept) ok = ok && correlation(r, d, k) < tc - 1e-12;
+      if (ok) {
+        kept.push_back(d);
+        taken[d] = 1;
+      }
+    }
+  }
+  EXPECT_EQ(kept, g.kept);
+}
+
+TEST(Greedy, TooFewCandidatesThrow) {
+  const auto px = randomPatches(64, 1);
+  const TestResponses r = evaluateTests({px.data(), 64}, {{0, 0, 5, 5}, {1, 1, -5, -5}});
+  GreedyOptions opt;
+  opt.tests = 3;
+  EXPECT_THROW(selectUncorrelated(r, sortByVariance(r), opt), std::invalid_argument);
+}
+
+TEST(Trainer, IsDeterministicWithCorrelationsBelowTheFinalThreshold) {
+  const size_t P = 200;
+  const auto px = structuredPatches(P, 5);
+  GreedyOptions opt;
+  opt.tests = 64;
+  const LearnedTests a = learnTests({px.data(), P}, opt);
+  const LearnedTests b = learnTests({px.data(), P}, opt);
+  ASSERT_EQ(a.tests.size(), 64u);
+  EXPECT_EQ(a.candidates, kCandidateCount);
+  for (size_t i = 0; i < a.tests.size(); ++i) {
+    EXPECT_EQ(a.tests[i].x1, b.tests[i].x1);
+    EXPECT_EQ(a.tests[i].y2, b.tests[i].y2);
+    EXPECT_LE(a.maxCorrelation[i], a.finalThreshold);
+  }
+  EXPECT_EQ(patchDigest({px.data(), P}), patchDigest({px.data(), P}));
+  EXPECT_EQ(patchDigest({px.data(), P}).size(), 16u);
+}

@@ -1,0 +1,52 @@
+#pragma once
+// The whole off-line learning on a patch set: candidates -> responses -> variance sort ->
+// greedy selection, with the per-test statistics the pattern header records.
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "mdbrief/pattern_io.hpp"
+#include "mdbrief/test_set.hpp"
+#include "trainer/greedy_selection.hpp"
+#include "trainer/test_responses.hpp"
+
+namespace mdbrief::train {
+
+struct StageTimes {
+  double evaluateSeconds = 0;  // all candidates on all patches
+  double sortSeconds = 0;      // variance + sort
+  double greedySeconds = 0;    // all greedy passes
+};
+
+struct LearnedTests {
+  std::vector<TestPair> tests;          // in selection order
+  std::vector<double> mean;             // per test: fraction of patches where it is 1
+  std::vector<double> maxCorrelation;   // per test: max correlation with the other kept tests
+  size_t candidates = 0;
+  size_t patches = 0;
+  int passes = 0;
+  double finalThreshold = 0;
+  size_t responseBytes = 0;             // size of the bit-packed response matrix
+  StageTimes times;
+};
+
+// stage is "evaluate" or "greedy"; done/total in stage units (work blocks, kept tests).
+using TrainingProgress = std::function<void(const char* stage, size_t done, size_t total)>;
+
+// Throws std::invalid_argument if the patch set is empty or options.tests exceeds the number of
+// candidates.
+LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options,
+                        const TrainingProgress& progress = {});
+
+// Quality of a test set on a patch set: the learning's two criteria.
+struct TestSetQuality {
+  double meanVariance = 0;     // mean over tests of alpha(1 - alpha) (max 0.25)
+  double meanCorrelation = 0;  // mean over test pairs of the paper's correlation
+};
+TestSetQuality measureTestSet(const PatchMatrix& patches, const std::vector<TestPair>& tests);
+
+// FNV-1a 64 of the patch pixels, as 16 hex digits: the header's data digest.
+std::string patchDigest(const PatchMatrix& patches);
+
+}  // namespace mdbrief::train
