@@ -14,6 +14,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "mdbrief/descriptor.hpp"
 #include "mdbrief/detector.hpp"
 #include "test_data.hpp"
 
@@ -449,3 +450,39 @@ TEST(DetectorRepeatability, OxfordGraf1To2AtLeastAsOrb) {
 }
 
 }  // namespace
+
+namespace mdbrief {
+namespace {
+
+// firstLevel > 0 adds enlarged levels: keypoints found there are smaller than the patch at the
+// input scale, stay inside the input image, and the descriptor (same pyramid options) can
+// describe them.
+TEST(Detector, FirstLevelAddsEnlargedLevelsTheDescriptorUnderstands) {
+  const auto doc = testing::opencvDocDataDir();
+  if (!doc) GTEST_SKIP() << "opencv-doc not installed (scripts/setup-deps.sh)";
+  const cv::Mat image = cv::imread((*doc / "graf1.png").string(), cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(image.empty());
+  DetectorOptions options;
+  options.pyramid.firstLevel = 1;
+  const ImagePyramid pyramid(image, options.pyramid);
+  const std::vector<cv::KeyPoint> keypoints = Detector(options).detect(pyramid);
+  int enlarged = 0;
+  for (const cv::KeyPoint& kp : keypoints) {
+    ASSERT_TRUE(kp.pt.x >= 0 && kp.pt.y >= 0 && kp.pt.x < image.cols && kp.pt.y < image.rows);
+    if (kp.octave == 0) {
+      ++enlarged;
+      EXPECT_NEAR(kp.size, 31.0 / 1.2, 1e-3);
+    }
+  }
+  EXPECT_GT(enlarged, 50);
+  DescriptorOptions descriptor;
+  descriptor.kind = DescriptorKind::Brief;
+  descriptor.pyramid = options.pyramid;
+  std::vector<cv::KeyPoint> described = keypoints;
+  cv::Mat descriptors;
+  DescriptorExtractor(nullptr, descriptor).compute(pyramid, described, descriptors);
+  EXPECT_GT(described.size(), 0.95 * keypoints.size());
+}
+
+}  // namespace
+}  // namespace mdbrief

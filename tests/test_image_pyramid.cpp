@@ -144,6 +144,25 @@ TEST(ImagePyramid, RejectsBadInputAndOptions) {
             std::string::npos);
 }
 
+TEST(ImagePyramid, FirstLevelHoldsTheInputAndLowerLevelsEnlargeIt) {
+  cv::Mat image(240, 320, CV_8UC1);
+  cv::randu(image, 0, 256);
+  PyramidOptions options;
+  options.levels = 5;
+  options.firstLevel = 2;
+  const ImagePyramid pyramid(image, options);
+  ASSERT_EQ(pyramid.levels(), 5);
+  EXPECT_EQ(pyramid.inputSize(), image.size());
+  EXPECT_EQ(pyramid.image(2).data, image.data);  // the input itself, not a copy
+  EXPECT_DOUBLE_EQ(pyramid.scale(2), 1.0);
+  EXPECT_NEAR(pyramid.scale(0), 1.0 / 1.44, 1e-12);
+  EXPECT_NEAR(pyramid.scale(4), 1.44, 1e-12);
+  EXPECT_EQ(pyramid.image(0).size(), cv::Size(461, 346));  // 320 * 1.44, 240 * 1.44 rounded
+  EXPECT_EQ(pyramid.image(4).size(), cv::Size(222, 167));
+  options.firstLevel = 5;
+  EXPECT_THROW(ImagePyramid(image, options), std::invalid_argument);
+}
+
 TEST(ToGrey, GreyInputIsReturnedWithoutCopy) {
   const cv::Mat grey = noiseImage({20, 10});
   const cv::Mat out = toGrey(grey);

@@ -121,8 +121,14 @@ Features describe(const MethodSpec& m, const cv::Mat& image, const CameraPtr& ca
     case MethodFamily::Brisk:
       return describeOpenCv(cv::BRISK::create(), image, std::move(keypoints), 512);
     case MethodFamily::Sift:
-      for (auto& kp : keypoints)
+      for (auto& kp : keypoints) {
         if (kp.angle < 0.f) kp.angle = 0.f;
+        // cv::SIFT reads `octave` as its own packed octave/layer code: 0 = the full-resolution
+        // octave. Its descriptor window is about 6x `size` wide; size / 6 makes it cover the
+        // same 31-pixel (times scale) patch as the binary descriptors.
+        kp.octave = 0;
+        kp.size /= 6.f;
+      }
       return describeOpenCv(cv::SIFT::create(), image, std::move(keypoints), 128);
     case MethodFamily::Akaze: {
       Features f;

@@ -9,7 +9,7 @@
 
 namespace mdbrief::eval {
 
-std::vector<MethodSpec> standardPrMethods() {
+std::vector<MethodSpec> standardPrMethods(bool withStudies) {
   const auto af = DistortionForm::Affine;
   std::vector<MethodSpec> m{
       opencvMethod("ORB-256", MethodFamily::Orb),
@@ -32,6 +32,7 @@ std::vector<MethodSpec> standardPrMethods() {
       briefFamilyMethod("dBRIEF-256-noori", MethodFamily::DBrief, 256, false, af),
       briefFamilyMethod("mdBRIEF-128-noori", MethodFamily::MdBrief, 128, false, af),
       briefFamilyMethod("mdBRIEF-256-noori", MethodFamily::MdBrief, 256, false, af)};
+  if (!withStudies) return m;
   // Length study with the default set.
   for (int bits : {32, 64})
     m.push_back(briefFamilyMethod("dBRIEF-" + std::to_string(bits), MethodFamily::DBrief, bits, true, af));

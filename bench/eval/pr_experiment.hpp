@@ -23,9 +23,9 @@ struct PrOptions {
   int curveSteps = 100;
 };
 
-// The paper's comparison set plus the test-set and length study: test sets are taken from
-// builtinTestSetNames() at run time.
-std::vector<MethodSpec> standardPrMethods();
+// The paper's comparison set; with studies also the length study (32, 64 bits) and the
+// test-set study (every name of builtinTestSetNames() at run time).
+std::vector<MethodSpec> standardPrMethods(bool withStudies = true);
 
 void runPrecisionRecall(const std::vector<EvalGroup>& groups, const std::vector<MethodSpec>& methods,
                         const PrOptions& options);

@@ -168,13 +168,12 @@ double maxRadialDisplacement(const Camera& radial, const Camera& pinhole) {
   return best;
 }
 
-SimSummary runProjectedSimulation(const SimCamera& sc, const SimOptions& o) {
+SimSummary runProjectedSimulation(const SimCamera& sc, double xEnd, const SimOptions& o) {
   PlaneScene scene{loadTexture(o.texturePath), kSmallTexel};
   std::vector<cv::KeyPoint> corners;
   cv::ORB::create(o.keypoints)->detect(scene.texture, corners);
   std::vector<cv::Point2d> planePoints;
   for (const auto& kp : corners) planePoints.push_back(texelToPlane(scene, kp.pt));
-  const double xEnd = pathLength(*sc.camera, scene);
   const auto methods = projectedMethods(o);
   const size_t nm = methods.size();
 
@@ -275,18 +274,21 @@ SimSummary runProjectedSimulation(const SimCamera& sc, const SimOptions& o) {
   return summary;
 }
 
-void runDetectedSimulation(const SimCamera& sc, const SimOptions& o) {
+namespace {
+
+void runDetectedVariant(const SimCamera& sc, const SimOptions& o, const std::string& variant, double rollDeg,
+                        bool oriented) {
   PlaneScene scene{loadTexture(o.texturePath), kLargeTexel};
   std::vector<MethodSpec> methods{
-      briefFamilyMethod("BRIEF", MethodFamily::Brief, o.bits, true),
-      briefFamilyMethod("mBRIEF-10", MethodFamily::MaskedBrief, o.bits, true, DistortionForm::Affine, 10.0),
-      briefFamilyMethod("dBRIEF-paper", MethodFamily::DBrief, o.bits, true, DistortionForm::Paper),
-      briefFamilyMethod("dBRIEF-affine", MethodFamily::DBrief, o.bits, true, DistortionForm::Affine)};
+      briefFamilyMethod("BRIEF", MethodFamily::Brief, o.bits, oriented),
+      briefFamilyMethod("mBRIEF-10", MethodFamily::MaskedBrief, o.bits, oriented, DistortionForm::Affine, 10.0),
+      briefFamilyMethod("dBRIEF-paper", MethodFamily::DBrief, o.bits, oriented, DistortionForm::Paper),
+      briefFamilyMethod("dBRIEF-affine", MethodFamily::DBrief, o.bits, oriented, DistortionForm::Affine)};
   for (const char* form : {"paper", "affine"})
     for (double a : o.maskAngles) {
       char name[64];
       std::snprintf(name, sizeof name, "mdBRIEF-%s-%g", form, a);
-      methods.push_back(briefFamilyMethod(name, MethodFamily::MdBrief, o.bits, true,
+      methods.push_back(briefFamilyMethod(name, MethodFamily::MdBrief, o.bits, oriented,
                                           std::string(form) == "paper" ? DistortionForm::Paper : DistortionForm::Affine, a));
     }
   const size_t nm = methods.size();
@@ -300,7 +302,7 @@ void runDetectedSimulation(const SimCamera& sc, const SimOptions& o) {
     const double t = o.detectedViews > 1 ? static_cast<double>(k) / (o.detectedViews - 1) : 0.0;
     CameraPose p;
     p.centre = {1.4 * t, 0.4 * t, -kDistance};
-    p.rotation = cameraRotation(25.0 * t, -10.0 * t, 45.0 * t);
+    p.rotation = cameraRotation(25.0 * t, -10.0 * t, rollDeg * t);
     return p;
   };
   struct View {
@@ -334,7 +336,8 @@ void runDetectedSimulation(const SimCamera& sc, const SimOptions& o) {
   }
   cv::Mat strip;
   cv::hconcat(shown, strip);
-  writeImage(path(o, "sim_detected_" + sc.name + "_views.png"), strip);
+  const std::string stem = "sim_detected_" + sc.name + "_" + variant;
+  writeImage(path(o, stem + "_views.png"), strip);
 
   CsvTable perView({"view", "method", "ground_truth", "recognition_rate", "mean_match_distance"});
   CsvTable summary({"method", "form", "mask_deg", "mean_recognition", "rim_recognition", "last_recognition",
@@ -397,22 +400,36 @@ void runDetectedSimulation(const SimCamera& sc, const SimOptions& o) {
         .add(lastBc)
         .add(lastMatch);
   }
-  perView.write(path(o, "sim_detected_" + sc.name + ".csv"));
-  summary.write(path(o, "sim_detected_" + sc.name + "_summary.csv"));
+  perView.write(path(o, stem + ".csv"));
+  summary.write(path(o, stem + "_summary.csv"));
+}
+
+}  // namespace
+
+void runDetectedSimulation(const SimCamera& sc, const SimOptions& o) {
+  runDetectedVariant(sc, o, "rolled", 45.0, true);
+  runDetectedVariant(sc, o, "upright", 0.0, false);
 }
 
 void runSimulation(const std::vector<SimCamera>& cameras, const SimOptions& o) {
   std::filesystem::create_directories(o.outDir);
   CsvTable info({"camera", "key", "value"});
+  const PlaneScene scene{loadTexture(o.texturePath), kSmallTexel};
+  double shared = -1.0;
+  for (const auto& c : cameras)
+    if (c.name == o.sharedPathCamera) shared = pathLength(*c.camera, scene);
   for (const auto& c : cameras) {
-    PlaneScene scene{loadTexture(o.texturePath), kSmallTexel};
-    info.row().add(c.name).add(std::string("path_length_x")).add(pathLength(*c.camera, scene));
+    double xEnd = c.pathLength > 0 ? c.pathLength : pathLength(*c.camera, scene);
+    if (c.pathLength == 0.0 && shared > 0) xEnd = shared;
+    info.row().add(c.name).add(std::string("path_length_x")).add(xEnd);
     if (o.runProjected) {
       std::fprintf(stderr, "sim: projected keypoints, camera %s\n", c.name.c_str());
-      const SimSummary s = runProjectedSimulation(c, o);
+      const SimSummary s = runProjectedSimulation(c, xEnd, o);
       info.row().add(c.name).add(std::string("common_keypoints")).add(s.commonKeypoints);
     }
-    if (o.runDetected && c.camera->modelName() != "pinhole" && c.camera->modelName() != "radial") {
+    // One detected experiment per lens (the *_rim entries repeat a lens with another path).
+    const bool rimVariant = c.pathLength < 0;
+    if (o.runDetected && !rimVariant && c.camera->modelName() != "pinhole" && c.camera->modelName() != "radial") {
       std::fprintf(stderr, "sim: detected keypoints, tilted poses, camera %s\n", c.name.c_str());
       runDetectedSimulation(c, o);
     }

@@ -23,6 +23,10 @@ namespace mdbrief::eval {
 struct SimCamera {
   std::string name;    // label used in file names: "pinhole", "radial", "fisheye", ...
   CameraPtr camera;
+  // Projected experiment: length of the translation along X. 0 = the shared path (the paper
+  // keeps the exterior orientation of a view the same for all cameras); < 0 = this camera's
+  // own longest path, until the texture touches the edge of its valid area (the fisheye rim).
+  double pathLength = 0.0;
 };
 
 struct SimOptions {
@@ -38,6 +42,9 @@ struct SimOptions {
   int detectedKeypoints = 500;        // detector budget per view
   std::vector<double> maskAngles{5, 10, 15, 20};
   double matchRadiusPx = 3.0;
+  // The shared path: the longest for which the texture stays inside this camera's image
+  // (the pinhole camera's, so the perspective row of the paper's figure stays complete).
+  std::string sharedPathCamera = "pinhole";
   bool runProjected = true;
   bool runDetected = true;
 };
@@ -57,11 +64,14 @@ struct SimSummary {
 // camera and the pinhole camera with the same intrinsics.
 double maxRadialDisplacement(const Camera& radial, const Camera& pinhole);
 
-// Runs the projected experiment for one camera; writes sim_<name>_*.csv. Throws
-// std::runtime_error naming the file on unreadable input.
-SimSummary runProjectedSimulation(const SimCamera& camera, const SimOptions& options);
+// Runs the projected experiment for one camera along a translation of length xEnd; writes
+// sim_<name>_*.csv. Throws std::runtime_error naming the file on unreadable input.
+SimSummary runProjectedSimulation(const SimCamera& camera, double xEnd, const SimOptions& options);
 
-// Runs the detected experiment for one camera; writes sim_detected_<name>*.csv.
+// Runs the detected experiment for one camera in two variants: "rolled" (translation, yaw,
+// pitch and a 45 degree roll; descriptors use the detector's orientation) and "upright" (no
+// roll; descriptors without orientation, as the paper's fig. "Ignoring patch orientation").
+// Writes sim_detected_<name>_<variant>.csv and ..._summary.csv.
 void runDetectedSimulation(const SimCamera& camera, const SimOptions& options);
 
 // Runs what the options enable for every camera, plus sim_info.csv (path lengths, radial

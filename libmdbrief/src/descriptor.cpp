@@ -366,7 +366,7 @@ void DescriptorExtractor::compute(const cv::Mat& image, std::vector<cv::KeyPoint
 
 std::vector<std::pair<cv::Point2f, cv::Point2f>> DescriptorExtractor::testPositions(
     const cv::KeyPoint& keypoint) const {
-  const double scale = std::pow(options_.pyramid.scaleFactor, std::max(0, keypoint.octave));
+  const double scale = std::pow(options_.pyramid.scaleFactor, keypoint.octave - options_.pyramid.firstLevel);
   TangentPlaneFrame frame;
   std::array<Placement, 3> placements;
   if (placementsFor(options_, camera_.get(), keypoint, scale, frame, placements) == 0) return {};

@@ -130,13 +130,15 @@ std::vector<cv::KeyPoint> Detector::detect(const cv::Mat& image, const cv::Mat& 
 std::vector<cv::KeyPoint> Detector::detect(const ImagePyramid& pyramid, const cv::Mat& mask) const {
   if (pyramid.levels() == 0) throw std::invalid_argument("Detector::detect: the pyramid is empty");
   if (pyramid.options().levels != options_.pyramid.levels ||
-      pyramid.options().scaleFactor != options_.pyramid.scaleFactor)
+      pyramid.options().scaleFactor != options_.pyramid.scaleFactor ||
+      pyramid.options().firstLevel != options_.pyramid.firstLevel)
     throw std::invalid_argument(
-        "Detector::detect: the pyramid's levels/scaleFactor (" +
-        std::to_string(pyramid.options().levels) + ", " + std::to_string(pyramid.options().scaleFactor) +
-        ") differ from DetectorOptions::pyramid (" + std::to_string(options_.pyramid.levels) + ", " +
-        std::to_string(options_.pyramid.scaleFactor) + ")");
-  const cv::Size imageSize = pyramid.image(0).size();
+        "Detector::detect: the pyramid's levels/scaleFactor/firstLevel (" +
+        std::to_string(pyramid.options().levels) + ", " + std::to_string(pyramid.options().scaleFactor) + ", " +
+        std::to_string(pyramid.options().firstLevel) + ") differ from DetectorOptions::pyramid (" +
+        std::to_string(options_.pyramid.levels) + ", " + std::to_string(options_.pyramid.scaleFactor) + ", " +
+        std::to_string(options_.pyramid.firstLevel) + ")");
+  const cv::Size imageSize = pyramid.inputSize();
   if (!mask.empty() && (mask.type() != CV_8UC1 || mask.size() != imageSize))
     throw std::invalid_argument("Detector::detect: the mask must be 8UC1 of the image's size " +
                                 sizeText(imageSize) + ", got " + cv::typeToString(mask.type()) + " " +

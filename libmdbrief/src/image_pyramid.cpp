@@ -19,6 +19,9 @@ void validatePyramidOptions(const PyramidOptions& options) {
   if (!(options.scaleFactor > 1.0) || !std::isfinite(options.scaleFactor))
     throw std::invalid_argument("PyramidOptions::scaleFactor must be a finite number > 1, got " +
                                 std::to_string(options.scaleFactor));
+  if (options.firstLevel < 0 || options.firstLevel >= options.levels)
+    throw std::invalid_argument("PyramidOptions::firstLevel must be in [0, levels), got " +
+                                std::to_string(options.firstLevel));
   if (options.smoothingKernel < 1 || options.smoothingKernel % 2 == 0)
     throw std::invalid_argument("PyramidOptions::smoothingKernel must be odd and >= 1, got " +
                                 std::to_string(options.smoothingKernel));
@@ -55,23 +58,28 @@ ImagePyramid::ImagePyramid(const cv::Mat& image, const PyramidOptions& options, 
     : options_(options) {
   validatePyramidOptions(options);
   const cv::Mat grey = toGrey(image);
+  inputSize_ = grey.size();
   const int wanted = maxLevels < 0 ? options.levels : std::min(options.levels, maxLevels);
   images_.reserve(wanted);
   scales_.reserve(wanted);
   for (int level = 0; level < wanted; ++level) {
-    const double scale = std::pow(options.scaleFactor, level);
-    if (level == 0) {
+    const double scale = std::pow(options.scaleFactor, level - options.firstLevel);
+    if (level == options.firstLevel) {
       images_.push_back(grey);
       scales_.push_back(1.0);
       continue;
     }
     // Sizes come from the input's size (not the previous level's) so rounding does not
-    // accumulate; the pixels come from the previous level, as cv::ORB does.
+    // accumulate; reductions take their pixels from the previous level, as cv::ORB does, and
+    // enlargements from the input.
     const cv::Size size(static_cast<int>(std::lround(grey.cols / scale)),
                         static_cast<int>(std::lround(grey.rows / scale)));
     if (size.width < 1 || size.height < 1) break;  // nothing left to sample
     cv::Mat level_image;
-    cv::resize(images_.back(), level_image, size, 0, 0, cv::INTER_LINEAR_EXACT);
+    if (level < options.firstLevel)
+      cv::resize(grey, level_image, size, 0, 0, cv::INTER_LINEAR_EXACT);
+    else
+      cv::resize(images_.back(), level_image, size, 0, 0, cv::INTER_LINEAR_EXACT);
     images_.push_back(level_image);
     scales_.push_back(scale);
   }

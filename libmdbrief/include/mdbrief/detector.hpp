@@ -22,8 +22,7 @@ enum class CornerDetector { Fast, Agast };
 
 struct DetectorOptions {
   int nfeatures = 1000;               // upper bound on the number of keypoints returned
-  // Levels and scale factor (cv::ORB's nlevels / scaleFactor). Level 0 is the input image:
-  // the agreed pyramid has no upsampled levels, so cv::ORB's firstLevel is always 0 here.
+  // Levels, scale factor and first level (cv::ORB's nlevels / scaleFactor / firstLevel).
   PyramidOptions pyramid;
   // FAST-9/16 or AGAST OAST-9/16. FAST by default: OpenCV 4.6's AGAST has no SIMD path and
   // takes about 3x as long here (bench/bench_detector.cpp), unlike in the paper.
@@ -68,7 +67,8 @@ class Detector {
   // response (descending), then y, then x, then octave. Throws std::invalid_argument on a
   // mismatching pyramid, mask or image size.
   std::vector<cv::KeyPoint> detect(const ImagePyramid& pyramid, const cv::Mat& mask = {}) const;
-  // Builds the pyramid (8UC1/8UC3/8UC4 input) and detects on it.
+  // Builds the pyramid (8UC1/8UC3/8UC4 input) and detects on it. Both overloads keep no
+  // state between calls: one Detector may be used from several threads.
   std::vector<cv::KeyPoint> detect(const cv::Mat& image, const cv::Mat& mask = {}) const;
 
   const DetectorOptions& options() const { return options_; }

@@ -1,7 +1,8 @@
 #pragma once
 // ORB-style scale pyramid shared by the detector and the descriptors. Level k is the input
-// resampled by 1 / scaleFactor^k (area-preserving bilinear resize of level k-1, as cv::ORB);
-// keypoint coordinates are always level-0 pixels, level coordinates are pt / scale(k).
+// resampled by 1 / scale(k), scale(k) = scaleFactor^(k - firstLevel) (as cv::ORB): levels above
+// firstLevel are bilinear reductions of the level before, levels below it enlarge the input.
+// Keypoint coordinates are always input pixels; level coordinates are pt / scale(k).
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -11,6 +12,9 @@ namespace mdbrief {
 struct PyramidOptions {
   int levels = 8;               // number of levels (cv::ORB default)
   double scaleFactor = 1.2;     // ratio between neighbouring levels (cv::ORB default)
+  // Level holding the input image (cv::ORB's firstLevel); levels below it are upsampled, which
+  // finds smaller features at the price of larger images. 0..levels-1.
+  int firstLevel = 0;
   // Descriptor smoothing, as ORB/BRIEF: Gaussian 7x7, sigma 2, applied per level.
   int smoothingKernel = 7;
   double smoothingSigma = 2.0;
@@ -24,6 +28,8 @@ class ImagePyramid {
   ImagePyramid(const cv::Mat& image, const PyramidOptions& options, int maxLevels = -1);
 
   int levels() const { return static_cast<int>(images_.size()); }
+  // Size of the input image (level firstLevel), the frame of keypoint coordinates.
+  cv::Size inputSize() const { return inputSize_; }
   double scale(int level) const { return scales_.at(level); }
   const PyramidOptions& options() const { return options_; }
   const cv::Mat& image(int level) const { return images_.at(level); }
@@ -34,6 +40,7 @@ class ImagePyramid {
 
  private:
   PyramidOptions options_;
+  cv::Size inputSize_;
   std::vector<cv::Mat> images_;
   std::vector<double> scales_;
   mutable std::vector<cv::Mat> smoothed_;

@@ -1,0 +1,344 @@
+// The `mdbrief` command line run in-process through runCli: every subcommand's success path
+// (outputs checked for content and consistency) and bad input (exit code 2 and a one-line
+// message naming the file or flag at fault).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "cli/commands.hpp"
+#include "mdbrief/camera_io.hpp"
+#include "mdbrief/feature2d.hpp"
+#include "mdbrief/plane_renderer.hpp"
+#include "test_data.hpp"
+
+namespace mdbrief {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code = -1;
+  std::string out;
+  std::string err;
+};
+
+Result run(std::vector<std::string> args) {
+  args.insert(args.begin(), "mdbrief");
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  ::testing::internal::CaptureStdout();
+  ::testing::internal::CaptureStderr();
+  Result r;
+  r.code = cli::runCli(static_cast<int>(argv.size()), argv.data(),
+                       {cli::addExtractCommand, cli::addMatchCommand, cli::addDrawCommand});
+  r.err = ::testing::internal::GetCapturedStderr();
+  r.out = ::testing::internal::GetCapturedStdout();
+  return r;
+}
+
+const std::string kCamera = (testing::sourceDir() / "configs/cameras/lafida_fisheye0.yaml").string();
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / ("mdbrief_test_cli_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  // Graffiti rendered through the paper's fisheye at a pose (x offset of the camera), saved
+  // as PNG. Empty string without opencv-doc.
+  std::string fisheyeImage(const std::string& name, double x = 0.3) {
+    const auto doc = testing::opencvDocDataDir();
+    if (!doc) return "";
+    PlaneScene scene;
+    scene.texture = cv::imread((*doc / "graf1.png").string(), cv::IMREAD_GRAYSCALE);
+    if (scene.texture.empty()) return "";
+    scene.texelSize = 0.004;
+    CameraPose pose;
+    pose.centre = {x, 0.1, -0.8};
+    const cv::Mat image = renderPlane(*loadCamera(kCamera), pose, scene);
+    const std::string p = path(name);
+    cv::imwrite(p, image);
+    return p;
+  }
+
+  fs::path dir_;
+};
+
+#define REQUIRE_IMAGE(var, ...)                           \
+  const std::string var = fisheyeImage(__VA_ARGS__);      \
+  if (var.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed"
+
+struct FeatureFile {
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors, masks;
+  bool hasMasks = false;
+};
+
+FeatureFile readFeatures(const std::string& p) {
+  cv::FileStorage fs(p, cv::FileStorage::READ);
+  EXPECT_TRUE(fs.isOpened()) << p;
+  FeatureFile f;
+  cv::read(fs["keypoints"], f.keypoints);
+  fs["descriptors"] >> f.descriptors;
+  f.hasMasks = !fs["masks"].empty();
+  if (f.hasMasks) fs["masks"] >> f.masks;
+  return f;
+}
+
+void expectOneLineNaming(const Result& r, const std::string& what) {
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find(what), std::string::npos) << "message does not name '" << what << "': " << r.err;
+  // One line (OpenCV may log its own warnings before; ours is the last line).
+  ASSERT_FALSE(r.err.empty());
+  EXPECT_EQ(r.err.back(), '\n');
+}
+
+TEST_F(CliTest, ExtractMdBriefWritesAlignedKeypointsDescriptorsAndMasks) {
+  REQUIRE_IMAGE(image, "view.png");
+  const Result r = run({"extract", "--camera", kCamera, image, "-o", path("out.yml")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const FeatureFile f = readFeatures(path("out.yml"));
+  ASSERT_GT(f.keypoints.size(), 500u);
+  EXPECT_LE(f.keypoints.size(), 1000u);
+  EXPECT_EQ(f.descriptors.rows, static_cast<int>(f.keypoints.size()));
+  EXPECT_EQ(f.descriptors.cols, 32);
+  EXPECT_EQ(f.descriptors.type(), CV_8UC1);
+  ASSERT_TRUE(f.hasMasks);
+  EXPECT_EQ(f.masks.size(), f.descriptors.size());
+  const auto camera = loadCamera(kCamera);
+  for (const auto& kp : f.keypoints) EXPECT_TRUE(camera->isValid(kp.pt)) << kp.pt;
+  // No temporary left behind.
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 2);
+}
+
+TEST_F(CliTest, ExtractBriefAndDBriefHaveNoMasksAndHonourBitsAndFeatures) {
+  REQUIRE_IMAGE(image, "view.png");
+  ASSERT_EQ(run({"extract", "--camera", kCamera, "--descriptor", "dbrief", "--bits", "512", "--features", "300",
+                 "--form", "paper", image, "-o", path("d.json")})
+                .code,
+            0);
+  const FeatureFile d = readFeatures(path("d.json"));
+  EXPECT_FALSE(d.hasMasks);
+  EXPECT_EQ(d.descriptors.cols, 64);
+  EXPECT_LE(d.keypoints.size(), 300u);
+  EXPECT_GT(d.keypoints.size(), 100u);
+  EXPECT_EQ(d.descriptors.rows, static_cast<int>(d.keypoints.size()));
+
+  // BRIEF needs no calibration.
+  ASSERT_EQ(run({"extract", "--descriptor", "brief", "--no-orientation", image, "-o", path("b.yml.gz")}).code, 0);
+  const FeatureFile b = readFeatures(path("b.yml.gz"));
+  EXPECT_FALSE(b.hasMasks);
+  EXPECT_EQ(b.descriptors.rows, static_cast<int>(b.keypoints.size()));
+  EXPECT_GT(b.keypoints.size(), 100u);
+}
+
+TEST_F(CliTest, ExtractGivenKeypointsDropsTheUndescribableConsistently) {
+  REQUIRE_IMAGE(image, "view.png");
+  std::vector<cv::KeyPoint> given = {
+      cv::KeyPoint({392.f, 243.f}, 31.f, 10.f, 1.f, 0),  // image centre: describable
+      cv::KeyPoint({3.f, 3.f}, 31.f, 0.f, 1.f, 0),       // outside the image circle
+      cv::KeyPoint({300.f, 200.f}, 37.2f, 45.f, 1.f, 1),
+      cv::KeyPoint({750.f, 470.f}, 31.f, 0.f, 1.f, 0),   // image corner
+  };
+  {
+    cv::FileStorage fs(path("kp.yml"), cv::FileStorage::WRITE);
+    cv::write(fs, "keypoints", given);
+  }
+  const Result r = run({"extract", "--camera", kCamera, "--keypoints", path("kp.yml"), image, "-o", path("o.yml")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const FeatureFile f = readFeatures(path("o.yml"));
+  ASSERT_EQ(f.keypoints.size(), 2u);
+  EXPECT_EQ(f.keypoints[0].pt, given[0].pt);
+  EXPECT_EQ(f.keypoints[1].pt, given[2].pt);
+  EXPECT_EQ(f.descriptors.rows, 2);
+  EXPECT_EQ(f.masks.rows, 2);
+  // The same as the library describes them.
+  std::vector<cv::KeyPoint> kps = given;
+  cv::Mat desc;
+  MdBrief::create(loadCamera(kCamera))->compute(cv::imread(image, cv::IMREAD_GRAYSCALE), kps, desc);
+  EXPECT_EQ(cv::norm(desc, f.descriptors, cv::NORM_HAMMING), 0.0);
+}
+
+TEST_F(CliTest, ExtractSeveralImagesWritesOneFilePerImageIntoTheFolder) {
+  REQUIRE_IMAGE(a, "left.png", 0.3);
+  const std::string b = fisheyeImage("right.png", 0.2);
+  fs::create_directory(path("out"));
+  ASSERT_EQ(run({"extract", "--camera", kCamera, a, b, "-o", path("out")}).code, 0);
+  EXPECT_GT(readFeatures(path("out/left.yml")).keypoints.size(), 100u);
+  EXPECT_GT(readFeatures(path("out/right.yml")).keypoints.size(), 100u);
+  expectOneLineNaming(run({"extract", "--camera", kCamera, a, b, "-o", path("missing")}), path("missing"));
+}
+
+TEST_F(CliTest, MatchingAFileWithItselfPairsEveryRowWithItself) {
+  REQUIRE_IMAGE(image, "view.png");
+  ASSERT_EQ(run({"extract", "--camera", kCamera, image, "-o", path("a.yml")}).code, 0);
+  const Result r = run({"match", path("a.yml"), path("a.yml"), "--no-ratio", "--cross-check", "-o", path("m.yml")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  cv::FileStorage fs(path("m.yml"), cv::FileStorage::READ);
+  cv::Mat m;
+  fs["matches"] >> m;
+  EXPECT_EQ(static_cast<int>(fs["masked"]), 1);
+  const int n = readFeatures(path("a.yml")).descriptors.rows;
+  ASSERT_EQ(m.cols, 3);
+  // Identical descriptors may exist (ties go to the lower row), so not strictly all rows.
+  ASSERT_GT(m.rows, n * 95 / 100);
+  int self = 0;
+  for (int i = 0; i < m.rows; ++i) self += m.at<double>(i, 0) == m.at<double>(i, 1) && m.at<double>(i, 2) == 0.0;
+  EXPECT_GT(self, n * 95 / 100);
+}
+
+TEST_F(CliTest, MatchingTwoViewsFindsMatchesWithinLimits) {
+  REQUIRE_IMAGE(a, "a.png", 0.3);
+  const std::string b = fisheyeImage("b.png", 0.25);
+  ASSERT_EQ(run({"extract", "--camera", kCamera, a, "-o", path("a.yml")}).code, 0);
+  ASSERT_EQ(run({"extract", "--camera", kCamera, b, "-o", path("b.yml")}).code, 0);
+  ASSERT_EQ(run({"match", path("a.yml"), path("b.yml"), "--max-distance", "40", "-o", path("m.json")}).code, 0);
+  cv::FileStorage fs(path("m.json"), cv::FileStorage::READ);
+  cv::Mat m;
+  fs["matches"] >> m;
+  const FeatureFile fa = readFeatures(path("a.yml")), fb = readFeatures(path("b.yml"));
+  ASSERT_GT(m.rows, 100);
+  for (int i = 0; i < m.rows; ++i) {
+    EXPECT_GE(m.at<double>(i, 0), 0);
+    EXPECT_LT(m.at<double>(i, 0), fa.descriptors.rows);
+    EXPECT_LT(m.at<double>(i, 1), fb.descriptors.rows);
+    EXPECT_LE(m.at<double>(i, 2), 40.0);
+  }
+  // Plain matching when masks are missing on one side.
+  ASSERT_EQ(run({"extract", "--camera", kCamera, "--descriptor", "dbrief", b, "-o", path("bd.yml")}).code, 0);
+  ASSERT_EQ(run({"match", path("a.yml"), path("bd.yml"), "-o", path("m2.yml")}).code, 0);
+  cv::FileStorage fs2(path("m2.yml"), cv::FileStorage::READ);
+  EXPECT_EQ(static_cast<int>(fs2["masked"]), 0);
+}
+
+TEST_F(CliTest, DrawWritesDecodablePngs) {
+  REQUIRE_IMAGE(a, "a.png", 0.3);
+  const std::string b = fisheyeImage("b.png", 0.25);
+  ASSERT_EQ(run({"draw", "--camera", kCamera, a, "--keypoint", "3", "-o", path("one.png")}).code, 0);
+  const cv::Mat one = cv::imread(path("one.png"), cv::IMREAD_UNCHANGED);
+  ASSERT_FALSE(one.empty());
+  EXPECT_EQ(one.type(), CV_8UC3);
+  EXPECT_EQ(one.size(), cv::Size(754, 480));
+
+  ASSERT_EQ(run({"extract", "--camera", kCamera, a, "-o", path("a.yml")}).code, 0);
+  ASSERT_EQ(run({"extract", "--camera", kCamera, b, "-o", path("b.yml")}).code, 0);
+  ASSERT_EQ(run({"match", path("a.yml"), path("b.yml"), "-o", path("m.yml")}).code, 0);
+  const Result r = run({"draw", "--camera", kCamera, a, "--other", b, "--matches", path("m.yml"), "-o", path("two.png")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const cv::Mat two = cv::imread(path("two.png"));
+  EXPECT_EQ(two.size(), cv::Size(2 * 754, 480));
+
+  expectOneLineNaming(run({"draw", "--camera", kCamera, a, "--keypoint", "100000", "-o", path("x.png")}),
+                      "--keypoint");
+  expectOneLineNaming(run({"draw", "--camera", kCamera, a, "--other", b, "-o", path("x.png")}), "--matches");
+}
+
+TEST_F(CliTest, HelpExitsZeroForEverySubcommand) {
+  for (const char* cmd : {"extract", "match", "draw"}) {
+    const Result r = run({cmd, "--help"});
+    EXPECT_EQ(r.code, 0) << cmd;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << cmd;
+  }
+}
+
+TEST_F(CliTest, BadUsageExitsTwo) {
+  expectOneLineNaming(run({}), "subcommand");
+  expectOneLineNaming(run({"extract", "--camera", kCamera, "--frobnicate", "x.png", "-o", path("o.yml")}),
+                      "--frobnicate");
+  expectOneLineNaming(run({"extract", "--camera", kCamera, "--descriptor", "surf", "x.png", "-o", path("o.yml")}),
+                      "surf");
+  expectOneLineNaming(run({"extract", "--camera", kCamera, "--form", "exact", "x.png", "-o", path("o.yml")}), "exact");
+  expectOneLineNaming(run({"extract", "--camera", kCamera, "x.png"}), "--output");
+  expectOneLineNaming(run({"match", "a.yml", "b.yml", "--ratio", "1.5", "-o", path("m.yml")}), "--ratio");
+}
+
+TEST_F(CliTest, ExtractRejectsBadInputFiles) {
+  REQUIRE_IMAGE(image, "view.png");
+  // Missing image.
+  expectOneLineNaming(run({"extract", "--camera", kCamera, path("nope.png"), "-o", path("o.yml")}), path("nope.png"));
+  // Empty file.
+  std::ofstream(path("empty.png")).close();
+  expectOneLineNaming(run({"extract", "--camera", kCamera, path("empty.png"), "-o", path("o.yml")}),
+                      path("empty.png"));
+  // Truncated PNG: the first half of a valid one.
+  std::ifstream in(image, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::ofstream(path("half.png"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  expectOneLineNaming(run({"extract", "--camera", kCamera, path("half.png"), "-o", path("o.yml")}), path("half.png"));
+  // Not an image at all.
+  std::ofstream(path("text.png")) << "hello\n";
+  expectOneLineNaming(run({"extract", "--camera", kCamera, path("text.png"), "-o", path("o.yml")}), path("text.png"));
+  // Missing calibration, and a calibration with a bad value.
+  expectOneLineNaming(run({"extract", "--camera", path("nocam.yaml"), image, "-o", path("o.yml")}),
+                      path("nocam.yaml"));
+  std::ifstream camIn(kCamera);
+  std::string cam((std::istreambuf_iterator<char>(camIn)), std::istreambuf_iterator<char>());
+  cam.replace(cam.find("u0: "), 4, "u0: not_a_number #");
+  std::ofstream(path("bad.yaml")) << cam;
+  const Result bad = run({"extract", "--camera", path("bad.yaml"), image, "-o", path("o.yml")});
+  expectOneLineNaming(bad, path("bad.yaml"));
+  EXPECT_NE(bad.err.find("u0"), std::string::npos) << bad.err;
+  // dBRIEF without a calibration.
+  expectOneLineNaming(run({"extract", image, "-o", path("o.yml")}), "--camera");
+  // Bad keypoint file.
+  std::ofstream(path("kp.yml")) << "%YAML:1.0\n---\nother: 1\n";
+  expectOneLineNaming(run({"extract", "--camera", kCamera, "--keypoints", path("kp.yml"), image, "-o", path("o.yml")}),
+                      path("kp.yml"));
+  // Bits not a multiple of 32.
+  expectOneLineNaming(run({"extract", "--camera", kCamera, "--bits", "100", image, "-o", path("o.yml")}), "bits");
+  EXPECT_FALSE(fs::exists(path("o.yml")));
+}
+
+TEST_F(CliTest, ExtractChecksTheImageSizeAgainstTheCalibration) {
+  const auto doc = testing::opencvDocDataDir();
+  if (!doc) GTEST_SKIP() << "opencv-doc data not installed";
+  const std::string graf = (*doc / "graf1.png").string();  // 800x640, the calibration is 754x480
+  const Result r = run({"extract", "--camera", kCamera, graf, "-o", path("o.yml")});
+  expectOneLineNaming(r, graf);
+  EXPECT_NE(r.err.find("--allow-size-mismatch"), std::string::npos);
+  EXPECT_FALSE(fs::exists(path("o.yml")));
+  ASSERT_EQ(run({"extract", "--camera", kCamera, "--allow-size-mismatch", graf, "-o", path("o.yml")}).code, 0);
+  const FeatureFile f = readFeatures(path("o.yml"));
+  EXPECT_GT(f.keypoints.size(), 100u);
+  // Keypoints may now reach the rescaled circle's wider extent.
+  const auto scaled = loadCamera(kCamera)->resized({800, 640});
+  for (const auto& kp : f.keypoints) EXPECT_TRUE(scaled->isValid(kp.pt));
+}
+
+TEST_F(CliTest, OutputInAMissingFolderOrWithAnUnknownExtensionFails) {
+  REQUIRE_IMAGE(image, "view.png");
+  expectOneLineNaming(run({"extract", "--camera", kCamera, image, "-o", path("no/such/o.yml")}), path("no/such/o.yml"));
+  expectOneLineNaming(run({"extract", "--camera", kCamera, image, "-o", path("o.txt")}), path("o.txt"));
+  ASSERT_EQ(run({"extract", "--camera", kCamera, image, "-o", path("a.yml")}).code, 0);
+  expectOneLineNaming(run({"match", path("a.yml"), path("a.yml"), "-o", path("no/m.yml")}), path("no/m.yml"));
+  expectOneLineNaming(run({"draw", "--camera", kCamera, image, "-o", path("no/d.png")}), path("no/d.png"));
+}
+
+TEST_F(CliTest, MatchRejectsBadFeatureFiles) {
+  REQUIRE_IMAGE(image, "view.png");
+  ASSERT_EQ(run({"extract", "--camera", kCamera, image, "-o", path("a.yml")}).code, 0);
+  ASSERT_EQ(run({"extract", "--camera", kCamera, "--bits", "512", image, "-o", path("long.yml")}).code, 0);
+  expectOneLineNaming(run({"match", path("a.yml"), path("none.yml"), "-o", path("m.yml")}), path("none.yml"));
+  std::ofstream(path("garbage.yml")) << "this: [is not: closed\n";
+  expectOneLineNaming(run({"match", path("garbage.yml"), path("a.yml"), "-o", path("m.yml")}), path("garbage.yml"));
+  std::ofstream(path("nodesc.yml")) << "%YAML:1.0\n---\nkeypoints: []\n";
+  expectOneLineNaming(run({"match", path("nodesc.yml"), path("a.yml"), "-o", path("m.yml")}), path("nodesc.yml"));
+  expectOneLineNaming(run({"match", path("a.yml"), path("long.yml"), "-o", path("m.yml")}), path("long.yml"));
+  EXPECT_FALSE(fs::exists(path("m.yml")));
+}
+
+}  // namespace
+}  // namespace mdbrief

@@ -1,0 +1,202 @@
+// Patch extraction: patches agree with the runtime descriptor, patch allocation, image listing,
+// skipped images, determinism, and the HDF5 patch file.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numeric>
+
+#include <gtest/gtest.h>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <unistd.h>
+
+#include "mdbrief/camera_io.hpp"
+#include "mdbrief/descriptor.hpp"
+#include "mdbrief/patterns.hpp"
+#include "mdbrief/plane_renderer.hpp"
+#include "patchextract/patch_extraction.hpp"
+#include "patchextract/patch_sampler.hpp"
+#include "patchextract/patch_set.hpp"
+#include "test_data.hpp"
+
+namespace fs = std::filesystem;
+using namespace mdbrief;
+using namespace mdbrief::train;
+
+namespace {
+
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const std::string& tag) {
+    path = fs::temp_directory_path() / ("mdbrief_test_px_" + tag + "_" + std::to_string(::getpid()));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+};
+
+// Bits of the runtime descriptor row vs the same tests evaluated on the sampled patch.
+double agreement(const cv::Mat& descriptors, const std::vector<cv::KeyPoint>& kps,
+                 const ImagePyramid& pyramid, const Camera* camera, const TestSet& tests) {
+  size_t same = 0, total = 0;
+  uint8_t patch[1024];
+  for (size_t i = 0; i < kps.size(); ++i) {
+    if (!samplePatch(pyramid, kps[i], camera, patch)) continue;
+    for (size_t d = 0; d < tests.tests.size(); ++d) {
+      const TestPair& t = tests.tests[d];
+      const bool bit = patch[(t.y1 + 16) * 32 + t.x1 + 16] < patch[(t.y2 + 16) * 32 + t.x2 + 16];
+      const bool runtime = (descriptors.at<uint8_t>(int(i), int(d / 8)) >> (d % 8)) & 1;
+      same += bit == runtime;
+      ++total;
+    }
+  }
+  EXPECT_GT(total, 1000u);
+  return total ? double(same) / total : 0.0;
+}
+
+cv::Mat opencvDocImage(const char* name) {
+  const auto dir = mdbrief::testing::opencvDocDataDir();
+  return dir ? cv::imread((*dir / name).string(), cv::IMREAD_GRAYSCALE) : cv::Mat();
+}
+
+}  // namespace
+
+TEST(PatchSampler, PerspectivePatchesGiveTheRuntimeBriefBits) {
+  const cv::Mat img = opencvDocImage("graf1.png");
+  if (img.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  std::vector<cv::KeyPoint> kps;
+  cv::ORB::create(300)->detect(img, kps);
+  DescriptorOptions o;
+  o.kind = DescriptorKind::Brief;
+  o.pattern = "brief_random_512";
+  DescriptorExtractor extractor(nullptr, o);
+  const ImagePyramid pyramid(img, o.pyramid);
+  pyramid.prepareSmoothed(-1);
+  cv::Mat desc;
+  extractor.compute(pyramid, kps, desc);
+  ASSERT_GT(kps.size(), 100u);
+  for (const auto& kp : kps) EXPECT_EQ(samplingLevel(pyramid, kp.size), kp.octave);
+  // Rounding the patch to 8 bits flips only near-ties.
+  EXPECT_GT(agreement(desc, kps, pyramid, nullptr, extractor.testSet()), 0.98);
+}
+
+TEST(PatchSampler, FisheyePatchesGiveTheRuntimePaperFormBits) {
+  const cv::Mat photo = opencvDocImage("graf1.png");
+  if (photo.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  const auto camera = loadCamera((mdbrief::testing::sourceDir() / "configs/cameras/lafida_fisheye0.yaml").string());
+  const cv::Mat img = renderPlane(*camera, CameraPose{}, PlaneScene{photo, std::tan(1.0) / 400.0});
+  std::vector<cv::KeyPoint> kps;
+  cv::ORB::create(300)->detect(img, kps);
+  DescriptorOptions o;
+  o.kind = DescriptorKind::DBrief;
+  o.form = DistortionForm::Paper;
+  o.pattern = "brief_random_512";
+  DescriptorExtractor extractor(camera, o);
+  const ImagePyramid pyramid(img, o.pyramid);
+  pyramid.prepareSmoothed(-1);
+  cv::Mat desc;
+  extractor.compute(pyramid, kps, desc);
+  ASSERT_GT(kps.size(), 50u);
+  EXPECT_GT(agreement(desc, kps, pyramid, camera.get(), extractor.testSet()), 0.97);
+}
+
+TEST(PatchAllocation, SharesTheBudgetAsEquallyAsTheImagesAllow) {
+  EXPECT_EQ(allocatePatches({100, 100, 100}, 30), (std::vector<size_t>{10, 10, 10}));
+  EXPECT_EQ(allocatePatches({100, 2, 100}, 30), (std::vector<size_t>{14, 2, 14}));
+  EXPECT_EQ(allocatePatches({5, 0, 3}, 30), (std::vector<size_t>{5, 0, 3}));
+  const auto t = allocatePatches({50, 7, 1000, 13, 400}, 301);
+  EXPECT_EQ(std::accumulate(t.begin(), t.end(), size_t(0)), 301u);
+  EXPECT_EQ(t[1], 7u);
+  EXPECT_EQ(t[3], 13u);
+  EXPECT_EQ(t[0], 50u);  // 50 < the equal share of 60: all of them
+  EXPECT_LE(std::max(t[2], t[4]) - std::min(t[2], t[4]), 1u);
+}
+
+TEST(ImageListing, FindsNestedImagesAndRejectsBadFolders) {
+  TempDir dir("list");
+  fs::create_directories(dir.path / "sub");
+  cv::imwrite((dir.path / "sub" / "b.PNG").string(), cv::Mat(8, 8, CV_8UC1, cv::Scalar(1)));
+  cv::imwrite((dir.path / "a.jpg").string(), cv::Mat(8, 8, CV_8UC1, cv::Scalar(1)));
+  std::ofstream(dir.path / "notes.txt") << "x";
+  const auto images = listImages({dir.path});
+  ASSERT_EQ(images.size(), 2u);
+  EXPECT_EQ(images[0].filename(), "a.jpg");
+  EXPECT_THROW(listImages({dir.path / "missing"}), std::invalid_argument);
+  fs::create_directories(dir.path / "empty");
+  std::ofstream(dir.path / "empty" / "readme.md") << "x";
+  try {
+    listImages({dir.path / "empty"});
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("empty"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Extraction, SpreadsOverImagesSkipsBrokenFilesAndIsDeterministic) {
+  const auto doc = mdbrief::testing::opencvDocDataDir();
+  if (!doc) GTEST_SKIP() << "opencv-doc not installed";
+  TempDir dir("extract");
+  for (const char* f : {"graf1.png", "box_in_scene.png", "building.jpg"})
+    fs::copy_file(*doc / f, dir.path / f);
+  std::ofstream(dir.path / "broken.jpg") << "not a jpeg";
+  ExtractionOptions o;
+  o.imageDirs = {dir.path};
+  o.patches = 600;
+  o.seed = 7;
+  ExtractionReport r1, r2;
+  const PatchSet a = extractPatches(o, r1);
+  const PatchSet b = extractPatches(o, r2);
+  EXPECT_EQ(r1.imagesFound, 4u);
+  EXPECT_EQ(r1.imagesUsed, 3u);
+  ASSERT_EQ(r1.skipped.size(), 1u);
+  EXPECT_EQ(r1.skipped[0].reason, "unreadable");
+  ASSERT_EQ(a.count(), 600u);
+  EXPECT_EQ(a.pixels, b.pixels);
+  std::vector<size_t> perImage(a.images.size(), 0);
+  for (const auto& rec : a.records) ++perImage[rec.image];
+  for (size_t i = 0; i < a.images.size(); ++i) {
+    if (fs::path(a.images[i]).filename() != "broken.jpg") {
+      EXPECT_EQ(perImage[i], 200u) << a.images[i];
+    }
+  }
+  o.seed = 8;
+  ExtractionReport r3;
+  const PatchSet c = extractPatches(o, r3);
+  EXPECT_NE(a.pixels, c.pixels) << "another seed picks other keypoints";
+}
+
+TEST(PatchFile, RoundTripAndBrokenFiles) {
+  TempDir dir("h5");
+  PatchSet s;
+  s.images = {"one.png", "two.png"};
+  for (int i = 0; i < 5; ++i) {
+    s.records.push_back({i % 2, 1.5f * i, 2.5f * i, 31.f, 10.f * i, 0.1f * i, 0});
+    for (int k = 0; k < 1024; ++k) s.pixels.push_back(static_cast<uint8_t>(i * 7 + k));
+  }
+  s.attributes = {{"detector", "orb"}, {"seed", "3"}};
+  const fs::path p = dir.path / "set.h5";
+  writePatchSet(s, p);
+  const PatchSet r = readPatchSet(p);
+  EXPECT_EQ(r.images, s.images);
+  EXPECT_EQ(r.pixels, s.pixels);
+  ASSERT_EQ(r.count(), 5u);
+  EXPECT_FLOAT_EQ(r.records[3].y, 7.5f);
+  EXPECT_EQ(r.records[3].image, 1);
+
+  std::ofstream(dir.path / "text.h5") << "hello";
+  for (const fs::path& bad : {dir.path / "text.h5", dir.path / "missing.h5"}) {
+    try {
+      readPatchSet(bad);
+      ADD_FAILURE() << bad;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(bad.string()), std::string::npos) << e.what();
+    }
+  }
+  // A truncated copy must fail cleanly, never crash.
+  const auto size = fs::file_size(p);
+  fs::copy_file(p, dir.path / "cut.h5");
+  fs::resize_file(dir.path / "cut.h5", size / 2);
+  EXPECT_THROW(readPatchSet(dir.path / "cut.h5"), std::runtime_error);
+  EXPECT_THROW(writePatchSet(s, dir.path / "nofolder" / "x.h5"), std::runtime_error);
+}

@@ -1,0 +1,136 @@
+// mdbrief-train end to end (in-process): bad input gives exit code 2 and writes nothing,
+// the same inputs and seed give a byte-identical header, --patches-file reuses a patch set.
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "mdbrief/patterns.hpp"
+#include "patchextract/patch_set.hpp"
+#include "test_data.hpp"
+#include "trainer/train_cli.hpp"
+
+namespace fs = std::filesystem;
+using namespace mdbrief;
+using namespace mdbrief::train;
+
+namespace {
+
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const std::string& tag) {
+    path = fs::temp_directory_path() / ("mdbrief_test_cli_" + tag + "_" + std::to_string(::getpid()));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+};
+
+std::string readFile(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+struct CliRun {
+  int code;
+  std::string out, err;
+};
+
+CliRun runTrain(const std::vector<std::string>& args) {
+  std::ostringstream out, err;
+  const int code = runTrainCli(args, out, err);
+  return {code, out.str(), err.str()};
+}
+
+// A small image folder copied from opencv-doc.
+fs::path smallImageFolder(const TempDir& dir) {
+  const auto doc = mdbrief::testing::opencvDocDataDir();
+  const fs::path images = dir.path / "images";
+  fs::create_directories(images);
+  for (const char* f : {"graf1.png", "box_in_scene.png", "building.jpg", "lena.jpg"})
+    if (doc && fs::exists(*doc / f)) fs::copy_file(*doc / f, images / f);
+  return images;
+}
+
+}  // namespace
+
+TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
+  TempDir dir("bad");
+  const fs::path out = dir.path / "out";
+  fs::create_directories(out);
+  fs::create_directories(dir.path / "empty");
+  fs::create_directories(dir.path / "textonly");
+  std::ofstream(dir.path / "textonly" / "a.txt") << "x";
+  const std::string o = out.string();
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--images", (dir.path / "missing").string(), "--out", o}, "does not exist"},
+      {{"--images", (dir.path / "empty").string(), "--out", o}, "no images"},
+      {{"--images", (dir.path / "textonly").string(), "--out", o}, "no images"},
+      {{"--camera", (dir.path / "nocam.yaml").string(), "--out", o}, "nocam.yaml"},
+      {{"--out", (dir.path / "missing_out").string()}, "missing_out"},
+      {{"--tests", "33", "--out", o}, "multiple of 32"},
+      {{"--detector", "sift", "--out", o}, "sift"},
+      {{"--patches-file", (dir.path / "none.h5").string(), "--out", o}, "none.h5"},
+      {{"--no-such-flag"}, ""},
+  };
+  for (const auto& [args, message] : cases) {
+    const CliRun r = runTrain(args);
+    EXPECT_EQ(r.code, 2) << args[0] << " " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+  }
+  EXPECT_TRUE(fs::is_empty(out));
+}
+
+TEST(TrainCli, FewerPatchesThanTestsExitsWith2) {
+  TempDir dir("few");
+  const fs::path images = smallImageFolder(dir);
+  if (fs::is_empty(images)) GTEST_SKIP() << "opencv-doc not installed";
+  const CliRun r = runTrain({"--images", images.string(), "--patches", "100", "--tests", "128", "--out",
+                       dir.path.string()});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("fewer than the 128 requested tests"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir.path / "orb_perspective_128.hpp"));
+}
+
+TEST(TrainCli, SameInputsAndSeedGiveByteIdenticalHeaders) {
+  TempDir dir("det");
+  const fs::path images = smallImageFolder(dir);
+  if (fs::is_empty(images)) GTEST_SKIP() << "opencv-doc not installed";
+  fs::create_directories(dir.path / "a");
+  fs::create_directories(dir.path / "b");
+  const fs::path patchFile = dir.path / "patches.h5";
+  const std::vector<std::string> common = {"--images", images.string(), "--patches", "800",
+                                           "--tests", "64", "--seed", "3", "--name", "tiny_64"};
+  auto args = common;
+  args.insert(args.end(), {"--out", (dir.path / "a").string(), "--save-patches", patchFile.string()});
+  const CliRun first = runTrain(args);
+  ASSERT_EQ(first.code, 0) << first.err;
+  EXPECT_NE(first.out.find("candidates: 377650"), std::string::npos) << first.out;
+  EXPECT_NE(first.out.find("peak memory"), std::string::npos);
+  args = common;
+  args.insert(args.end(), {"--out", (dir.path / "b").string()});
+  ASSERT_EQ(runTrain(args).code, 0);
+  const std::string header = readFile(dir.path / "a" / "tiny_64.hpp");
+  EXPECT_EQ(header, readFile(dir.path / "b" / "tiny_64.hpp"));
+  EXPECT_EQ(readFile(dir.path / "a" / "tiny_64.json"), readFile(dir.path / "b" / "tiny_64.json"));
+  EXPECT_NE(header.find("--seed 3 --tests 64 --name tiny_64. Do not edit."), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir.path / "a" / "registry.hpp"));
+
+  // The JSON copy loads at run time; the patch file reproduces the same tests.
+  const TestSet learned = loadTestSetJson((dir.path / "a" / "tiny_64.json").string());
+  ASSERT_EQ(learned.tests.size(), 64u);
+  EXPECT_EQ(readPatchSet(patchFile).count(), 800u);
+  fs::create_directories(dir.path / "c");
+  const CliRun reuse = runTrain({"--patches-file", patchFile.string(), "--tests", "64", "--name", "tiny_64",
+                           "--out", (dir.path / "c").string()});
+  ASSERT_EQ(reuse.code, 0) << reuse.err;
+  const TestSet again = loadTestSetJson((dir.path / "c" / "tiny_64.json").string());
+  for (size_t i = 0; i < 64; ++i) {
+    EXPECT_EQ(again.tests[i].x1, learned.tests[i].x1);
+    EXPECT_EQ(again.tests[i].y2, learned.tests[i].y2);
+  }
+}
