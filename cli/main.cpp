@@ -7,5 +7,7 @@ int main(int argc, char** argv) {
                                 addExtractCommand,
                                 addMatchCommand,
                                 addDrawCommand,
+                                addSimCommand,
+                                addEvalCommand,
                             });
 }

@@ -27,9 +27,15 @@ bool bilinear(const cv::Mat& img, double x, double y, uint8_t& value) {
 }  // namespace
 
 int samplingLevel(const ImagePyramid& pyramid, double keypointSize) {
-  const double ratio = std::max(keypointSize, 1e-6) / kReferenceKeypointSize;
-  const double k = std::log(ratio) / std::log(pyramid.options().scaleFactor);
-  return std::clamp(static_cast<int>(std::lround(k)), 0, pyramid.levels() - 1);
+  // The level whose scale is nearest (in log) to the keypoint's; scanning the levels also
+  // covers pyramids with an upsampled firstLevel.
+  const double target = std::log(std::max(keypointSize, 1e-6) / kReferenceKeypointSize);
+  int best = 0;
+  for (int k = 1; k < pyramid.levels(); ++k)
+    if (std::abs(std::log(pyramid.scale(k)) - target) <
+        std::abs(std::log(pyramid.scale(best)) - target) - 1e-9)
+      best = k;
+  return best;
 }
 
 namespace {

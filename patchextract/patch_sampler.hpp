@@ -24,7 +24,7 @@ namespace mdbrief::train {
 // Keypoint size of ORB's level 0 (cv::ORB's patchSize): defines step 1.
 inline constexpr double kReferenceKeypointSize = 31.0;
 
-// The pyramid level a keypoint of this size is sampled on (clamped to the pyramid).
+// The pyramid level a keypoint of this size is sampled on: the one whose scale is nearest.
 int samplingLevel(const ImagePyramid& pyramid, double keypointSize);
 
 // True when samplePatch would succeed; needs no smoothed levels (cheap pre-selection).

@@ -32,7 +32,6 @@ struct PatchSet {
   std::vector<std::pair<std::string, std::string>> attributes;  // settings, in order
 
   size_t count() const { return records.size(); }
-  const uint8_t* patch(size_t i) const { return pixels.data() + i * 1024; }
 };
 
 // Written atomically (temporary file in the same folder, then rename); no timestamps in the

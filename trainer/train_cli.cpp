@@ -94,6 +94,8 @@ int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::os
                "use each photo as a plane seen through --camera (synthetic fisheye images)");
   app.add_flag("--make-default", s.makeDefault, "make the learned set the registry's default");
 
+  app.set_config("--config", "", "read these options from a TOML/INI file (configs/training/)");
+
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
     app.parse(reversed);

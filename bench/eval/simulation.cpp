@@ -85,6 +85,8 @@ void histogramAdd(std::vector<double>& h, double d) {
 }
 
 void writeImage(const std::string& file, const cv::Mat& img) {
+  const std::filesystem::path target(file);
+  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
   const std::string tmp = file + ".tmp.png";
   if (!cv::imwrite(tmp, img)) throw std::runtime_error(file + ": cannot write image");
   std::filesystem::rename(tmp, file);
@@ -189,7 +191,12 @@ SimSummary runProjectedSimulation(const SimCamera& sc, double xEnd, const SimOpt
   for (int k = 0; k < o.views; ++k) {
     cv::Mat img;
     evo.push_back(describeProjected(sc, scene, poseAt(k, o.views), planePoints, methods, &img));
-    if (k == 0 || k == o.views / 2 || k == o.views - 1) shown.push_back(img);
+    if (k == 0 || k == o.views / 2 || k == o.views - 1) {
+      // The texture repeats mirrored over the whole plane: the keypoints show where it is.
+      cv::cvtColor(img, img, cv::COLOR_GRAY2BGR);
+      for (const auto& kp : evo.back()[0].keypoints) cv::circle(img, kp.pt, 3, cv::Scalar(0, 0, 255), -1);
+      shown.push_back(img);
+    }
   }
   cv::Mat strip;
   cv::hconcat(shown, strip);
@@ -207,6 +214,7 @@ SimSummary runProjectedSimulation(const SimCamera& sc, double xEnd, const SimOpt
   for (const auto& m : methods) summary.methods.push_back(m.name);
   CsvTable evoCsv({"view", "method", "patch_distance", "mean_distance"});
   summary.patchDistanceLast.assign(nm, 0.0);
+  summary.meanMatchingDistance.assign(nm, 0.0);
   for (size_t m = 0; m < nm; ++m) {
     const auto rows0 = rowsById(evo[0][m]);
     for (int k = 0; k < o.views; ++k) {
@@ -214,6 +222,7 @@ SimSummary runProjectedSimulation(const SimCamera& sc, double xEnd, const SimOpt
       double mean = 0;
       for (int id : ids) mean += descriptorDistance(evo[0][m], rows0.at(id), evo[k][m], rowsK.at(id));
       mean /= ids.size();
+      if (k > 0) summary.meanMatchingDistance[m] += mean / (o.views - 1);
       const double pd = descriptorDistance(evo[0][m], rows0.at(patch), evo[k][m], rowsK.at(patch));
       evoCsv.row().add(k + 1).add(methods[m].name).add(pd).add(mean);
       if (k == o.views - 1) summary.patchDistanceLast[m] = pd;
@@ -340,12 +349,16 @@ void runDetectedVariant(const SimCamera& sc, const SimOptions& o, const std::str
   writeImage(path(o, stem + "_views.png"), strip);
 
   CsvTable perView({"view", "method", "ground_truth", "recognition_rate", "mean_match_distance"});
-  CsvTable summary({"method", "form", "mask_deg", "mean_recognition", "rim_recognition", "last_recognition",
-                    "bhattacharyya_last", "mean_match_distance_last"});
+  // Averages over the views with enough true matches; "last" = the last such view.
+  CsvTable summary({"method", "form", "mask_deg", "views_used", "mean_recognition", "rim_recognition", "last_view",
+                    "last_recognition", "bhattacharyya_last", "mean_match_distance_last"});
   const View& ref = views[0];
   for (size_t m = 0; m < nm; ++m) {
+    // Views with fewer true matches than this (the plane leaving a narrower lens) are left out
+    // of the averages: their rates are noise.
+    constexpr int kMinGroundTruth = 20;
     double sumRate = 0, sumRim = 0, lastRate = 0, lastBc = 0, lastMatch = 0;
-    int rimCount = 0;
+    int used = 0, rimCount = 0, lastView = 0;
     for (int k = 1; k < o.detectedViews; ++k) {
       const View& v = views[k];
       const Features& q = ref.f[m];
@@ -368,25 +381,25 @@ void runDetectedVariant(const SimCamera& sc, const SimOptions& o, const std::str
       int nGt = 0, correct = 0;
       double matchSum = 0;
       std::vector<double> hm(q.bits + 1, 0.0), hn(q.bits + 1, 0.0);
-      const bool last = k == o.detectedViews - 1;
       for (const auto& d : nn) {
         const int i = d.queryIdx;
         if (gt[i] < 0) continue;
         ++nGt;
         correct += cv::norm(cv::Point2d(t.keypoints[d.trainIdx].pt) - truePos[i]) <= o.matchRadiusPx;
         matchSum += descriptorDistance(q, i, t, gt[i]);
-        if (last)
-          for (size_t j = 0; j < t.keypoints.size(); ++j) {
-            const bool near = cv::norm(cv::Point2d(t.keypoints[j].pt) - truePos[i]) <= o.matchRadiusPx;
-            if (static_cast<int>(j) == gt[i] || !near) histogramAdd(near ? hm : hn, descriptorDistance(q, i, t, static_cast<int>(j)));
-          }
+        for (size_t j = 0; j < t.keypoints.size(); ++j) {
+          const bool near = cv::norm(cv::Point2d(t.keypoints[j].pt) - truePos[i]) <= o.matchRadiusPx;
+          if (static_cast<int>(j) == gt[i] || !near)
+            histogramAdd(near ? hm : hn, descriptorDistance(q, i, t, static_cast<int>(j)));
+        }
       }
       const double rate = nGt ? static_cast<double>(correct) / nGt : 0.0;
       const double meanMatch = nGt ? matchSum / nGt / q.bits : 0.0;
       perView.row().add(k + 1).add(methods[m].name).add(nGt).add(rate).add(meanMatch);
-      sumRate += rate;
+      if (nGt < kMinGroundTruth) continue;
+      sumRate += rate, ++used;
       if (2 * k >= o.detectedViews) sumRim += rate, ++rimCount;
-      if (last) lastRate = rate, lastBc = bhattacharyya(hm, hn), lastMatch = meanMatch;
+      lastView = k + 1, lastRate = rate, lastBc = bhattacharyya(hm, hn), lastMatch = meanMatch;
     }
     const auto& opt = methods[m].options;
     const bool distorted = methods[m].family == MethodFamily::DBrief || methods[m].family == MethodFamily::MdBrief;
@@ -394,8 +407,10 @@ void runDetectedVariant(const SimCamera& sc, const SimOptions& o, const std::str
         .add(methods[m].name)
         .add(std::string(distorted ? (opt.form == DistortionForm::Paper ? "paper" : "affine") : "none"))
         .add(isMasked(methods[m].family) ? opt.maskRotationDeg : 0.0)
-        .add(sumRate / std::max(1, o.detectedViews - 1))
+        .add(used)
+        .add(used ? sumRate / used : 0.0)
         .add(rimCount ? sumRim / rimCount : 0.0)
+        .add(lastView)
         .add(lastRate)
         .add(lastBc)
         .add(lastMatch);
@@ -409,6 +424,8 @@ void runDetectedVariant(const SimCamera& sc, const SimOptions& o, const std::str
 void runDetectedSimulation(const SimCamera& sc, const SimOptions& o) {
   runDetectedVariant(sc, o, "rolled", 45.0, true);
   runDetectedVariant(sc, o, "upright", 0.0, false);
+  // Separates the effect of the detector's orientation from that of the roll.
+  runDetectedVariant(sc, o, "upright_oriented", 0.0, true);
 }
 
 void runSimulation(const std::vector<SimCamera>& cameras, const SimOptions& o) {

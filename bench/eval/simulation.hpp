@@ -56,6 +56,9 @@ struct SimSummary {
   std::vector<double> recognitionAtLast;  // projected, view recognitionViews
   std::vector<double> bhattacharyyaLast;  // projected, pair 1-recognitionViews
   std::vector<double> patchDistanceLast;  // projected, view `views`
+  // Mean over the common keypoints and over views 2..`views` of the distance between a
+  // keypoint's descriptors in view 1 and view k (bits, masked distance for masked methods).
+  std::vector<double> meanMatchingDistance;
   int commonKeypoints = 0;
 };
 
@@ -70,7 +73,8 @@ SimSummary runProjectedSimulation(const SimCamera& camera, double xEnd, const Si
 
 // Runs the detected experiment for one camera in two variants: "rolled" (translation, yaw,
 // pitch and a 45 degree roll; descriptors use the detector's orientation) and "upright" (no
-// roll; descriptors without orientation, as the paper's fig. "Ignoring patch orientation").
+// roll; descriptors without orientation, as the paper's fig. "Ignoring patch orientation") and
+// "upright_oriented" (no roll, the detector's orientation used).
 // Writes sim_detected_<name>_<variant>.csv and ..._summary.csv.
 void runDetectedSimulation(const SimCamera& camera, const SimOptions& options);
 

@@ -37,7 +37,8 @@ const std::vector<std::pair<CornerDetector, const char*>> kCornerNames = {{Corne
                                                                           {CornerDetector::Agast, "agast"}};
 
 bool samePyramid(const PyramidOptions& a, const PyramidOptions& b) {
-  return a.levels == b.levels && a.scaleFactor == b.scaleFactor && a.smoothingKernel == b.smoothingKernel &&
+  return a.levels == b.levels && a.scaleFactor == b.scaleFactor && a.firstLevel == b.firstLevel &&
+         a.smoothingKernel == b.smoothingKernel &&
          a.smoothingSigma == b.smoothingSigma;
 }
 
@@ -161,6 +162,7 @@ void MdBrief::write(cv::FileStorage& fs) const {
   fs << "name" << getDefaultName();
   fs << "pyramid" << "{";
   fs << "levels" << d.pyramid.levels << "scaleFactor" << d.pyramid.scaleFactor;
+  fs << "firstLevel" << d.pyramid.firstLevel;
   fs << "smoothingKernel" << d.pyramid.smoothingKernel << "smoothingSigma" << d.pyramid.smoothingSigma;
   fs << "}";
   fs << "detector" << "{";
@@ -189,6 +191,7 @@ void MdBrief::read(const cv::FileNode& node) {
   PyramidOptions pyramid = o.detector.pyramid;
   readInt(p, "levels", pyramid.levels);
   readDouble(p, "scaleFactor", pyramid.scaleFactor);
+  readInt(p, "firstLevel", pyramid.firstLevel);
   readInt(p, "smoothingKernel", pyramid.smoothingKernel);
   readDouble(p, "smoothingSigma", pyramid.smoothingSigma);
   o.setPyramid(pyramid);

@@ -1,0 +1,153 @@
+// Whole-frame figure (issue 3): detect + describe + match for 1000 keypoints on a 754x480
+// fisheye frame, mdBRIEF 256 (Affine form, masked matching) through mdbrief::MdBrief against
+// cv::ORB detectAndCompute + cv::BFMatcher(NORM_HAMMING), on the same image in the same run.
+// Each iteration processes frame A and matches it against the precomputed features of a
+// second rendered view B (as a tracker matches a new frame against the previous one); both
+// matchers apply Lowe's ratio test 0.8.
+// Arg 1: single-threaded (OpenCV and TBB), 0: the libraries' default threading.
+// Frames: Graffiti rendered through configs/cameras/lafida_fisheye0.yaml (needs opencv-doc).
+#include <benchmark/benchmark.h>
+
+#include <memory>
+
+#include <opencv2/core/utility.hpp>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <tbb/global_control.h>
+
+#include "mdbrief/camera_io.hpp"
+#include "mdbrief/feature2d.hpp"
+#include "mdbrief/matcher.hpp"
+#include "mdbrief/plane_renderer.hpp"
+
+namespace {
+
+constexpr int kFeatures = 1000;
+constexpr float kRatio = 0.8f;
+
+struct Views {
+  mdbrief::CameraPtr camera;
+  cv::Mat a, b;
+};
+
+const Views& views() {
+  static const Views v = [] {
+    Views out;
+    out.camera = mdbrief::loadCamera(MDBRIEF_SOURCE_DIR "/configs/cameras/lafida_fisheye0.yaml");
+    mdbrief::PlaneScene scene;
+    scene.texture = cv::imread("/usr/share/doc/opencv-doc/examples/data/graf1.png", cv::IMREAD_GRAYSCALE);
+    if (scene.texture.empty()) return out;
+    scene.texelSize = 0.004;
+    mdbrief::CameraPose pose;
+    pose.centre = {0.3, 0.1, -0.8};
+    out.a = mdbrief::renderPlane(*out.camera, pose, scene);
+    pose.centre = {0.25, 0.1, -0.8};
+    out.b = mdbrief::renderPlane(*out.camera, pose, scene);
+    return out;
+  }();
+  return v;
+}
+
+// Arg 1: cv::setNumThreads(1) and a TBB limit of 1 for the benchmark's lifetime.
+struct Threading {
+  explicit Threading(const benchmark::State& state) {
+    if (state.range(0) == 1) {
+      cv::setNumThreads(1);
+      single = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, 1);
+    }
+  }
+  ~Threading() { cv::setNumThreads(-1); }
+  std::unique_ptr<tbb::global_control> single;
+};
+
+void BM_FrameMdBrief(benchmark::State& state) {
+  const Views& v = views();
+  if (v.a.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
+  const Threading threading(state);
+  mdbrief::MdBriefOptions options;
+  options.detector.nfeatures = kFeatures;
+  options.descriptor.kind = mdbrief::DescriptorKind::MdBrief;
+  options.descriptor.bits = 256;
+  options.descriptor.form = mdbrief::DistortionForm::Affine;
+  const cv::Ptr<mdbrief::MdBrief> md = mdbrief::MdBrief::create(v.camera, options);
+  std::vector<cv::KeyPoint> kb;
+  cv::Mat db, mb;
+  md->detectAndComputeWithMasks(v.b, cv::noArray(), kb, db, mb);
+  mdbrief::MatchOptions match;
+  match.ratio = kRatio;
+  size_t keypoints = 0, matches = 0;
+  for (auto _ : state) {
+    std::vector<cv::KeyPoint> ka;
+    cv::Mat da, ma;
+    md->detectAndComputeWithMasks(v.a, cv::noArray(), ka, da, ma);
+    const auto m = mdbrief::matchBruteForceMasked(da, ma, db, mb, match);
+    keypoints = ka.size();
+    matches = m.size();
+    benchmark::DoNotOptimize(m.data());
+  }
+  state.counters["keypoints"] = double(keypoints);
+  state.counters["matches"] = double(matches);
+}
+
+void BM_FrameOrb(benchmark::State& state) {
+  const Views& v = views();
+  if (v.a.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
+  const Threading threading(state);
+  const cv::Ptr<cv::ORB> orb = cv::ORB::create(kFeatures);
+  std::vector<cv::KeyPoint> kb;
+  cv::Mat db;
+  orb->detectAndCompute(v.b, cv::noArray(), kb, db);
+  const cv::BFMatcher matcher(cv::NORM_HAMMING);
+  size_t keypoints = 0, matches = 0;
+  for (auto _ : state) {
+    std::vector<cv::KeyPoint> ka;
+    cv::Mat da;
+    orb->detectAndCompute(v.a, cv::noArray(), ka, da);
+    std::vector<std::vector<cv::DMatch>> knn;
+    matcher.knnMatch(da, db, knn, 2);
+    size_t kept = 0;
+    for (const auto& m : knn) kept += m.size() == 2 && m[0].distance < kRatio * m[1].distance;
+    keypoints = ka.size();
+    matches = kept;
+    benchmark::DoNotOptimize(knn.data());
+  }
+  state.counters["keypoints"] = double(keypoints);
+  state.counters["matches"] = double(matches);
+}
+
+// The three stages of BM_FrameMdBrief, single-threaded, to see where the time goes.
+void BM_FrameMdBriefStages(benchmark::State& state) {
+  const Views& v = views();
+  if (v.a.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
+  cv::setNumThreads(1);
+  const tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+  const cv::Ptr<mdbrief::MdBrief> md = mdbrief::MdBrief::create(v.camera);
+  std::vector<cv::KeyPoint> kb, ka;
+  cv::Mat db, mb, da, ma;
+  md->detectAndComputeWithMasks(v.b, cv::noArray(), kb, db, mb);
+  md->detectAndComputeWithMasks(v.a, cv::noArray(), ka, da, ma);
+  mdbrief::MatchOptions match;
+  match.ratio = kRatio;
+  const int stage = static_cast<int>(state.range(0));
+  for (auto _ : state) {
+    if (stage == 0) {  // pyramid + detection
+      const mdbrief::ImagePyramid pyramid(v.a, md->options().detector.pyramid);
+      benchmark::DoNotOptimize(md->detector().detect(pyramid).data());
+    } else if (stage == 1) {  // pyramid + smoothing + description of the detected keypoints
+      auto kps = ka;
+      cv::Mat d, m;
+      md->extractor().compute(v.a, kps, d, &m);
+      benchmark::DoNotOptimize(d.data);
+    } else {  // masked matching
+      benchmark::DoNotOptimize(mdbrief::matchBruteForceMasked(da, ma, db, mb, match).data());
+    }
+  }
+  cv::setNumThreads(-1);
+}
+
+BENCHMARK(BM_FrameOrb)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_FrameMdBrief)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Arg: 0 = detect, 1 = describe, 2 = match.
+BENCHMARK(BM_FrameMdBriefStages)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace

@@ -1,0 +1,149 @@
+// The precision-recall protocol of bench/eval (precision_recall.hpp, eval_datasets.hpp) on
+// constructed inputs whose curves are known by hand.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "eval_datasets.hpp"
+#include "mdbrief/camera_io.hpp"
+#include "mdbrief/detector.hpp"
+#include "mdbrief/plane_renderer.hpp"
+#include "plane_geometry.hpp"
+#include "precision_recall.hpp"
+#include "test_data.hpp"
+
+namespace mdbrief::eval {
+namespace {
+
+// n keypoints on a grid, 32-byte descriptors with distinct random bits.
+Features gridFeatures(int n, cv::RNG& rng) {
+  Features f;
+  f.bits = 256;
+  f.descriptors = cv::Mat(n, 32, CV_8U);
+  rng.fill(f.descriptors, cv::RNG::UNIFORM, 0, 256);
+  for (int i = 0; i < n; ++i) f.keypoints.emplace_back(cv::Point2f(20.f * (i % 10), 20.f * (i / 10)), 31.f);
+  return f;
+}
+
+const GroundTruthMap kIdentity = [](const cv::Point2d& p) -> std::optional<cv::Point2d> { return p; };
+
+TEST(EvalPrecisionRecall, IdenticalImagesGiveAPerfectCurve) {
+  cv::RNG rng(7);
+  const Features a = gridFeatures(50, rng);
+  const PairMatches m = matchPair(a, a, kIdentity);
+  EXPECT_EQ(m.groundTruth, 50);
+  ASSERT_EQ(m.correct.size(), 50u);
+  for (char c : m.correct) EXPECT_TRUE(c);
+  const PrSummary s = summarize(meanCurve({m}));
+  EXPECT_NEAR(s.auc, 1.0, 1e-9);
+  EXPECT_NEAR(s.recallAt01, 1.0, 1e-9);
+}
+
+TEST(EvalPrecisionRecall, ShuffledDescriptorsAreAllWrong) {
+  cv::RNG rng(8);
+  const Features a = gridFeatures(40, rng);
+  Features b = a;
+  // Rotate the rows: every keypoint of b carries another keypoint's descriptor.
+  cv::Mat rotated;
+  cv::vconcat(a.descriptors.rowRange(1, 40), a.descriptors.rowRange(0, 1), rotated);
+  b.descriptors = rotated;
+  const PairMatches m = matchPair(a, b, kIdentity);
+  EXPECT_EQ(m.groundTruth, 40);
+  int correct = 0;
+  for (char c : m.correct) correct += c;
+  EXPECT_EQ(correct, 0);
+  const PrSummary s = summarize(meanCurve({m}));
+  EXPECT_NEAR(s.auc, 0.0, 1e-9);
+  EXPECT_EQ(s.recallAt02, 0.0);
+}
+
+TEST(EvalPrecisionRecall, KeypointsWithoutCounterpartAreNotGroundTruth) {
+  cv::RNG rng(9);
+  const Features a = gridFeatures(30, rng);
+  // Shift by 10 px: no keypoint of b lies within 3 px of a mapped keypoint.
+  const GroundTruthMap shift = [](const cv::Point2d& p) -> std::optional<cv::Point2d> { return p + cv::Point2d(10, 0); };
+  EXPECT_EQ(matchPair(a, a, shift).groundTruth, 0);
+  const GroundTruthMap none = [](const cv::Point2d&) -> std::optional<cv::Point2d> { return std::nullopt; };
+  EXPECT_EQ(matchPair(a, a, none).groundTruth, 0);
+}
+
+TEST(EvalPrecisionRecall, RecallAtInterpolatesTheCrossingSegment) {
+  PrCurve c;
+  c.threshold = {0, 1, 2};
+  c.oneMinusPrecision = {0.0, 0.2, 0.4};
+  c.recall = {0.2, 0.6, 0.8};
+  EXPECT_NEAR(recallAt(c, 0.1), 0.4, 1e-12);
+  EXPECT_NEAR(recallAt(c, 0.2), 0.6, 1e-12);
+  // Area: trapezoids up to 0.4 (0.08 + 0.14) plus the final recall continued to 1 (0.48).
+  EXPECT_NEAR(summarize(c).auc, 0.08 + 0.14 + 0.48, 1e-12);
+}
+
+TEST(EvalPrecisionRecall, HomographyFileErrorsNameTheFile) {
+  const auto path = std::filesystem::temp_directory_path() / ("mdbrief_test_h_" + std::to_string(::getpid()));
+  {
+    std::ofstream out(path);
+    out << "1 0 0\n0 1 0\n0 0\n";
+  }
+  try {
+    readHomography(path.string());
+    ADD_FAILURE() << "a file with eight numbers was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+  EXPECT_THROW(readHomography(path.string()), std::runtime_error);
+}
+
+// User data: two fisheye views from the same centre, rotated by 20 degrees; the bearing
+// homography of a pure rotation is the relative rotation. Every keypoint mapped through it must
+// land on the same plane point, so the same corners are re-detected within 3 px and identical
+// patches (up to resampling) give a high recall.
+TEST(EvalPrecisionRecall, UserSequenceMapsThroughBearingHomographies) {
+  const auto doc = testing::opencvDocDataDir();
+  if (!doc || !std::filesystem::exists(*doc / "graf1.png")) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  const std::string camPath = (testing::sourceDir() / "configs/cameras/lafida_fisheye0.yaml").string();
+  const CameraPtr cam = loadCamera(camPath);
+  const PlaneScene scene{cv::imread((*doc / "graf1.png").string(), cv::IMREAD_GRAYSCALE), 0.004};
+  CameraPose a, b;
+  b.rotation = cameraRotation(20.0, 0.0, 0.0);
+  const auto dir = std::filesystem::temp_directory_path() / ("mdbrief_test_user_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string ia = (dir / "a.png").string(), ib = (dir / "b.png").string(), h = (dir / "H").string();
+  cv::imwrite(ia, renderPlane(*cam, a, scene));
+  cv::imwrite(ib, renderPlane(*cam, b, scene));
+  {
+    std::ofstream out(h);
+    const cv::Matx33d r = b.rotation * a.rotation.t();  // bearing_b = R_b R_a^T bearing_a
+    for (int i = 0; i < 9; ++i) out << r.val[i] << (i % 3 == 2 ? "\n" : " ");
+  }
+  const EvalSequence seq = loadUserSequence("user", {ia, ib}, camPath, {h});
+  ASSERT_EQ(seq.pairs.size(), 1u);
+  // The map agrees with the plane geometry.
+  const cv::Point2d px(400, 250);
+  const auto mapped = seq.pairs[0].map(px);
+  const auto plane = pixelToPlane(*cam, a, px);
+  ASSERT_TRUE(mapped && plane);
+  cv::Point2d expected;
+  ASSERT_TRUE(projectPlanePoint(*cam, b, *plane, expected));
+  EXPECT_LT(cv::norm(*mapped - expected), 0.05);
+
+  DetectorOptions dopt;
+  dopt.nfeatures = 300;
+  const Detector det(dopt, cam);
+  const MethodSpec brief = briefFamilyMethod("BRIEF", MethodFamily::Brief, 256, true);
+  const Features fa = describe(brief, seq.images[0], cam, det.detect(seq.images[0]));
+  const Features fb = describe(brief, seq.images[1], cam, det.detect(seq.images[1]));
+  const PairMatches m = matchPair(fa, fb, seq.pairs[0].map);
+  EXPECT_GT(m.groundTruth, 100);
+  EXPECT_GT(summarize(meanCurve({m})).recallAt02, 0.5);
+  std::filesystem::remove_all(dir);
+  EXPECT_THROW(loadUserSequence("user", {ia}, camPath, {}), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace mdbrief::eval
