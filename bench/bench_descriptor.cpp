@@ -8,12 +8,10 @@
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
-#include <opencv2/imgcodecs.hpp>
-
-#include "mdbrief/camera_io.hpp"
-#include "mdbrief/descriptor.hpp"
-#include "mdbrief/plane_renderer.hpp"
 #include <tbb/global_control.h>
+
+#include "bench_scene.hpp"
+#include "mdbrief/descriptor.hpp"
 
 namespace {
 
@@ -26,15 +24,9 @@ struct Frame {
 const Frame& fisheyeFrame() {
   static const Frame frame = [] {
     Frame f;
-    f.camera = mdbrief::loadCamera(MDBRIEF_SOURCE_DIR "/configs/cameras/lafida_fisheye0.yaml");
-    mdbrief::PlaneScene scene;
-    scene.texture = cv::imread("/usr/share/doc/opencv-doc/examples/data/graf1.png", cv::IMREAD_GRAYSCALE);
-    if (scene.texture.empty()) return f;
-    scene.texelSize = 0.004;
-    mdbrief::CameraPose pose;
-    pose.centre = {0.3, 0.1, -0.8};
-    f.image = mdbrief::renderPlane(*f.camera, pose, scene);
-    cv::ORB::create(1000)->detect(f.image, f.keypoints);
+    f.camera = mdbrief::bench::fisheyeScene().camera;
+    f.image = mdbrief::bench::renderFisheyeView({0.3, 0.1, -0.8});
+    if (!f.image.empty()) cv::ORB::create(1000)->detect(f.image, f.keypoints);
     return f;
   }();
   return frame;
@@ -58,9 +50,7 @@ void BM_OrbCompute(benchmark::State& state) {
     n = kps.size();
     benchmark::DoNotOptimize(desc.data);
   }
-  state.counters["us_per_kp"] = benchmark::Counter(double(n) * state.iterations(),
-                                                   benchmark::Counter::kIsRate | benchmark::Counter::kInvert,
-                                                   benchmark::Counter::kIs1000);
+  state.counters["us_per_kp"] = mdbrief::bench::microsecondsPerItem(double(n), state.iterations());
   state.counters["keypoints"] = double(n);
   cv::setNumThreads(-1);
 }
@@ -83,9 +73,7 @@ void describe(benchmark::State& state, mdbrief::DescriptorKind kind, mdbrief::Di
     n = kps.size();
     benchmark::DoNotOptimize(desc.data);
   }
-  state.counters["us_per_kp"] = benchmark::Counter(double(n) * state.iterations(),
-                                                   benchmark::Counter::kIsRate | benchmark::Counter::kInvert,
-                                                   benchmark::Counter::kIs1000);
+  state.counters["us_per_kp"] = mdbrief::bench::microsecondsPerItem(double(n), state.iterations());
   state.counters["keypoints"] = double(n);
   cv::setNumThreads(-1);
 }
@@ -127,9 +115,7 @@ void describePrebuilt(benchmark::State& state, mdbrief::DescriptorKind kind) {
     n = kps.size();
     benchmark::DoNotOptimize(desc.data);
   }
-  state.counters["us_per_kp"] = benchmark::Counter(double(n) * state.iterations(),
-                                                   benchmark::Counter::kIsRate | benchmark::Counter::kInvert,
-                                                   benchmark::Counter::kIs1000);
+  state.counters["us_per_kp"] = mdbrief::bench::microsecondsPerItem(double(n), state.iterations());
 }
 void BM_BriefPrebuiltPyramid(benchmark::State& s) { describePrebuilt(s, mdbrief::DescriptorKind::Brief); }
 void BM_DBriefPrebuiltPyramid(benchmark::State& s) { describePrebuilt(s, mdbrief::DescriptorKind::DBrief); }

@@ -12,13 +12,11 @@
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <tbb/global_control.h>
 
-#include "mdbrief/camera_io.hpp"
+#include "bench_scene.hpp"
 #include "mdbrief/feature2d.hpp"
 #include "mdbrief/matcher.hpp"
-#include "mdbrief/plane_renderer.hpp"
 
 namespace {
 
@@ -32,18 +30,8 @@ struct Views {
 
 const Views& views() {
   static const Views v = [] {
-    Views out;
-    out.camera = mdbrief::loadCamera(MDBRIEF_SOURCE_DIR "/configs/cameras/lafida_fisheye0.yaml");
-    mdbrief::PlaneScene scene;
-    scene.texture = cv::imread("/usr/share/doc/opencv-doc/examples/data/graf1.png", cv::IMREAD_GRAYSCALE);
-    if (scene.texture.empty()) return out;
-    scene.texelSize = 0.004;
-    mdbrief::CameraPose pose;
-    pose.centre = {0.3, 0.1, -0.8};
-    out.a = mdbrief::renderPlane(*out.camera, pose, scene);
-    pose.centre = {0.25, 0.1, -0.8};
-    out.b = mdbrief::renderPlane(*out.camera, pose, scene);
-    return out;
+    return Views{mdbrief::bench::fisheyeScene().camera, mdbrief::bench::renderFisheyeView({0.3, 0.1, -0.8}),
+                 mdbrief::bench::renderFisheyeView({0.25, 0.1, -0.8})};
   }();
   return v;
 }

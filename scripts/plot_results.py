@@ -60,6 +60,9 @@ def sim_cameras(results):
     info = read_csv(os.path.join(results, "sim_info.csv")) or []
     cams, keys = [], {}
     for r in info:
+        if r["camera"] == "all":  # run-wide facts (the default test set)
+            keys[("all", r["key"])] = r["value"]
+            continue
         if r["camera"] not in cams:
             cams.append(r["camera"])
         keys[(r["camera"], r["key"])] = float(r["value"])
@@ -269,13 +272,13 @@ size or keypoint set, so the amount of distortion per view differs: on the share
 fisheye sees the texture within about 45 degrees of the axis, which distorts it much less than
 the paper's figure; `fisheye_rim` runs to the rim and distorts more than the paper (BRIEF reaches
 the random level, about 128 bits). The paper's values lie between the two. (2) Our test set is
-the library's default (random unless a learned default is registered); the paper's is learned.
+the library's default, %s; the paper's is its own learned set.
 (3) Rendering (3x3 supersampled bilinear) and smoothing differ in detail. The orderings are the
 paper's: dBRIEF (Paper form) < BRIEF in distance and overlap, masks lower both again (mdBRIEF <
 dBRIEF, mBRIEF < BRIEF), and the gain grows with the distortion. The `-affine` rows show that the
 Affine form is *not* a replacement for the paper's form when keypoints keep octave 0: it takes
 the size from the detector, and projected keypoints carry no scale, so the compressed patches
-are sampled at the full-size footprint (worse than BRIEF on the fisheye).""")
+are sampled at the full-size footprint (worse than BRIEF on the fisheye).""" % keys.get(("all", "default_test_set"), "?"))
     s.append("")
     # Detected experiment.
     if detected:
@@ -328,15 +331,17 @@ def decision_text(results, detected):
             if r["method"] == "dBRIEF-affine":
                 dbrief_aff.append(v)
     mean = lambda v: sum(v) / len(v) if v else float("nan")
-    lines = ["**Decision numbers** (mean recognition over all detected-experiment cameras and variants):", ""]
+    p1 = lambda v: "%.1f %%" % (100 * v)
+    lines = ["**Decision numbers** (mean recognition, averaged over the %d detected-experiment runs: %s):" %
+             (len(detected), ", ".join(d.replace("sim_detected_", "") for d in detected)), ""]
     lines.append("- form: Paper %s, Affine %s (dBRIEF and mdBRIEF at every mask angle)." %
-                 (pct(mean(form_scores["paper"])), pct(mean(form_scores["affine"]))))
+                 (p1(mean(form_scores["paper"])), p1(mean(form_scores["affine"]))))
     if angle_scores:
         best = max(angle_scores, key=lambda a: mean(angle_scores[a]))
         lines.append("- mdBRIEF (Affine) mask angle: " + ", ".join(
-            "%g deg %s" % (a, pct(mean(angle_scores[a]))) for a in sorted(angle_scores)) +
+            "%g deg %s" % (a, p1(mean(angle_scores[a]))) for a in sorted(angle_scores)) +
             "; best: %g deg." % best)
-    lines.append("- reference: BRIEF %s, dBRIEF (Affine) %s." % (pct(mean(brief_scores)), pct(mean(dbrief_aff))))
+    lines.append("- reference: BRIEF %s, dBRIEF (Affine) %s." % (p1(mean(brief_scores)), p1(mean(dbrief_aff))))
     return "\n".join(lines)
 
 

@@ -26,15 +26,7 @@ using namespace mdbrief::train;
 
 namespace {
 
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& tag) {
-    path = fs::temp_directory_path() / ("mdbrief_test_px_" + tag + "_" + std::to_string(::getpid()));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
+using mdbrief::testing::TempDir;
 
 // Bits of the runtime descriptor row vs the same tests evaluated on the sampled patch.
 double agreement(const cv::Mat& descriptors, const std::vector<cv::KeyPoint>& kps,

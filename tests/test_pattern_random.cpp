@@ -16,14 +16,7 @@
 namespace fs = std::filesystem;
 using namespace mdbrief;
 
-namespace {
-std::string readFile(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-}  // namespace
+using mdbrief::testing::readFile;
 
 TEST(RandomPattern, RegeneratedFilesAreByteIdenticalToTheShippedOnes) {
   const fs::path dir =

@@ -7,7 +7,6 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "csv_table.hpp"
 #include "eval_datasets.hpp"
 #include "mdbrief/camera_io.hpp"
 #include "pr_experiment.hpp"
@@ -38,6 +37,7 @@ CameraPtr loadCameraOrThrow(const std::string& path) {
 }
 
 cv::Mat loadGreyOrThrow(const std::string& path) {
+  if (!fs::is_regular_file(path)) throw InputError(path + ": no such file");
   cv::Mat m = cv::imread(path, cv::IMREAD_GRAYSCALE);
   if (m.empty()) throw InputError(path + ": cannot read the image");
   return m;
@@ -59,7 +59,8 @@ std::vector<SimCamera> parseCameras(const std::vector<std::string>& specs) {
 }
 
 // Runs `body`, turning file errors of the library (std::runtime_error naming the file) into
-// input errors so the caller exits 2.
+// input errors so the caller exits 2. OpenCV failures are internal errors (exit 1): the
+// inputs were checked before they reached OpenCV.
 template <typename F>
 void asInputErrors(F&& body) {
   try {
@@ -108,8 +109,7 @@ void addSimCommand(CLI::App& app) {
     o->runProjected = !*noProjected;
     o->runDetected = !*noDetected;
     const auto cameras = parseCameras(*cams);
-    if (cv::imread(o->texturePath, cv::IMREAD_GRAYSCALE).empty())
-      throw InputError(o->texturePath + ": cannot read the texture image");
+    loadGreyOrThrow(o->texturePath);
     asInputErrors([&] { runSimulation(cameras, *o); });
   });
 }

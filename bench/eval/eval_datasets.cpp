@@ -16,6 +16,7 @@ namespace mdbrief::eval {
 namespace {
 
 cv::Mat readGrey(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(path + ": no such file");
   cv::Mat img = cv::imread(path, cv::IMREAD_GRAYSCALE);
   if (img.empty()) throw std::runtime_error(path + ": cannot read the image");
   return img;

@@ -15,6 +15,7 @@
 #include "csv_table.hpp"
 #include "descriptor_method.hpp"
 #include "mdbrief/detector.hpp"
+#include "mdbrief/patterns.hpp"
 #include "plane_geometry.hpp"
 
 namespace mdbrief::eval {
@@ -26,6 +27,7 @@ constexpr double kLargeTexel = 0.004;    // detected experiment: 3.2 x 2.56 unit
 constexpr int kMarginPx = 24;            // the descriptor patch must fit (detector's border margin)
 
 cv::Mat loadTexture(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(path + ": no such file");
   cv::Mat t = cv::imread(path, cv::IMREAD_GRAYSCALE);
   if (t.empty()) throw std::runtime_error(path + ": cannot read the texture image");
   return t;
@@ -456,6 +458,7 @@ void runSimulation(const std::vector<SimCamera>& cameras, const SimOptions& o) {
     for (const auto& p : cameras)
       if (r.camera->modelName() == "radial" && p.camera->modelName() == "pinhole")
         info.row().add(r.name).add(std::string("max_displacement_px")).add(maxRadialDisplacement(*r.camera, *p.camera));
+  info.row().add(std::string("all")).add(std::string("default_test_set")).add(defaultTestSetName());
   info.write(path(o, "sim_info.csv"));
 }
 
