@@ -95,12 +95,12 @@ TEST_F(PinholeReducesToBrief, MdBriefDescriptorIsDBriefPlusAMask) {
     while (dbrief.keypoints[j].pt != mdbrief.keypoints[i].pt) ++j;
     ASSERT_EQ(cv::norm(mdbrief.descriptors.row(int(i)), dbrief.descriptors.row(int(j)), cv::NORM_HAMMING), 0.0);
   }
-  // On natural texture most, not all, tests survive +-10 degrees.
+  // On natural texture a large share, not all, of the tests survive +-20 degrees (the default).
   double ones = 0;
   for (int r = 0; r < mdbrief.masks.rows; ++r)
     for (int c = 0; c < mdbrief.masks.cols; ++c) ones += __builtin_popcount(mdbrief.masks.at<uchar>(r, c));
   const double stable = ones / (mdbrief.masks.rows * 256.0);
-  EXPECT_GT(stable, 0.5);
+  EXPECT_GT(stable, 0.3);
   EXPECT_LT(stable, 0.98);
 }
 

@@ -59,7 +59,7 @@ std::vector<cv::DMatch> nearestNeighbours(const Features& query, const Features&
 
 // The comparison's standard set: name -> spec. bits/orientation/form/mask angle as given.
 MethodSpec briefFamilyMethod(const std::string& name, MethodFamily family, int bits, bool oriented,
-                             DistortionForm form = DistortionForm::Affine, double maskDeg = 10.0,
+                             DistortionForm form = DistortionForm::Affine, double maskDeg = DescriptorOptions{}.maskRotationDeg,
                              const std::string& pattern = "");
 MethodSpec opencvMethod(const std::string& name, MethodFamily family);
 

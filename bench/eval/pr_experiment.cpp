@@ -42,7 +42,7 @@ std::vector<MethodSpec> standardPrMethods(bool withStudies) {
     const int bits = std::min(256, size / 32 * 32);
     if (bits < 32) continue;
     m.push_back(briefFamilyMethod("dBRIEF-" + std::to_string(bits) + "@" + name, MethodFamily::DBrief, bits, true, af,
-                                  10.0, name));
+                                  DescriptorOptions{}.maskRotationDeg, name));
   }
   return m;
 }

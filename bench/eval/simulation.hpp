@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "mdbrief/camera.hpp"
+#include "mdbrief/descriptor.hpp"
 #include "mdbrief/plane_renderer.hpp"
 
 namespace mdbrief::eval {
@@ -36,7 +37,7 @@ struct SimOptions {
   int recognitionViews = 10;          // views of the recognition / distribution sequence
   int keypoints = 200;                // ORB keypoints on the texture (projected experiment)
   int bits = 256;
-  double maskDeg = 10.0;              // mask angle of the projected experiment
+  double maskDeg = DescriptorOptions{}.maskRotationDeg;  // mask angle of the projected experiment
   // Detected experiment.
   int detectedViews = 10;
   int detectedKeypoints = 500;        // detector budget per view

@@ -13,7 +13,7 @@
 namespace mdbrief::eval {
 
 struct TimingOptions {
-  int repeats = 5;
+  int repeats = 11;
   int keypoints = 1000;  // detector budget
   std::string outDir;
 };

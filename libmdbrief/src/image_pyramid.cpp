@@ -6,6 +6,7 @@
 #include <string>
 
 #include <opencv2/imgproc.hpp>
+#include <tbb/parallel_for.h>
 
 namespace mdbrief {
 
@@ -100,7 +101,9 @@ const cv::Mat& ImagePyramid::smoothed(int level) const {
 void ImagePyramid::prepareSmoothed(int maxLevel) const {
   // maxLevel is inclusive; a negative value or one past the last level prepares all levels.
   const int last = (maxLevel < 0 || maxLevel >= levels()) ? levels() - 1 : maxLevel;
-  for (int level = 0; level <= last; ++level) smoothed(level);
+  // Levels are independent and smoothed_ never reallocates: blur them in parallel (the blur
+  // costs about as much as the whole description on one core).
+  tbb::parallel_for(0, last + 1, [this](int level) { smoothed(level); });
 }
 
 }  // namespace mdbrief

@@ -34,7 +34,7 @@ class ImagePyramid {
   const PyramidOptions& options() const { return options_; }
   const cv::Mat& image(int level) const { return images_.at(level); }
   // Smoothed level, computed on first use (not thread-safe for the same level: call
-  // prepareSmoothed() before parallel sampling).
+  // prepareSmoothed(), which blurs the levels in parallel, before parallel sampling).
   const cv::Mat& smoothed(int level) const;
   void prepareSmoothed(int maxLevel) const;
 
