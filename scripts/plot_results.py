@@ -221,7 +221,7 @@ def simulation_section(results, cams, keys, detected):
              "pinhole's path (the texture stays inside the pinhole image; the paper keeps the exterior orientation "
              "of a view the same for every camera), except `fisheye_rim`, the same fisheye lens on its own longer "
              "path until the texture touches the rim of the image circle. 200 ORB keypoints of the texture are "
-             "projected into every view (octave 0, no orientation, 256 bits, default test set, mask angle 10 deg). "
+             "projected into every view (octave 0, no orientation, 256 bits, default test set, mask angle = the library default `DescriptorOptions::maskRotationDeg`). "
              "dBRIEF / mdBRIEF = the paper's literal form (`DistortionForm::Paper`); `-affine` = the library's "
              "`DistortionForm::Affine`; mBRIEF = BOLD-like masked BRIEF (BRIEF placement, masks without distortion, "
              "built from three BRIEF extractions at the keypoint angle and +/- the mask angle through the public "
