@@ -6,9 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD_DIR=${1:-build}
-bash scripts/setup-deps.sh
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release
-cmake --build "$BUILD_DIR" -j"$(nproc)"
+bash scripts/build.sh "$BUILD_DIR"
 # The shipped recipe of the default set: a rerun reproduces patterns/orb_perspective_512.hpp byte
 # for byte (scripts/train-patterns.sh retrains every set in configs/training).
 "$BUILD_DIR"/trainer/mdbrief-train --config configs/training/orb_perspective_512.toml
