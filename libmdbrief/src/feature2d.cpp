@@ -140,7 +140,7 @@ void MdBrief::detectAndComputeWithMasks(cv::InputArray image, cv::InputArray mas
     levels = 1;
     for (const auto& kp : keypoints) levels = std::max(levels, kp.octave + 1);
   }
-  const ImagePyramid pyramid(toGrey(img), options_.detector.pyramid, levels);
+  const ImagePyramid pyramid(img, options_.detector.pyramid, levels);  // converts colour input
   if (!useProvidedKeypoints) keypoints = detector_.detect(pyramid, mask.getMat());
   if (!describe) return;
 
