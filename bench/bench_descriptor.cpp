@@ -98,11 +98,13 @@ namespace {
 
 // Description alone on a prebuilt, smoothed pyramid (what a detect-and-describe pipeline pays
 // on top of detection, which builds the pyramid anyway).
-void describePrebuilt(benchmark::State& state, mdbrief::DescriptorKind kind) {
+void describePrebuilt(benchmark::State& state, mdbrief::DescriptorKind kind,
+                      mdbrief::OrientationSource source = mdbrief::OrientationSource::TangentPlane) {
   const Frame& f = fisheyeFrame();
   if (f.image.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
   mdbrief::DescriptorOptions o;
   o.kind = kind;
+  o.orientation = source;
   const mdbrief::DescriptorExtractor ex(f.camera, o);
   const mdbrief::ImagePyramid pyramid(f.image, o.pyramid);
   pyramid.prepareSmoothed(pyramid.levels() - 1);
@@ -120,7 +122,16 @@ void describePrebuilt(benchmark::State& state, mdbrief::DescriptorKind kind) {
 void BM_BriefPrebuiltPyramid(benchmark::State& s) { describePrebuilt(s, mdbrief::DescriptorKind::Brief); }
 void BM_DBriefPrebuiltPyramid(benchmark::State& s) { describePrebuilt(s, mdbrief::DescriptorKind::DBrief); }
 void BM_MdBriefPrebuiltPyramid(benchmark::State& s) { describePrebuilt(s, mdbrief::DescriptorKind::MdBrief); }
+// The same with the detector's angle: what re-measuring the orientation on the tangent plane costs.
+void BM_DBriefKeypointAnglePrebuiltPyramid(benchmark::State& s) {
+  describePrebuilt(s, mdbrief::DescriptorKind::DBrief, mdbrief::OrientationSource::Keypoint);
+}
+void BM_MdBriefKeypointAnglePrebuiltPyramid(benchmark::State& s) {
+  describePrebuilt(s, mdbrief::DescriptorKind::MdBrief, mdbrief::OrientationSource::Keypoint);
+}
 BENCHMARK(BM_BriefPrebuiltPyramid)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DBriefKeypointAnglePrebuiltPyramid)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MdBriefKeypointAnglePrebuiltPyramid)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DBriefPrebuiltPyramid)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MdBriefPrebuiltPyramid)->Unit(benchmark::kMillisecond);
 

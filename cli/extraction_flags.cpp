@@ -24,12 +24,16 @@ void requireReadableFile(const std::string& path) {
 void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
   cmd.add_option("--camera", flags.camera, "Calibration file (configs/cameras/README.md); required for dbrief/mdbrief");
   cmd.add_option("--descriptor", flags.descriptor, "Descriptor kind")
-      ->check(CLI::IsMember({"brief", "dbrief", "mdbrief"}))
+      ->check(CLI::IsMember({"brief", "dbrief", "mdbrief", "mbrief"}))
       ->capture_default_str();
   cmd.add_option("--bits", flags.bits, "Descriptor length in bits: 32..512, a multiple of 32")
       ->check(CLI::Range(32, 512))
       ->capture_default_str();
   cmd.add_flag("--no-orientation", flags.noOrientation, "Do not rotate the tests by the keypoint angle");
+  cmd.add_option("--orientation", flags.orientation,
+                 "dbrief/mdbrief: measure the angle on the tangent plane, or take the detector's")
+      ->check(CLI::IsMember({"tangent-plane", "keypoint"}))
+      ->capture_default_str();
   cmd.add_option("--features", flags.features, "Maximum number of keypoints per image")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
@@ -43,7 +47,7 @@ void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
 
 CameraPtr loadCalibration(const ExtractionFlags& flags) {
   if (flags.camera.empty()) {
-    if (flags.descriptor != "brief")
+    if (flags.descriptor != "brief" && flags.descriptor != "mbrief")
       throw InputError("--camera is required for --descriptor " + flags.descriptor);
     return nullptr;
   }
@@ -99,6 +103,7 @@ cv::Ptr<MdBrief> makeFeature(const ExtractionFlags& flags, const CameraPtr& cali
   options.descriptor.kind = parseDescriptorKind(flags.descriptor);
   options.descriptor.bits = flags.bits;
   options.descriptor.useOrientation = !flags.noOrientation;
+  options.descriptor.orientation = parseOrientationSource(flags.orientation);
   options.descriptor.form = parseDistortionForm(flags.form);
   options.descriptor.pattern = flags.pattern;
   try {

@@ -14,17 +14,18 @@
 namespace mdbrief::cli {
 
 struct ExtractionFlags {
-  std::string camera;                 // calibration file; required except for --descriptor brief
-  std::string descriptor = "mdbrief"; // brief | dbrief | mdbrief
+  std::string camera;                 // calibration file; required except for --descriptor brief / mbrief
+  std::string descriptor = "mdbrief"; // brief | dbrief | mdbrief | mbrief
   int bits = 256;
   bool noOrientation = false;
+  std::string orientation = "tangent-plane";  // tangent-plane | keypoint
   int features = 1000;
   std::string form = "affine";        // affine | paper
   std::string pattern;                // registry name or JSON file; empty = default set
   bool allowSizeMismatch = false;     // rescale the calibration to the image instead of failing
 };
 
-// Adds --camera, --descriptor, --bits, --no-orientation, --features, --form, --pattern and
+// Adds --camera, --descriptor, --bits, --no-orientation, --orientation, --features, --form, --pattern and
 // --allow-size-mismatch to cmd, bound to flags (which must outlive the parse).
 void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags);
 

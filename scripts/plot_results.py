@@ -31,6 +31,7 @@ PAPER_TIMING = {  # detection us/kp, description us/kp, matching ns/pair, total 
     ("AKAZE", "AKAZE"): (75.23, 55.03, 6.83, 130.27),
     ("SIFT", "SIFT"): (106.21, 133.62, 114.64, 239.94),
 }
+MASK_DEG = 20  # DescriptorOptions::maskRotationDeg, the library default
 PROJECTED_METHODS = ["BRIEF", "dBRIEF", "dBRIEF-affine", "mBRIEF", "mdBRIEF", "mdBRIEF-affine"]
 FIGURES = "docs/figures"  # set by main(): where the figures are written (for the links' checks)
 COLORS = {"BRIEF": "red", "dBRIEF": "blue", "dBRIEF-affine": "cyan", "mBRIEF": "orange",
@@ -161,7 +162,7 @@ def plot_pr(results, figures):
     summary = read_csv(os.path.join(results, "eval_summary.csv"))
     groups = []
     main = ["ORB-256", "BRISK-512", "AKAZE-MLDB-486", "SIFT", "BRIEF-256", "mBRIEF-256", "dBRIEF-128", "dBRIEF-256",
-            "mdBRIEF-128", "mdBRIEF-256", "mdBRIEF-256-noori", "dBRIEF-256-paper"]
+            "mdBRIEF-128", "mdBRIEF-256", "mdBRIEF-256-noori", "dBRIEF-256-paper", "dBRIEF-256-kp", "mdBRIEF-256-kp"]
     for g in ["perspective", "fisheye", "user"]:
         rows = read_csv(os.path.join(results, "eval_%s_curves.csv" % g))
         if not rows:
@@ -171,14 +172,14 @@ def plot_pr(results, figures):
         study = [m for m in methods if m not in main]
         for suffix, sel in [("", [m for m in main if m in methods]),
                             ("_studies", [m for m in methods if m.startswith("dBRIEF-") and m not in
-                                          ("dBRIEF-256-paper", "dBRIEF-256-noori")] + ["BRIEF-256"])]:
+                                          ("dBRIEF-256-paper", "dBRIEF-256-noori", "dBRIEF-256-kp")] + ["BRIEF-256"])]:
             if suffix and not study:
                 continue
             fig, ax = plt.subplots(figsize=(6.5, 4.5))
             for m in sel:
                 pts = [(float(r["one_minus_precision"]), float(r["recall"])) for r in rows if r["method"] == m]
                 ax.plot([p[0] for p in pts], [p[1] for p in pts], label=m,
-                        linestyle="--" if m.endswith("noori") or "paper" in m else "-")
+                        linestyle="--" if m.endswith("noori") or "paper" in m else ":" if m.endswith("-kp") else "-")
             ax.set_xlabel("1 - precision")
             ax.set_ylabel("recall")
             ax.set_xlim(0, 1)
@@ -223,9 +224,8 @@ def simulation_section(results, cams, keys, detected):
              "path until the texture touches the rim of the image circle. 200 ORB keypoints of the texture are "
              "projected into every view (octave 0, no orientation, 256 bits, default test set, mask angle = the library default `DescriptorOptions::maskRotationDeg`). "
              "dBRIEF / mdBRIEF = the paper's literal form (`DistortionForm::Paper`); `-affine` = the library's "
-             "`DistortionForm::Affine`; mBRIEF = BOLD-like masked BRIEF (BRIEF placement, masks without distortion, "
-             "built from three BRIEF extractions at the keypoint angle and +/- the mask angle through the public "
-             "API because the library's BRIEF has no masks).")
+             "`DistortionForm::Affine`; mBRIEF = BOLD-like masked BRIEF (`DescriptorKind::MaskedBrief`: BRIEF "
+             "placement, masks from +/- the mask angle, no distortion model).")
     s.append("")
     rows = []
     for c in cams:
@@ -275,13 +275,15 @@ the random level, about 128 bits). The paper's values lie between the two. (2) O
 the library's default, %s; the paper's is its own learned set.
 (3) Rendering (3x3 supersampled bilinear) and smoothing differ in detail. The paper's main
 ordering holds: dBRIEF (Paper form) < BRIEF in distance and overlap, with higher recognition,
-and the gain grows with the distortion. Masks (10 degrees) lower the matching distances
+and the gain grows with the distortion. Masks (%g degrees) lower the matching distances
 (mdBRIEF < dBRIEF, mBRIEF < BRIEF) but, unlike the paper, they do not raise the recognition rate
 of the projected experiment and barely change the overlap: the masked distance also shrinks the
 non-matching distances (see the mean_nonmatch column of sim_*_bhattacharyya.csv). In the detected experiment below, with real detector noise, masks do help. The `-affine` rows show that the
 Affine form is *not* a replacement for the paper's form when keypoints keep octave 0: it takes
 the size from the detector, and projected keypoints carry no scale, so the compressed patches
-are sampled at the full-size footprint (worse than BRIEF on the fisheye).""" % keys.get(("all", "default_test_set"), "?"))
+are sampled at the full-size footprint (barely better than BRIEF on the shared path, worse at
+the rim, `fisheye_rim`).""" % (
+        keys.get(("all", "default_test_set"), "?"), MASK_DEG))
     s.append("")
     # Detected experiment.
     if detected:
@@ -293,19 +295,27 @@ are sampled at the full-size footprint (worse than BRIEF on the fisheye).""" % k
                  "described by every method). Texture 3.2 x 2.56 units; 10 views from the fronto-parallel reference "
                  "to a pose translated (1.4, 0.4), yawed 25 deg and pitched 10 deg, so the reference centre is seen "
                  "about 78 deg off-axis at the rim. Variant `rolled`: also rolled 45 deg about the optical axis, "
-                 "descriptors use the detector's orientation. Variant `upright`: no roll, descriptors without "
-                 "orientation. Variant `upright_oriented`: no roll, the detector's orientation used. Views with fewer than 20 true matches (the plane leaving a narrower lens) are left "
-                 "out: mean = usable views of 2..10, rim = usable views of 6..10, last = last usable view.")
+                 "descriptors oriented. Variant `upright`: no roll, descriptors without orientation. Variant "
+                 "`upright_oriented`: no roll, descriptors oriented. Every lens of the projected experiment runs it "
+                 "(pinhole and radial too; the pinhole loses the plane after about half the path). Oriented "
+                 "descriptors: BRIEF and mBRIEF use the detector's angle (intensity centroid on a disc of the "
+                 "distorted image); dBRIEF / mdBRIEF re-measure it on the tangent plane (library default, "
+                 "`OrientationSource::TangentPlane`); the `-kp` rows give them the detector's angle instead "
+                 "(`OrientationSource::Keypoint`). Views with fewer than 20 true matches (the plane leaving a "
+                 "narrower lens) are left out: mean = usable views of 2..10, rim = usable views of 6..10, last = "
+                 "last usable view.")
         s.append("")
         rows = []
         for stem in detected:
             summ = read_csv(os.path.join(results, stem + "_summary.csv")) or []
             for r in summ:
-                rows.append([stem.replace("sim_detected_", ""), r["method"], r["form"], r["mask_deg"], r["views_used"],
+                rows.append([stem.replace("sim_detected_", ""), r["method"], r["form"], r["orientation"],
+                             r["mask_deg"], r["views_used"],
                              pct(r["mean_recognition"]), pct(r["rim_recognition"]),
                              "%s: %s" % (r["last_view"], pct(r["last_recognition"])),
                              "%.3f" % float(r["bhattacharyya_last"]), "%.3f" % float(r["mean_match_distance_last"])])
-        s.append(md_table(["camera / variant", "method", "form", "mask deg", "views used", "mean recognition",
+        s.append(md_table(["camera / variant", "method", "form", "orientation", "mask deg", "views used",
+                           "mean recognition",
                            "rim recognition", "last view: recognition", "Bhattacharyya 1-last",
                            "mean match dist / bits (1-last)"], rows))
         s.append("")
@@ -322,9 +332,17 @@ def decision_text(results, detected):
     form_scores = defaultdict(list)
     angle_scores = defaultdict(list)
     brief_scores, dbrief_aff = [], []
+    # Oriented runs only: the default tangent-plane angle against the detector's angle.
+    orient = defaultdict(list)
     for stem in detected:
         for r in read_csv(os.path.join(results, stem + "_summary.csv")) or []:
             v = float(r["mean_recognition"])
+            if r["orientation"] != "none" and r["method"] in ("BRIEF", "dBRIEF-affine", "dBRIEF-affine-kp",
+                                                              "mdBRIEF-affine-%g" % MASK_DEG,
+                                                              "mdBRIEF-affine-%g-kp" % MASK_DEG):
+                orient[r["method"]].append(v)
+            if r["orientation"] == "keypoint" and r["form"] != "none":
+                continue  # the -kp rows: compared below, not part of the form / angle decision
             if r["form"] in ("paper", "affine"):
                 form_scores[r["form"]].append(v)
             if r["method"].startswith("mdBRIEF-affine-"):
@@ -345,6 +363,12 @@ def decision_text(results, detected):
             "%g deg %s" % (a, p1(mean(angle_scores[a]))) for a in sorted(angle_scores)) +
             "; best: %g deg." % best)
     lines.append("- reference: BRIEF %s, dBRIEF (Affine) %s." % (p1(mean(brief_scores)), p1(mean(dbrief_aff))))
+    if orient:
+        lines.append("- orientation (oriented runs only): dBRIEF-affine tangent plane %s vs detector's angle %s; "
+                     "mdBRIEF-affine-%g %s vs %s; BRIEF (detector's angle) %s." % (
+                         p1(mean(orient["dBRIEF-affine"])), p1(mean(orient["dBRIEF-affine-kp"])), MASK_DEG,
+                         p1(mean(orient["mdBRIEF-affine-%g" % MASK_DEG])),
+                         p1(mean(orient["mdBRIEF-affine-%g-kp" % MASK_DEG])), p1(mean(orient["BRIEF"]))))
     return "\n".join(lines)
 
 
@@ -357,15 +381,22 @@ def pr_section(results, groups, summary):
              "#false / #matches; mean curve over all pairs of a group. AUC = area under recall over 1-precision on "
              "[0, 1] (the curve continued at its final recall up to 1-precision = 1); R@0.1 / R@0.2 = best recall "
              "with 1-precision <= 0.1 / 0.2. All descriptors on the same keypoints except AKAZE (its own 300 "
-             "strongest). dBRIEF / mdBRIEF use the library default form (Affine) unless named `-paper`; `-noori` = "
-             "without orientation; mBRIEF = BOLD-like masked BRIEF; `@name` = test set from the registry.")
+             "strongest). dBRIEF / mdBRIEF use the library defaults (Affine form, orientation re-measured on the "
+             "tangent plane) unless named `-paper` (the paper's form) or `-kp` (the detector's angle, measured "
+             "in the distorted image); `-noori` = without orientation; mBRIEF = BOLD-like masked BRIEF "
+             "(`DescriptorKind::MaskedBrief`); `@name` = test set from the registry.")
     s.append("")
     s.append("- perspective: Oxford affine sequences (bikes, boat, graf, leuven, trees, ubc), pairs 1-2..1-6, "
              "homographies in pixels; dBRIEF uses an ideal pinhole there, where it equals BRIEF bit for bit.")
-    s.append("- fisheye: Oxford img1 of graf, boat, bikes and opencv-doc building.jpg rendered as a 3.2-unit plane "
-             "through lafida_fisheye0 (the paper's OCamCalib camera) and double_sphere_example at 5 poses from "
-             "fronto-parallel to translated (1.2, 0.4), yawed 20, pitched 10 and rolled 30 deg; exact ground truth "
-             "through the plane. User data: `--user-images --user-camera --user-homographies` (bearing space).")
+    s.append("- fisheye: img1 of the six Oxford sequences and six opencv-doc photos (building, home, aero1, "
+             "baboon, fruits, messi5) rendered as a 3.2-unit plane through the three fisheye calibrations of "
+             "configs/cameras (lafida_fisheye0, the paper's OCamCalib camera; double_sphere_example; "
+             "kannala_brandt_example) at 6 poses from fronto-parallel to translated (1.2, 0.4), yawed 20, pitched "
+             "10 and rolled 30 deg: 36 sequences, 180 pairs; exact ground truth through the plane. Without "
+             "../shared/data only the opencv-doc photos are used.")
+    s.append("- user data: `--user-images --user-camera --user-homographies` (bearing-space homographies); "
+             "`scripts/reproduce.sh` runs it end to end on files written by `mdbrief-eval export-user-sample` "
+             "(opencv-doc graf3.png through lafida_fisheye0 at the 6 poses above; group `user` below).")
     s.append("")
     if summary:
         for g in groups:
@@ -388,17 +419,25 @@ def pr_section(results, groups, summary):
                          for a, b in pairs if (g, a) in auc and (g, b) in auc)
     s.append("Key AUC comparisons (fisheye group): " + cmp("fisheye", [
         ("dBRIEF-256", "BRIEF-256"), ("mdBRIEF-256", "mBRIEF-256"), ("mdBRIEF-256", "dBRIEF-256"),
+        ("dBRIEF-256", "dBRIEF-256-kp"), ("mdBRIEF-256", "mdBRIEF-256-kp"),
         ("dBRIEF-256-paper", "dBRIEF-256"), ("dBRIEF-256-noori", "BRIEF-256-noori"),
         ("mdBRIEF-256-noori", "mBRIEF-256-noori"), ("mdBRIEF-128", "ORB-256"), ("mdBRIEF-128", "BRISK-512")]) + ".")
     s.append("")
+    a = lambda g, m: "%.3f" % auc[(g, m)] if (g, m) in auc else "?"
     s.append("""The paper (its fisheye sequence, 128-bit dBRIEF/mdBRIEF): BOLD best, then mdBRIEF, dBRIEF above
-BRISK-512, and all BRIEF variants better without orientation. Per-sequence numbers are in
-`docs/results/eval_summary.csv` (rows with the sequence name). On the perspective Oxford
-sequences dBRIEF equals BRIEF bit for bit (ideal pinhole), so the rows differ only by masks,
-length and test set. On our rendered fisheye sequences the poses include a 30-degree roll, so
-orientation is needed (the `-noori` rows lose), and the orientation measured in the distorted
-image is where dBRIEF loses its advantage (see the `rolled` / `upright_oriented` variants of the
-simulation above); masks help in every setting.""")
+BRISK-512, and all BRIEF variants better without orientation. Ours (fisheye group): mdBRIEF is
+the best binary descriptor and above SIFT (%s vs %s at 256 bits); the distortion model and the
+masks each help (dBRIEF %s vs BRIEF %s; mBRIEF %s vs BRIEF; mdBRIEF %s vs dBRIEF). Our poses
+include a 30-degree roll, so orientation is needed (the `-noori` rows lose). The orientation
+source decides whether dBRIEF helps at all: with the detector's angle, a centroid on a circle
+of the distorted image, dBRIEF falls below BRIEF (`dBRIEF-256-kp` %s); re-measured on the
+tangent plane (the default) it reaches %s. On the perspective Oxford sequences (ideal pinhole)
+`dBRIEF-256-kp` equals BRIEF bit for bit; the default re-measures the centroid on the smoothed
+level, a small change there (AUC %s vs %s). Per-sequence numbers are in
+`docs/results/eval_summary.csv` (rows with the sequence name).""" % (
+        a("fisheye", "mdBRIEF-256"), a("fisheye", "SIFT"), a("fisheye", "dBRIEF-256"), a("fisheye", "BRIEF-256"),
+        a("fisheye", "mBRIEF-256"), a("fisheye", "mdBRIEF-256"), a("fisheye", "dBRIEF-256-kp"),
+        a("fisheye", "dBRIEF-256"), a("perspective", "dBRIEF-256"), a("perspective", "BRIEF-256")))
     return "\n".join(s).rstrip() + "\n"
 
 

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -143,6 +144,38 @@ TEST_F(CliTest, ExtractBriefAndDBriefHaveNoMasksAndHonourBitsAndFeatures) {
   EXPECT_FALSE(b.hasMasks);
   EXPECT_EQ(b.descriptors.rows, static_cast<int>(b.keypoints.size()));
   EXPECT_GT(b.keypoints.size(), 100u);
+
+  // Masked BRIEF neither: BRIEF's bits plus masks.
+  ASSERT_EQ(run({"extract", "--descriptor", "mbrief", image, "-o", path("m.yml")}).code, 0);
+  const FeatureFile m = readFeatures(path("m.yml"));
+  EXPECT_TRUE(m.hasMasks);
+  EXPECT_EQ(m.descriptors.rows, static_cast<int>(m.keypoints.size()));
+  EXPECT_GT(m.keypoints.size(), 100u);
+}
+
+TEST_F(CliTest, OrientationSourceChangesTheAnglesOfDBrief) {
+  REQUIRE_IMAGE(image, "view.png");
+  ASSERT_EQ(run({"extract", "--camera", kCamera, "--descriptor", "dbrief", image, "-o", path("tp.yml")}).code, 0);
+  ASSERT_EQ(run({"extract", "--camera", kCamera, "--descriptor", "dbrief", "--orientation", "keypoint", image, "-o",
+                 path("kp.yml")})
+                .code,
+            0);
+  const FeatureFile tp = readFeatures(path("tp.yml")), kp = readFeatures(path("kp.yml"));
+  ASSERT_GT(tp.keypoints.size(), 100u);
+  // Same detections; the default re-measures the angle on the tangent plane and writes it back.
+  std::map<std::pair<float, float>, float> kpAngle;
+  for (const auto& k : kp.keypoints) kpAngle[{k.pt.x, k.pt.y}] = k.angle;
+  int same = 0, differentAngle = 0;
+  for (const auto& k : tp.keypoints) {
+    const auto it = kpAngle.find({k.pt.x, k.pt.y});
+    if (it == kpAngle.end()) continue;
+    ++same;
+    differentAngle += std::abs(k.angle - it->second) > 1e-3f;
+  }
+  EXPECT_GT(same, static_cast<int>(tp.keypoints.size()) * 9 / 10);
+  EXPECT_GT(differentAngle, same / 2);
+  expectOneLineNaming(run({"extract", "--camera", kCamera, "--orientation", "sideways", image, "-o", path("x.yml")}),
+                      "sideways");
 }
 
 TEST_F(CliTest, ExtractGivenKeypointsDropsTheUndescribableConsistently) {

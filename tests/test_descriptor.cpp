@@ -126,6 +126,45 @@ TEST(Brief, InvalidOptionsAreRejected) {
   o = briefOptions(256);
   o.kind = DescriptorKind::DBrief;
   EXPECT_THROW(DescriptorExtractor(nullptr, o, tests), std::invalid_argument);  // no camera
+  for (const int radius : {3, 16}) {
+    o = briefOptions(256);
+    o.orientationRadius = radius;
+    EXPECT_THROW(DescriptorExtractor(nullptr, o, tests), std::invalid_argument) << radius;
+  }
+}
+
+// The BOLD-like masked BRIEF: BRIEF's bits, plus the mask of the three rotations, no camera.
+TEST(MaskedBrief, IsBriefPlusTheAgreementOfThreeRotationsOnARamp) {
+  const TestSet tests = randomTests(256, 11);
+  auto o = briefOptions(256);
+  const DescriptorExtractor brief(nullptr, o, tests);
+  o.kind = DescriptorKind::MaskedBrief;
+  o.maskRotationDeg = 15.0;
+  const DescriptorExtractor masked(nullptr, o, tests);
+  std::vector<cv::KeyPoint> kb{cv::KeyPoint(128.f, 127.f, 31.f, 40.f, 1.f, 0)}, km = kb;
+  cv::Mat db, dm, mb, mm;
+  brief.compute(horizontalRamp(), kb, db, &mb);
+  masked.compute(horizontalRamp(), km, dm, &mm);
+  ASSERT_EQ(dm.rows, 1);
+  EXPECT_TRUE(mb.empty());
+  EXPECT_EQ(cv::norm(db, dm, cv::NORM_HAMMING), 0.0);
+  ASSERT_EQ(mm.size(), dm.size());
+  int checked = 0, unstable = 0;
+  for (int d = 0; d < 256; ++d) {
+    const TestPair& t = tests.tests[d];
+    double v[3];
+    for (int r = 0; r < 3; ++r) {
+      const double deg = 40.0 + (r == 0 ? 0.0 : r == 1 ? 15.0 : -15.0);
+      v[r] = rotatedX(t.x2, t.y2, deg) - rotatedX(t.x1, t.y1, deg);
+    }
+    if (std::abs(v[0]) < 0.1 || std::abs(v[1]) < 0.1 || std::abs(v[2]) < 0.1) continue;
+    const bool expected = (v[0] > 0) == (v[1] > 0) && (v[0] > 0) == (v[2] > 0);
+    EXPECT_EQ(bit(mm, 0, d), expected) << "test " << d;
+    ++checked;
+    unstable += !expected;
+  }
+  EXPECT_GT(checked, 200);
+  EXPECT_GT(unstable, 5);
 }
 
 TEST(Brief, ParallelExtractionIsDeterministic) {

@@ -1,11 +1,14 @@
 // dBRIEF and mdBRIEF with a distortion-free camera: they must reduce to BRIEF.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "mdbrief/camera_pinhole.hpp"
 #include "mdbrief/camera_radial.hpp"
@@ -35,11 +38,14 @@ struct Described {
   cv::Mat descriptors, masks;
 };
 
+// The keypoints' angles are used as given (OrientationSource::Keypoint) unless `source` says
+// otherwise, so dBRIEF and BRIEF see the same orientation.
 Described describe(const cv::Mat& img, CameraPtr camera, DescriptorKind kind, DistortionForm form,
-                   const std::vector<cv::KeyPoint>& kps) {
+                   const std::vector<cv::KeyPoint>& kps, OrientationSource source = OrientationSource::Keypoint) {
   DescriptorOptions o;
   o.kind = kind;
   o.form = form;
+  o.orientation = source;
   Described d{kps, {}, {}};
   DescriptorExtractor(std::move(camera), o).compute(img, d.keypoints, d.descriptors, &d.masks);
   return d;
@@ -104,6 +110,84 @@ TEST_F(PinholeReducesToBrief, MdBriefDescriptorIsDBriefPlusAMask) {
   EXPECT_LT(stable, 0.98);
 }
 
+// With a pinhole camera the tangent plane is the image up to scale: the re-measured angle is
+// the image's intensity centroid, and BRIEF at the written-back angle gives dBRIEF's bits.
+TEST_F(PinholeReducesToBrief, TangentPlaneOrientationIsTheImageCentroid) {
+  const auto camera = std::make_shared<PinholeCamera>(intrinsicsFor(img_));
+  std::vector<cv::KeyPoint> unoriented = kps_;
+  for (auto& kp : unoriented) kp.angle = -1.f;  // measured anyway
+  const Described dbrief =
+      describe(img_, camera, DescriptorKind::DBrief, DistortionForm::Affine, unoriented, OrientationSource::TangentPlane);
+  ASSERT_GT(dbrief.keypoints.size(), 400u);
+  // cv::ORB measures the same centroid (radius 15) on the unsmoothed level: close, not equal.
+  std::vector<double> angleError;
+  size_t j = 0;
+  for (const auto& kp : dbrief.keypoints) {
+    while (kps_[j].pt != kp.pt || kps_[j].octave != kp.octave) ++j;
+    ASSERT_GE(kp.angle, 0.f);
+    ASSERT_LT(kp.angle, 360.f);
+    const double d = std::abs(kp.angle - kps_[j].angle);
+    angleError.push_back(std::min(d, 360.0 - d));
+  }
+  std::nth_element(angleError.begin(), angleError.begin() + angleError.size() / 2, angleError.end());
+  std::printf("median angle diff vs ORB %.3f deg\n", angleError[angleError.size() / 2]);
+  EXPECT_LT(angleError[angleError.size() / 2], 5.0);
+  const Described brief = describe(img_, camera, DescriptorKind::Brief, DistortionForm::Affine, dbrief.keypoints);
+  ASSERT_EQ(brief.keypoints.size(), dbrief.keypoints.size());
+  // The written-back angle is a float: a handful of tests on a rounding boundary may flip.
+  const double differing = cv::norm(brief.descriptors, dbrief.descriptors, cv::NORM_HAMMING);
+  EXPECT_LT(differing, 0.002 * 256 * brief.keypoints.size());
+}
+
+// An anisotropic pinhole camera (fx != fy) sees an affinely stretched image. The tangent plane
+// undoes the stretch, so the re-measured orientation turns with it (covariance), and the
+// descriptors match those of the unstretched image.
+TEST_F(PinholeReducesToBrief, TangentPlaneOrientationFollowsAnAnisotropicStretch) {
+  constexpr double sx = 0.8, sy = 1.2;  // sx + sy = 2: same footprint size in the paper's form
+  cv::Mat stretched;
+  cv::resize(img_, stretched, cv::Size(), sx, sy, cv::INTER_AREA);
+  CameraIntrinsics ka = intrinsicsFor(img_), kb = ka;
+  kb.width = stretched.cols, kb.height = stretched.rows;
+  kb.fx = ka.fx * sx, kb.fy = ka.fy * sy;
+  kb.cx = (ka.cx + 0.5) * sx - 0.5, kb.cy = (ka.cy + 0.5) * sy - 0.5;
+  std::vector<cv::KeyPoint> a = kps_, b = kps_;
+  for (size_t i = 0; i < kps_.size(); ++i) {
+    a[i].angle = b[i].angle = -1.f;
+    a[i].class_id = b[i].class_id = static_cast<int>(i);
+    b[i].pt = cv::Point2f(static_cast<float>((kps_[i].pt.x + 0.5) * sx - 0.5),
+                          static_cast<float>((kps_[i].pt.y + 0.5) * sy - 0.5));
+  }
+  const auto src = OrientationSource::TangentPlane;
+  const Described da = describe(img_, std::make_shared<PinholeCamera>(ka), DescriptorKind::DBrief,
+                                DistortionForm::Paper, a, src);
+  const Described db = describe(stretched, std::make_shared<PinholeCamera>(kb), DescriptorKind::DBrief,
+                                DistortionForm::Paper, b, src);
+  std::vector<int> rowB(kps_.size(), -1);
+  for (size_t r = 0; r < db.keypoints.size(); ++r) rowB[db.keypoints[r].class_id] = static_cast<int>(r);
+  std::vector<double> angleError, bitError;
+  for (size_t r = 0; r < da.keypoints.size(); ++r) {
+    const int rb = rowB[da.keypoints[r].class_id];
+    if (rb < 0) continue;
+    // Direction theta in the original appears as atan2(sy sin, sx cos) in the stretched image.
+    const double t = da.keypoints[r].angle * CV_PI / 180.0;
+    double expected = std::atan2(sy * std::sin(t), sx * std::cos(t)) * 180.0 / CV_PI;
+    if (expected < 0) expected += 360.0;
+    const double d = std::abs(expected - db.keypoints[rb].angle);
+    angleError.push_back(std::min(d, 360.0 - d));
+    bitError.push_back(cv::norm(da.descriptors.row(static_cast<int>(r)), db.descriptors.row(rb), cv::NORM_HAMMING) /
+                       256.0);
+  }
+  ASSERT_GT(angleError.size(), 400u);
+  const auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  };
+  // Resampling (INTER_AREA, then bilinear on the smoothed level) is the only difference.
+  std::printf("median angle error %.3f deg, bit error %.4f\n", median(angleError), median(bitError));
+  EXPECT_LT(median(angleError), 3.0);
+  EXPECT_LT(median(bitError), 0.12);
+}
+
 // On a ramp I = x the outcome of every rotated test is known: the mask must be exactly the set
 // of tests whose sign of (x2 - x1) is the same at 0 and +-delta.
 TEST(MdBriefMask, EqualsTheAgreementOfTheThreeRotationsOnARamp) {
@@ -114,6 +198,7 @@ TEST(MdBriefMask, EqualsTheAgreementOfTheThreeRotationsOnARamp) {
   k.width = k.height = 256, k.fx = k.fy = 300, k.cx = k.cy = 127.5;
   DescriptorOptions o;
   o.kind = DescriptorKind::MdBrief;
+  o.orientation = OrientationSource::Keypoint;  // the keypoint's 40 degrees
   o.maskRotationDeg = 15.0;
   const DescriptorExtractor ex(std::make_shared<PinholeCamera>(k), o);
   std::vector<cv::KeyPoint> kps{cv::KeyPoint(127.5f, 127.5f, 31.f, 40.f, 1.f, 0)};

@@ -212,6 +212,8 @@ TEST(MdBriefFeature2D, FileStorageRoundTripKeepsEveryOption) {
   o.descriptor.bits = 128;
   o.descriptor.pattern = builtinTestSetNames().back();  // any non-empty name survives the trip
   o.descriptor.useOrientation = false;
+  o.descriptor.orientation = OrientationSource::Keypoint;
+  o.descriptor.orientationRadius = 9;
   o.descriptor.form = DistortionForm::Paper;
   o.descriptor.sampling = Sampling::Nearest;
   o.descriptor.maskRotationDeg = 7.5;
@@ -249,6 +251,8 @@ TEST(MdBriefFeature2D, FileStorageRoundTripKeepsEveryOption) {
     EXPECT_EQ(r.descriptor.bits, 128);
     EXPECT_EQ(r.descriptor.pattern, o.descriptor.pattern);
     EXPECT_FALSE(r.descriptor.useOrientation);
+    EXPECT_EQ(r.descriptor.orientation, OrientationSource::Keypoint);
+    EXPECT_EQ(r.descriptor.orientationRadius, 9);
     EXPECT_EQ(r.descriptor.form, DistortionForm::Paper);
     EXPECT_EQ(r.descriptor.sampling, Sampling::Nearest);
     EXPECT_DOUBLE_EQ(r.descriptor.maskRotationDeg, 7.5);

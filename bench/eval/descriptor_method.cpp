@@ -21,57 +21,6 @@ cv::Mat padToWords(const cv::Mat& d) {
   return out;
 }
 
-// BOLD-like masks without distortion: BRIEF at the keypoint angle and at +/- delta; a test is
-// stable when all three outcomes agree. The library's BRIEF has no masks, so this is built
-// from three BRIEF extractions through the public API (keypoint angle offset by +/- delta).
-Features describeMaskedBrief(const MethodSpec& m, const cv::Mat& image, std::vector<cv::KeyPoint> kps) {
-  DescriptorOptions o = m.options;
-  o.kind = DescriptorKind::Brief;
-  const bool oriented = o.useOrientation;
-  o.useOrientation = true;  // the offsets are applied through the keypoint angle
-  const DescriptorExtractor ex(nullptr, o);
-  // Tag keypoints by index so the three extractions can be intersected.
-  std::vector<int> originalClass(kps.size());
-  for (size_t i = 0; i < kps.size(); ++i) {
-    originalClass[i] = kps[i].class_id;
-    kps[i].class_id = static_cast<int>(i);
-  }
-  int levels = 1;
-  for (const auto& kp : kps) levels = std::max(levels, kp.octave + 1);
-  const ImagePyramid pyramid(image, o.pyramid, levels);
-  const double deltas[3] = {0.0, m.options.maskRotationDeg, -m.options.maskRotationDeg};
-  std::vector<cv::KeyPoint> out[3];
-  cv::Mat desc[3];
-  for (int r = 0; r < 3; ++r) {
-    out[r] = kps;
-    for (auto& kp : out[r]) {
-      const double base = oriented && kp.angle >= 0.f ? kp.angle : 0.0;
-      kp.angle = static_cast<float>(std::fmod(base + deltas[r] + 720.0, 360.0));
-    }
-    ex.compute(pyramid, out[r], desc[r]);
-  }
-  std::vector<int> row1(kps.size(), -1), row2(kps.size(), -1);
-  for (size_t j = 0; j < out[1].size(); ++j) row1[out[1][j].class_id] = static_cast<int>(j);
-  for (size_t j = 0; j < out[2].size(); ++j) row2[out[2][j].class_id] = static_cast<int>(j);
-  Features f;
-  f.bits = o.bits;
-  const int bytes = o.bits / 8;
-  for (size_t i = 0; i < out[0].size(); ++i) {
-    const int id = out[0][i].class_id, a = row1[id], b = row2[id];
-    if (a < 0 || b < 0) continue;
-    cv::Mat maskRow(1, bytes, CV_8U);
-    for (int k = 0; k < bytes; ++k)
-      maskRow.at<uchar>(k) = static_cast<uchar>(~((desc[0].at<uchar>(static_cast<int>(i), k) ^ desc[1].at<uchar>(a, k)) |
-                                                  (desc[0].at<uchar>(static_cast<int>(i), k) ^ desc[2].at<uchar>(b, k))));
-    cv::KeyPoint kp = kps[id];
-    kp.class_id = originalClass[id];
-    f.keypoints.push_back(kp);
-    f.descriptors.push_back(desc[0].row(static_cast<int>(i)));
-    f.masks.push_back(maskRow);
-  }
-  return f;
-}
-
 // compute() may drop keypoints it cannot describe; the kept ones keep their fields, so rows
 // stay aligned with f.keypoints.
 Features describeOpenCv(const cv::Ptr<cv::Feature2D>& f2d, const cv::Mat& image,
@@ -97,20 +46,21 @@ Features describe(const MethodSpec& m, const cv::Mat& image, const CameraPtr& ca
   switch (m.family) {
     case MethodFamily::Brief:
     case MethodFamily::DBrief:
-    case MethodFamily::MdBrief: {
+    case MethodFamily::MdBrief:
+    case MethodFamily::MaskedBrief: {
       DescriptorOptions o = m.options;
-      o.kind = m.family == MethodFamily::Brief ? DescriptorKind::Brief
-               : m.family == MethodFamily::DBrief ? DescriptorKind::DBrief
-                                                  : DescriptorKind::MdBrief;
-      const DescriptorExtractor ex(m.family == MethodFamily::Brief ? nullptr : camera, o);
+      o.kind = m.family == MethodFamily::Brief         ? DescriptorKind::Brief
+               : m.family == MethodFamily::DBrief      ? DescriptorKind::DBrief
+               : m.family == MethodFamily::MaskedBrief ? DescriptorKind::MaskedBrief
+                                                       : DescriptorKind::MdBrief;
+      const bool withCamera = o.kind == DescriptorKind::DBrief || o.kind == DescriptorKind::MdBrief;
+      const DescriptorExtractor ex(withCamera ? camera : nullptr, o);
       Features f;
       f.bits = o.bits;
       f.keypoints = std::move(keypoints);
       ex.compute(image, f.keypoints, f.descriptors, &f.masks);
       return f;
     }
-    case MethodFamily::MaskedBrief:
-      return describeMaskedBrief(m, image, std::move(keypoints));
     case MethodFamily::Orb: {
       // Without an angle cv::ORB would rotate by -1 degree; 0 is its "upright".
       for (auto& kp : keypoints)

@@ -120,10 +120,12 @@ void addEvalCommand(CLI::App& app) {
   struct Args {
     std::string oxfordDir = sharedData() + "/oxford-affine";
     std::vector<std::string> sequences{"bikes", "boat", "graf", "leuven", "trees", "ubc"};
+    // The three fisheye models of configs/cameras (OCamCalib, double sphere, Kannala-Brandt).
     std::vector<std::string> fisheyeCameras{sourcePath("configs/cameras/lafida_fisheye0.yaml"),
-                                            sourcePath("configs/cameras/double_sphere_example.yaml")};
+                                            sourcePath("configs/cameras/double_sphere_example.yaml"),
+                                            sourcePath("configs/cameras/kannala_brandt_example.yaml")};
     std::vector<std::string> textures;
-    int poses = 5;
+    int poses = 6;
     std::vector<std::string> userImages, userHomographies;
     std::string userCamera;
     PrOptions pr;
@@ -134,8 +136,8 @@ void addEvalCommand(CLI::App& app) {
   cmd->add_option("--oxford-dir", a->oxfordDir, "Folder of the Oxford affine sequences")->capture_default_str();
   cmd->add_option("--sequences", a->sequences, "Oxford sequences to use")->capture_default_str();
   cmd->add_option("--fisheye-camera", a->fisheyeCameras, "Calibrations to render the fisheye sequences with");
-  cmd->add_option("--texture", a->textures, "Photos rendered as planes (default: Oxford img1 of graf, boat, "
-                                            "bikes and opencv-doc building.jpg)");
+  cmd->add_option("--texture", a->textures, "Photos rendered as planes (default: img1 of every Oxford sequence "
+                                            "found and six opencv-doc photos)");
   cmd->add_option("--poses", a->poses, "Rendered poses per fisheye sequence")->check(CLI::Range(2, 50))->capture_default_str();
   cmd->add_option("--user-images", a->userImages, "User sequence: reference image first");
   cmd->add_option("--user-camera", a->userCamera, "User sequence: camera calibration");
@@ -166,11 +168,13 @@ void addEvalCommand(CLI::App& app) {
       if (!a->noFisheye) {
         std::vector<std::string> textures = a->textures;
         if (textures.empty()) {
-          for (const char* s : {"graf", "boat", "bikes"}) {
+          for (const auto& s : a->sequences) {
             const std::string p = a->oxfordDir + "/" + s + "/img1.png";
             if (fs::exists(p)) textures.push_back(p);
           }
-          textures.push_back(kDocData + "/building.jpg");
+          // Textured photos of opencv-doc (present on every machine the setup script prepared).
+          for (const char* p : {"building.jpg", "home.jpg", "aero1.jpg", "baboon.jpg", "fruits.jpg", "messi5.jpg"})
+            textures.push_back(kDocData + "/" + p);
         }
         EvalGroup g{"fisheye", {}};
         for (const auto& camPath : a->fisheyeCameras) {
@@ -213,6 +217,32 @@ void addTimingCommand(CLI::App& app) {
         std::printf("%-7s %-13s %6.0f kp  det %7.2f us/kp  desc %7.2f us/kp  match %7.2f ns/pair  total %7.2f us\n",
                     r.detector.c_str(), r.descriptor.c_str(), r.keypoints, r.detectionUs, r.descriptionUs,
                     r.matchingNs, r.totalUs);
+    });
+  });
+}
+
+void addExportUserSampleCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("export-user-sample",
+                                 "Write a rendered sequence as user data (images, camera.yaml, bearing homographies "
+                                 "H1toK) for `eval --user-images --user-camera --user-homographies`");
+  struct Args {
+    std::string camera = sourcePath("configs/cameras/lafida_fisheye0.yaml");
+    std::string texture = kDocData + "/graf3.png";
+    std::string out;
+    int poses = 6;
+  };
+  auto a = std::make_shared<Args>();
+  cmd->add_option("--camera", a->camera, "Calibration to render with")->capture_default_str();
+  cmd->add_option("--texture", a->texture, "Photo rendered as the plane")->capture_default_str();
+  cmd->add_option("--poses", a->poses, "Images (the poses of the fisheye sequences)")->check(CLI::Range(2, 50))->capture_default_str();
+  cmd->add_option("--out", a->out, "Output folder")->required();
+  cmd->callback([a] {
+    const CameraPtr cam = loadCameraOrThrow(a->camera);
+    const cv::Mat tex = loadGreyOrThrow(a->texture);
+    asInputErrors([&] {
+      const auto files = exportUserSequence(a->out, tex, cam, a->poses);
+      std::printf("%s: %zu images, camera.yaml, %zu homographies\n", a->out.c_str(), files.images.size(),
+                  files.homographies.size());
     });
   });
 }

@@ -1,5 +1,6 @@
 #pragma once
-// The subcommands of mdbrief-eval (and of `mdbrief sim` / `mdbrief eval`): sim, eval, timing.
+// The subcommands of mdbrief-eval (and of `mdbrief sim` / `mdbrief eval`): sim, eval, timing,
+// export-user-sample.
 // Bad input (unreadable file, inconsistent flags) is reported by throwing InputError, a
 // std::invalid_argument, whose message starts with the file or flag at fault: callers exit 2.
 #include <stdexcept>
@@ -16,5 +17,6 @@ class InputError : public std::invalid_argument {
 void addSimCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
 void addTimingCommand(CLI::App& app);
+void addExportUserSampleCommand(CLI::App& app);
 
 }  // namespace mdbrief::eval

@@ -71,13 +71,7 @@ std::optional<EvalSequence> loadOxfordSequence(const std::string& dir, const std
   return s;
 }
 
-EvalSequence renderedFisheyeSequence(const std::string& name, const cv::Mat& texture, const CameraPtr& camera,
-                                     int poses) {
-  EvalSequence s;
-  s.name = name;
-  s.camera = camera;
-  s.cameraIsModel = true;
-  PlaneScene scene{texture, 3.2 / texture.cols};  // the texture spans 3.2 units, 1 unit away
+std::vector<CameraPose> renderedSequencePoses(int poses) {
   std::vector<CameraPose> ps;
   for (int k = 0; k < poses; ++k) {
     const double t = poses > 1 ? static_cast<double>(k) / (poses - 1) : 0.0;
@@ -85,8 +79,52 @@ EvalSequence renderedFisheyeSequence(const std::string& name, const cv::Mat& tex
     p.centre = {1.2 * t, 0.4 * t, -1.0};
     p.rotation = cameraRotation(20.0 * t, -10.0 * t, 30.0 * t);
     ps.push_back(p);
-    s.images.push_back(renderPlane(*camera, p, scene));
   }
+  return ps;
+}
+
+UserSequenceFiles exportUserSequence(const std::string& dir, const cv::Mat& texture, const CameraPtr& camera,
+                                     int poses) {
+  namespace fs = std::filesystem;
+  fs::create_directories(dir);
+  const auto atomically = [](const fs::path& target, const auto& write) {
+    const fs::path tmp = target.string() + ".tmp" + target.extension().string();
+    write(tmp.string());
+    fs::rename(tmp, target);
+    return target.string();
+  };
+  UserSequenceFiles files;
+  const PlaneScene scene{texture, 3.2 / texture.cols};
+  const std::vector<CameraPose> ps = renderedSequencePoses(poses);
+  for (int k = 0; k < poses; ++k) {
+    const fs::path img = fs::path(dir) / ("img" + std::to_string(k + 1) + ".png");
+    files.images.push_back(atomically(img, [&](const std::string& tmp) {
+      if (!cv::imwrite(tmp, renderPlane(*camera, ps[k], scene))) throw std::runtime_error(tmp + ": cannot write");
+    }));
+    if (k == 0) continue;
+    const fs::path h = fs::path(dir) / ("H1to" + std::to_string(k + 1));
+    files.homographies.push_back(atomically(h, [&](const std::string& tmp) {
+      const cv::Matx33d m = planeBearingHomography(ps[0], ps[k]);
+      std::ofstream out(tmp);
+      out.precision(17);
+      for (int i = 0; i < 9; ++i) out << m.val[i] << (i % 3 == 2 ? "\n" : " ");
+      if (!out) throw std::runtime_error(tmp + ": cannot write");
+    }));
+  }
+  files.camera = (fs::path(dir) / "camera.yaml").string();
+  saveCamera(*camera, files.camera);  // atomic itself
+  return files;
+}
+
+EvalSequence renderedFisheyeSequence(const std::string& name, const cv::Mat& texture, const CameraPtr& camera,
+                                     int poses) {
+  EvalSequence s;
+  s.name = name;
+  s.camera = camera;
+  s.cameraIsModel = true;
+  PlaneScene scene{texture, 3.2 / texture.cols};  // the texture spans 3.2 units, 1 unit away
+  const std::vector<CameraPose> ps = renderedSequencePoses(poses);
+  for (const auto& p : ps) s.images.push_back(renderPlane(*camera, p, scene));
   for (int k = 1; k < poses; ++k) {
     const CameraPose a = ps[0], b = ps[k];
     s.pairs.push_back({0, k, [camera, a, b, scene](const cv::Point2d& px) -> std::optional<cv::Point2d> {
@@ -117,7 +155,11 @@ EvalSequence loadUserSequence(const std::string& name, const std::vector<std::st
       throw std::runtime_error(p + ": image size differs from the camera's calibration size");
   }
   for (size_t k = 0; k < homographyFiles.size(); ++k) {
-    const cv::Matx33d h = readHomography(homographyFiles[k]);
+    cv::Matx33d h = readHomography(homographyFiles[k]);
+    const double det = cv::determinant(h);
+    if (!(std::abs(det) > 1e-12 * std::pow(cv::norm(h), 3)))
+      throw std::runtime_error(homographyFiles[k] + ": the homography is singular");
+    if (det < 0) h = -h;
     const CameraPtr cam = s.camera;
     s.pairs.push_back({0, static_cast<int>(k + 1), [h, cam](const cv::Point2d& px) -> std::optional<cv::Point2d> {
                          cv::Vec3d b;

@@ -12,6 +12,7 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/camera.hpp"
+#include "mdbrief/plane_renderer.hpp"
 #include "precision_recall.hpp"
 
 namespace mdbrief::eval {
@@ -40,9 +41,27 @@ std::optional<EvalSequence> loadOxfordSequence(const std::string& dir, const std
 EvalSequence renderedFisheyeSequence(const std::string& name, const cv::Mat& texture, const CameraPtr& camera,
                                      int poses);
 
+// The poses of renderedFisheyeSequence: k = 0 faces the plane from 1 unit, the last is
+// translated (1.2, 0.4), yawed 20, pitched -10 and rolled 30 degrees.
+std::vector<CameraPose> renderedSequencePoses(int poses);
+
+// Writes a rendered sequence as user data into `dir` (created if missing): img1.png..imgN.png,
+// camera.yaml and the bearing homographies H1to2..H1toN (the format loadUserSequence reads).
+// Each file is written to a temporary name and renamed. Returns the paths: images, camera,
+// homographies.
+struct UserSequenceFiles {
+  std::vector<std::string> images;
+  std::string camera;
+  std::vector<std::string> homographies;
+};
+UserSequenceFiles exportUserSequence(const std::string& dir, const cv::Mat& texture, const CameraPtr& camera,
+                                     int poses);
+
 // User data: images[0] is the reference; homographyFiles[k] relates bearings of image 0 and
-// image k+1 (3x3, nine numbers, whitespace separated). Throws std::runtime_error naming the
-// file and the problem.
+// image k+1 (3x3, nine numbers, whitespace separated, bearing_k ~ H * bearing_0). A homography
+// is defined up to scale, but for a wide-angle lens its sign decides front from back: it is
+// taken with det(H) > 0, true for every plane seen from one side (and for rotations). Throws
+// std::runtime_error naming the file and the problem (unreadable, singular).
 EvalSequence loadUserSequence(const std::string& name, const std::vector<std::string>& images,
                               const std::string& cameraPath, const std::vector<std::string>& homographyFiles);
 

@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   mdbrief::eval::addSimCommand(app);
   mdbrief::eval::addEvalCommand(app);
   mdbrief::eval::addTimingCommand(app);
+  mdbrief::eval::addExportUserSampleCommand(app);
   auto oneLine = [](std::string s) {
     std::replace(s.begin(), s.end(), '\n', ' ');
     return s;

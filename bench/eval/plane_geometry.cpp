@@ -29,4 +29,12 @@ cv::Matx33d cameraRotation(double yawDeg, double pitchDeg, double rollDeg) {
   return (ry * rx * rz).t();
 }
 
+cv::Matx33d planeBearingHomography(const CameraPose& a, const CameraPose& b) {
+  // A plane point (x, y, 0) has the camera ray R (X - C) = R [e1 e2 -C] (x, y, 1)^T.
+  const auto planeToRay = [](const CameraPose& p) {
+    return p.rotation * cv::Matx33d(1, 0, -p.centre[0], 0, 1, -p.centre[1], 0, 0, -p.centre[2]);
+  };
+  return planeToRay(b) * planeToRay(a).inv();
+}
+
 }  // namespace mdbrief::eval

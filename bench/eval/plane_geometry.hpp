@@ -20,4 +20,9 @@ bool onTexture(const PlaneScene& scene, const cv::Point2d& planeXY);
 // optical axis z; the result maps world to camera as CameraPose::rotation.
 cv::Matx33d cameraRotation(double yawDeg, double pitchDeg, double rollDeg);
 
+// The homography between bearings that the plane z = 0 induces: bearing_b ~ H * bearing_a
+// with a positive factor for plane points in front of both cameras; det(H) > 0 when both
+// centres lie on the same side of the plane.
+cv::Matx33d planeBearingHomography(const CameraPose& a, const CameraPose& b);
+
 }  // namespace mdbrief::eval

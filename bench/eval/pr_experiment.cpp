@@ -9,6 +9,15 @@
 
 namespace mdbrief::eval {
 
+namespace {
+
+MethodSpec withOrientation(MethodSpec m, OrientationSource source) {
+  m.options.orientation = source;
+  return m;
+}
+
+}  // namespace
+
 std::vector<MethodSpec> standardPrMethods(bool withStudies) {
   const auto af = DistortionForm::Affine;
   std::vector<MethodSpec> m{
@@ -26,6 +35,9 @@ std::vector<MethodSpec> standardPrMethods(bool withStudies) {
       briefFamilyMethod("mdBRIEF-512", MethodFamily::MdBrief, 512, true, af),
       briefFamilyMethod("dBRIEF-256-paper", MethodFamily::DBrief, 256, true, DistortionForm::Paper),
       briefFamilyMethod("mdBRIEF-256-paper", MethodFamily::MdBrief, 256, true, DistortionForm::Paper),
+      // The detector's angle instead of the one re-measured on the tangent plane.
+      withOrientation(briefFamilyMethod("dBRIEF-256-kp", MethodFamily::DBrief, 256, true, af), OrientationSource::Keypoint),
+      withOrientation(briefFamilyMethod("mdBRIEF-256-kp", MethodFamily::MdBrief, 256, true, af), OrientationSource::Keypoint),
       // Without orientation (the paper's fig. "Ignoring patch orientation").
       briefFamilyMethod("BRIEF-256-noori", MethodFamily::Brief, 256, false),
       briefFamilyMethod("mBRIEF-256-noori", MethodFamily::MaskedBrief, 256, false, af),

@@ -290,9 +290,10 @@ namespace {
 void runDetectedVariant(const SimCamera& sc, const SimOptions& o, const std::string& variant, double rollDeg,
                         bool oriented) {
   PlaneScene scene{loadTexture(o.texturePath), kLargeTexel};
+  const double defaultMask = DescriptorOptions{}.maskRotationDeg;
   std::vector<MethodSpec> methods{
       briefFamilyMethod("BRIEF", MethodFamily::Brief, o.bits, oriented),
-      briefFamilyMethod("mBRIEF-10", MethodFamily::MaskedBrief, o.bits, oriented, DistortionForm::Affine, 10.0),
+      briefFamilyMethod("mBRIEF", MethodFamily::MaskedBrief, o.bits, oriented, DistortionForm::Affine, defaultMask),
       briefFamilyMethod("dBRIEF-paper", MethodFamily::DBrief, o.bits, oriented, DistortionForm::Paper),
       briefFamilyMethod("dBRIEF-affine", MethodFamily::DBrief, o.bits, oriented, DistortionForm::Affine)};
   for (const char* form : {"paper", "affine"})
@@ -302,6 +303,16 @@ void runDetectedVariant(const SimCamera& sc, const SimOptions& o, const std::str
       methods.push_back(briefFamilyMethod(name, MethodFamily::MdBrief, o.bits, oriented,
                                           std::string(form) == "paper" ? DistortionForm::Paper : DistortionForm::Affine, a));
     }
+  if (oriented) {
+    // The same descriptors with the detector's angle (measured on a disc of the distorted
+    // image) instead of the one re-measured on the tangent plane.
+    for (MethodSpec m : {methods[3], briefFamilyMethod("mdBRIEF-affine", MethodFamily::MdBrief, o.bits, true,
+                                                       DistortionForm::Affine, defaultMask)}) {
+      m.name += m.family == MethodFamily::MdBrief ? "-" + std::to_string(static_cast<int>(defaultMask)) + "-kp" : "-kp";
+      m.options.orientation = OrientationSource::Keypoint;
+      methods.push_back(m);
+    }
+  }
   const size_t nm = methods.size();
   DetectorOptions dopt;
   dopt.nfeatures = o.detectedKeypoints;
@@ -352,7 +363,7 @@ void runDetectedVariant(const SimCamera& sc, const SimOptions& o, const std::str
 
   CsvTable perView({"view", "method", "ground_truth", "recognition_rate", "mean_match_distance"});
   // Averages over the views with enough true matches; "last" = the last such view.
-  CsvTable summary({"method", "form", "mask_deg", "views_used", "mean_recognition", "rim_recognition", "last_view",
+  CsvTable summary({"method", "form", "orientation", "mask_deg", "views_used", "mean_recognition", "rim_recognition", "last_view",
                     "last_recognition", "bhattacharyya_last", "mean_match_distance_last"});
   const View& ref = views[0];
   for (size_t m = 0; m < nm; ++m) {
@@ -405,9 +416,13 @@ void runDetectedVariant(const SimCamera& sc, const SimOptions& o, const std::str
     }
     const auto& opt = methods[m].options;
     const bool distorted = methods[m].family == MethodFamily::DBrief || methods[m].family == MethodFamily::MdBrief;
+    const std::string orientation = !oriented                                             ? "none"
+                                    : distorted && opt.orientation == OrientationSource::TangentPlane ? "tangent-plane"
+                                                                                          : "keypoint";
     summary.row()
         .add(methods[m].name)
         .add(std::string(distorted ? (opt.form == DistortionForm::Paper ? "paper" : "affine") : "none"))
+        .add(orientation)
         .add(isMasked(methods[m].family) ? opt.maskRotationDeg : 0.0)
         .add(used)
         .add(used ? sumRate / used : 0.0)
@@ -448,7 +463,7 @@ void runSimulation(const std::vector<SimCamera>& cameras, const SimOptions& o) {
     }
     // One detected experiment per lens (the *_rim entries repeat a lens with another path).
     const bool rimVariant = c.pathLength < 0;
-    if (o.runDetected && !rimVariant && c.camera->modelName() != "pinhole" && c.camera->modelName() != "radial") {
+    if (o.runDetected && !rimVariant) {
       std::fprintf(stderr, "sim: detected keypoints, tilted poses, camera %s\n", c.name.c_str());
       runDetectedSimulation(c, o);
     }

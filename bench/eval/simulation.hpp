@@ -8,10 +8,11 @@
 // to view k, recognition rate over a 10-view version of the path, matching / non-matching
 // distance distributions and their Bhattacharyya coefficients.
 //
-// Experiment "detected": the project's Detector in every view (orientation from the
-// distorted image), poses that translate, tilt and roll the camera until the plane reaches the
-// rim of the fisheye; a true match is the detected keypoint nearest to the projected true
-// position within 3 px. Compares distortion forms and mask angles: it decides the defaults.
+// Experiment "detected", for every lens: the project's Detector in every view, poses that
+// translate, tilt and roll the camera until the plane reaches the rim of the fisheye; a true
+// match is the detected keypoint nearest to the projected true position within 3 px. Compares
+// distortion forms, mask angles and orientation sources (the detector's angle vs the one
+// re-measured on the tangent plane): it decides the defaults.
 #include <string>
 #include <vector>
 
@@ -41,7 +42,7 @@ struct SimOptions {
   // Detected experiment.
   int detectedViews = 10;
   int detectedKeypoints = 500;        // detector budget per view
-  std::vector<double> maskAngles{5, 10, 15, 20};
+  std::vector<double> maskAngles{10, 15, 20, 25, 30};
   double matchRadiusPx = 3.0;
   // The shared path: the longest for which the texture stays inside this camera's image
   // (the pinhole camera's, so the perspective row of the paper's figure stays complete).
@@ -72,10 +73,11 @@ double maxRadialDisplacement(const Camera& radial, const Camera& pinhole);
 // sim_<name>_*.csv. Throws std::runtime_error naming the file on unreadable input.
 SimSummary runProjectedSimulation(const SimCamera& camera, double xEnd, const SimOptions& options);
 
-// Runs the detected experiment for one camera in two variants: "rolled" (translation, yaw,
-// pitch and a 45 degree roll; descriptors use the detector's orientation) and "upright" (no
-// roll; descriptors without orientation, as the paper's fig. "Ignoring patch orientation") and
-// "upright_oriented" (no roll, the detector's orientation used).
+// Runs the detected experiment for one camera in three variants: "rolled" (translation, yaw,
+// pitch and a 45 degree roll; oriented descriptors), "upright" (no roll; descriptors without
+// orientation, as the paper's fig. "Ignoring patch orientation") and "upright_oriented" (no
+// roll, oriented descriptors). Oriented variants also run dBRIEF / mdBRIEF with the detector's
+// angle ("-kp") next to the default tangent-plane angle.
 // Writes sim_detected_<name>_<variant>.csv and ..._summary.csv.
 void runDetectedSimulation(const SimCamera& camera, const SimOptions& options);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -58,6 +59,9 @@ inline int sampleBilinear(const uchar* data, size_t step, int px, int py) {
 inline int sampleNearest(const uchar* data, size_t step, int px, int py) {
   return data[((py + kSub / 2) >> kSubBits) * step + ((px + kSub / 2) >> kSubBits)];
 }
+
+bool hasMasks(DescriptorKind kind) { return kind == DescriptorKind::MdBrief || kind == DescriptorKind::MaskedBrief; }
+bool usesCamera(DescriptorKind kind) { return kind == DescriptorKind::DBrief || kind == DescriptorKind::MdBrief; }
 
 cv::Matx22d rotation(double deg) {
   const double a = deg * CV_PI / 180.0, c = std::cos(a), s = std::sin(a);
@@ -221,6 +225,9 @@ void validate(const DescriptorOptions& o) {
     throw std::invalid_argument("descriptor option maskRotationDeg must be in (0, 90)");
   if (!(o.maxIncidenceDeg > 0.0 && o.maxIncidenceDeg < 90.0))
     throw std::invalid_argument("descriptor option maxIncidenceDeg must be in (0, 90)");
+  if (o.orientationRadius < 4 || o.orientationRadius > 15)
+    throw std::invalid_argument("descriptor option orientationRadius=" + std::to_string(o.orientationRadius) +
+                                ": must be 4..15");
   if (o.pyramid.levels < 1 || !(o.pyramid.scaleFactor > 1.0))
     throw std::invalid_argument("descriptor pyramid options: levels >= 1 and scaleFactor > 1 required");
 }
@@ -232,8 +239,7 @@ DescriptorExtractor::DescriptorExtractor(CameraPtr camera, DescriptorOptions opt
 DescriptorExtractor::DescriptorExtractor(CameraPtr camera, DescriptorOptions options, const TestSet& tests)
     : camera_(std::move(camera)), options_(std::move(options)) {
   validate(options_);
-  if (!camera_ && options_.kind != DescriptorKind::Brief)
-    throw std::invalid_argument("dBRIEF and mdBRIEF need a camera model");
+  if (!camera_ && usesCamera(options_.kind)) throw std::invalid_argument("dBRIEF and mdBRIEF need a camera model");
   if (static_cast<int>(tests.tests.size()) < options_.bits)
     throw std::invalid_argument("test set '" + tests.name + "' has " + std::to_string(tests.tests.size()) +
                                 " tests, fewer than bits=" + std::to_string(options_.bits));
@@ -242,18 +248,88 @@ DescriptorExtractor::DescriptorExtractor(CameraPtr camera, DescriptorOptions opt
 
 namespace {
 
-// Placements of the test set for one keypoint: rotation 0, then (mdBRIEF) +delta and -delta.
-// Returns the number of placements, 0 when the keypoint cannot be described.
-int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::KeyPoint& kp, double scale,
-                  TangentPlaneFrame& frame, std::array<Placement, 3>& out) {
-  if (!std::isfinite(kp.pt.x) || !std::isfinite(kp.pt.y)) return 0;
-  const int count = o.kind == DescriptorKind::MdBrief ? 3 : 1;
-  const double deltas[3] = {0.0, o.maskRotationDeg, -o.maskRotationDeg};
-  const bool oriented = o.useOrientation && kp.angle >= 0.f;
+// The centroid is measured on the smoothed level (sigma 2 px), which is band-limited enough
+// for every second pixel: a quarter of the samples, the same recognition in the detected
+// simulation (fisheye, rolled: dBRIEF 57.0 vs 57.6 %, mdBRIEF 63.8 vs 63.4 %), covariance
+// error 1.1 vs 1.0 degrees (tests/test_descriptor_pinhole.cpp).
+constexpr int kDiscStep = 2;
 
-  if (o.kind == DescriptorKind::Brief) {
+// The disc u^2 + v^2 <= r^2 (u, v multiples of step) of the intensity centroid, padded with
+// (0, 0) to a multiple of 8 samples (the padding has zero moment arms, so it adds nothing).
+struct Disc {
+  Offsets offsets;
+  std::vector<int> u, v;
+};
+
+Disc discOf(int radius, int step) {
+  Disc d;
+  for (int v = -radius; v <= radius; v += step)
+    for (int u = -radius; u <= radius; u += step)
+      if (u * u + v * v <= radius * radius) d.u.push_back(u), d.v.push_back(v);
+  while (d.u.size() % 8) d.u.push_back(0), d.v.push_back(0);
+  d.offsets.x.assign(d.u.begin(), d.u.end());
+  d.offsets.y.assign(d.v.begin(), d.v.end());
+  return d;
+}
+
+// Intensity-centroid angle (degrees, in the offset frame) of the disc mapped by `map` around
+// `centre` (level coordinates). Empty if the disc leaves the image.
+std::optional<double> centroidAngle(const cv::Mat& img, const cv::Point2d& centre, const cv::Matx22d& map,
+                                    const Disc& disc, int* xs, int* ys) {
+  const int n = static_cast<int>(disc.u.size());
+  affineCoordinate(centre.x, map(0, 0), map(0, 1), disc.offsets.x.data(), disc.offsets.y.data(), xs, n);
+  affineCoordinate(centre.y, map(1, 0), map(1, 1), disc.offsets.x.data(), disc.offsets.y.data(), ys, n);
+  if (!allInside(Positions{xs, ys}, n, img.cols, img.rows)) return std::nullopt;
+  long long m10 = 0, m01 = 0;
+  int i = 0;
+#ifdef __AVX2__
+  // Per lane at most 89 samples (radius 15, step 1) of 255 * 32^2 * 15: far inside int32.
+  const __m256i step = _mm256_set1_epi32(static_cast<int>(img.step[0]));
+  __m256i a10 = _mm256_setzero_si256(), a01 = _mm256_setzero_si256();
+  for (; i + 8 <= n; i += 8) {
+    const __m256i val = bilinear8(img.data, step, xs + i, ys + i);
+    a10 = _mm256_add_epi32(a10, _mm256_mullo_epi32(val, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&disc.u[i]))));
+    a01 = _mm256_add_epi32(a01, _mm256_mullo_epi32(val, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&disc.v[i]))));
+  }
+  alignas(32) int l10[8], l01[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(l10), a10);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(l01), a01);
+  for (int k = 0; k < 8; ++k) m10 += l10[k], m01 += l01[k];
+#endif
+  for (; i < n; ++i) {
+    const long long val = sampleBilinear(img.data, img.step[0], xs[i], ys[i]);
+    m10 += val * disc.u[i];
+    m01 += val * disc.v[i];
+  }
+  if (m10 == 0 && m01 == 0) return 0.0;
+  return std::atan2(static_cast<double>(m01), static_cast<double>(m10)) * 180.0 / CV_PI;
+}
+
+// What placementsFor needs to re-measure the orientation on the tangent plane; null image =
+// use the keypoint's angle (testPositions has no image).
+struct OrientationInput {
+  const cv::Mat* image = nullptr;
+  const Disc* disc = nullptr;
+  int* xs = nullptr;
+  int* ys = nullptr;
+};
+
+// Placements of the test set for one keypoint: rotation 0, then (masked kinds) +delta and
+// -delta. Returns the number of placements, 0 when the keypoint cannot be described.
+// imageAngle receives the image direction (degrees) of a re-measured orientation, else -1.
+int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::KeyPoint& kp, double scale,
+                  const OrientationInput& measure, TangentPlaneFrame& frame, std::array<Placement, 3>& out,
+                  float& imageAngle) {
+  imageAngle = -1.f;
+  if (!std::isfinite(kp.pt.x) || !std::isfinite(kp.pt.y)) return 0;
+  const int count = hasMasks(o.kind) ? 3 : 1;
+  const double deltas[3] = {0.0, o.maskRotationDeg, -o.maskRotationDeg};
+  const cv::Point2d centre(kp.pt.x / scale, kp.pt.y / scale);
+
+  if (!usesCamera(o.kind)) {
+    const bool oriented = o.useOrientation && kp.angle >= 0.f;
     for (int r = 0; r < count; ++r) {
-      out[r].centre = cv::Point2d(kp.pt.x / scale, kp.pt.y / scale);
+      out[r].centre = centre;
       out[r].map = rotation((oriented ? kp.angle : 0.0) + deltas[r]);
       out[r].scale = scale;
     }
@@ -263,17 +339,33 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
   const auto f = tangentPlaneAt(*camera, cv::Point2d(kp.pt.x, kp.pt.y), o.maxIncidenceDeg);
   if (!f) return 0;
   frame = *f;
-  const double planeAngle = oriented ? imageAngleToPlaneAngle(frame.jacobian, kp.angle) : 0.0;
+  // Offset -> level coordinates before rotation. Affine: shape from the camera, size from the
+  // detector (unit-determinant Jacobian). Paper: the Jacobian itself (plane offsets are scaled
+  // by the octave scale, level coordinates divide it out); used for the orientation disc.
+  const cv::Matx22d shape = o.form == DistortionForm::Affine
+                                ? frame.jacobian * (1.0 / std::sqrt(std::abs(cv::determinant(frame.jacobian))))
+                                : frame.jacobian;
+  double planeAngle = 0.0;
+  if (o.useOrientation && o.orientation == OrientationSource::TangentPlane && measure.image) {
+    const auto a = centroidAngle(*measure.image, centre, shape, *measure.disc, measure.xs, measure.ys);
+    if (!a) return 0;
+    planeAngle = *a;
+    const double rad = planeAngle * CV_PI / 180.0;
+    const cv::Vec2d d = shape * cv::Vec2d(std::cos(rad), std::sin(rad));
+    double deg = std::atan2(d[1], d[0]) * 180.0 / CV_PI;
+    if (deg < 0) deg += 360.0;
+    imageAngle = deg >= 360.0 ? 0.f : static_cast<float>(deg);
+  } else if (o.useOrientation && kp.angle >= 0.f) {
+    planeAngle = imageAngleToPlaneAngle(frame.jacobian, kp.angle);
+  }
   for (int r = 0; r < count; ++r) {
     const cv::Matx22d rot = rotation(planeAngle + deltas[r]);
     Placement& pl = out[r];
     pl.scale = scale;
     if (o.form == DistortionForm::Affine) {
-      // Shape from the camera, size from the detector: unit-determinant Jacobian.
-      const double det = std::abs(cv::determinant(frame.jacobian));
       pl.affine = true;
-      pl.centre = cv::Point2d(kp.pt.x / scale, kp.pt.y / scale);
-      pl.map = frame.jacobian * (1.0 / std::sqrt(det)) * rot;
+      pl.centre = centre;
+      pl.map = shape * rot;
     } else {
       pl.affine = false;
       pl.frame = &frame;
@@ -290,7 +382,7 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
   const int n = static_cast<int>(keypoints.size());
   const int bytes = descriptorBytes();
   const int nTests = options_.bits;
-  const bool wantMasks = options_.kind == DescriptorKind::MdBrief;
+  const bool wantMasks = hasMasks(options_.kind);
   int maxOctave = 0;
   for (int i = 0; i < n; ++i) {
     const int oct = keypoints[i].octave;
@@ -303,18 +395,24 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
 
   cv::Mat desc(n, bytes, CV_8U, cv::Scalar(0)), mask(wantMasks ? n : 0, bytes, CV_8U, cv::Scalar(0));
   std::vector<uchar> ok(n, 0);
+  std::vector<float> angles(n, -1.f);
   const Camera* camera = camera_.get();
   const Offsets offsets = offsetsOf(tests_);
+  const bool measure = usesCamera(options_.kind) && options_.useOrientation &&
+                       options_.orientation == OrientationSource::TangentPlane;
+  const Disc disc = measure ? discOf(options_.orientationRadius, kDiscStep) : Disc{};
 
   tbb::parallel_for(tbb::blocked_range<int>(0, n, 16), [&](const tbb::blocked_range<int>& range) {
-    std::vector<int> xs(3 * 2 * nTests), ys(3 * 2 * nTests);
+    std::vector<int> xs(3 * 2 * nTests), ys(3 * 2 * nTests), discX(disc.u.size()), discY(disc.u.size());
     std::array<uchar, 64> bits[3];
     TangentPlaneFrame frame;
     std::array<Placement, 3> placements;
     for (int i = range.begin(); i != range.end(); ++i) {
       const cv::KeyPoint& kp = keypoints[i];
       const cv::Mat& img = pyramid.smoothed(kp.octave);
-      const int count = placementsFor(options_, camera, kp, pyramid.scale(kp.octave), frame, placements);
+      const OrientationInput in{measure ? &img : nullptr, &disc, discX.data(), discY.data()};
+      const int count =
+          placementsFor(options_, camera, kp, pyramid.scale(kp.octave), in, frame, placements, angles[i]);
       bool good = count > 0;
       for (int r = 0; good && r < count; ++r) {
         const Positions p{&xs[2 * nTests * r], &ys[2 * nTests * r]};
@@ -339,6 +437,7 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
   int kept = 0;
   for (int i = 0; i < n; ++i) {
     if (!ok[i]) continue;
+    if (measure) keypoints[i].angle = angles[i];
     if (kept != i) {
       keypoints[kept] = keypoints[i];
       desc.row(i).copyTo(desc.row(kept));
@@ -369,7 +468,9 @@ std::vector<std::pair<cv::Point2f, cv::Point2f>> DescriptorExtractor::testPositi
   const double scale = std::pow(options_.pyramid.scaleFactor, keypoint.octave - options_.pyramid.firstLevel);
   TangentPlaneFrame frame;
   std::array<Placement, 3> placements;
-  if (placementsFor(options_, camera_.get(), keypoint, scale, frame, placements) == 0) return {};
+  float imageAngle;
+  if (placementsFor(options_, camera_.get(), keypoint, scale, OrientationInput{}, frame, placements, imageAngle) == 0)
+    return {};
   const int nTests = options_.bits;
   std::vector<int> xs(2 * nTests), ys(2 * nTests);
   if (!placeTests(placements[0], camera_.get(), offsetsOf(tests_), Positions{xs.data(), ys.data()})) return {};

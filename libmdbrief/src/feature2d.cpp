@@ -28,7 +28,12 @@ Enum parseName(const std::string& name, const std::vector<std::pair<Enum, const 
 }
 
 const std::vector<std::pair<DescriptorKind, const char*>> kKindNames = {
-    {DescriptorKind::Brief, "brief"}, {DescriptorKind::DBrief, "dbrief"}, {DescriptorKind::MdBrief, "mdbrief"}};
+    {DescriptorKind::Brief, "brief"},
+    {DescriptorKind::DBrief, "dbrief"},
+    {DescriptorKind::MdBrief, "mdbrief"},
+    {DescriptorKind::MaskedBrief, "mbrief"}};
+const std::vector<std::pair<OrientationSource, const char*>> kOrientationNames = {
+    {OrientationSource::TangentPlane, "tangent-plane"}, {OrientationSource::Keypoint, "keypoint"}};
 const std::vector<std::pair<DistortionForm, const char*>> kFormNames = {{DistortionForm::Affine, "affine"},
                                                                         {DistortionForm::Paper, "paper"}};
 const std::vector<std::pair<Sampling, const char*>> kSamplingNames = {{Sampling::Bilinear, "bilinear"},
@@ -93,10 +98,14 @@ void readEnum(const cv::FileNode& node, const char* key, Enum& value, Enum (*par
 std::string toString(DescriptorKind kind) { return nameOf(kind, kKindNames); }
 std::string toString(DistortionForm form) { return nameOf(form, kFormNames); }
 std::string toString(Sampling sampling) { return nameOf(sampling, kSamplingNames); }
+std::string toString(OrientationSource source) { return nameOf(source, kOrientationNames); }
 std::string toString(CornerDetector corners) { return nameOf(corners, kCornerNames); }
 DescriptorKind parseDescriptorKind(const std::string& name) { return parseName(name, kKindNames, "descriptor kind"); }
 DistortionForm parseDistortionForm(const std::string& name) { return parseName(name, kFormNames, "distortion form"); }
 Sampling parseSampling(const std::string& name) { return parseName(name, kSamplingNames, "sampling"); }
+OrientationSource parseOrientationSource(const std::string& name) {
+  return parseName(name, kOrientationNames, "orientation source");
+}
 CornerDetector parseCornerDetector(const std::string& name) { return parseName(name, kCornerNames, "corner detector"); }
 
 void validate(const MdBriefOptions& options) {
@@ -174,7 +183,8 @@ void MdBrief::write(cv::FileStorage& fs) const {
   fs << "}";
   fs << "descriptor" << "{";
   fs << "kind" << toString(e.kind) << "bits" << e.bits << "pattern" << e.pattern;
-  fs << "useOrientation" << static_cast<int>(e.useOrientation) << "form" << toString(e.form);
+  fs << "useOrientation" << static_cast<int>(e.useOrientation) << "orientation" << toString(e.orientation);
+  fs << "orientationRadius" << e.orientationRadius << "form" << toString(e.form);
   fs << "sampling" << toString(e.sampling) << "maskRotationDeg" << e.maskRotationDeg;
   fs << "maxIncidenceDeg" << e.maxIncidenceDeg;
   fs << "}";
@@ -213,6 +223,8 @@ void MdBrief::read(const cv::FileNode& node) {
   readInt(e, "bits", o.descriptor.bits);
   readString(e, "pattern", o.descriptor.pattern);
   readBool(e, "useOrientation", o.descriptor.useOrientation);
+  readEnum(e, "orientation", o.descriptor.orientation, &parseOrientationSource);
+  readInt(e, "orientationRadius", o.descriptor.orientationRadius);
   readEnum(e, "form", o.descriptor.form, &parseDistortionForm);
   readEnum(e, "sampling", o.descriptor.sampling, &parseSampling);
   readDouble(e, "maskRotationDeg", o.descriptor.maskRotationDeg);

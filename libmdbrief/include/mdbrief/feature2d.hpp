@@ -34,22 +34,25 @@ struct MdBriefOptions {
 // plus detector.pyramid != descriptor.pyramid.
 void validate(const MdBriefOptions& options);
 
-// Option names as used by FileStorage and the command line ("brief", "dbrief", "mdbrief";
-// "affine", "paper"; "bilinear", "nearest"; "fast", "agast"). The parse functions throw
+// Option names as used by FileStorage and the command line ("brief", "dbrief", "mdbrief",
+// "mbrief"; "affine", "paper"; "tangent-plane", "keypoint"; "bilinear", "nearest"; "fast",
+// "agast"). The parse functions throw
 // std::invalid_argument listing the accepted names.
 std::string toString(DescriptorKind kind);
 std::string toString(DistortionForm form);
 std::string toString(Sampling sampling);
+std::string toString(OrientationSource source);
 std::string toString(CornerDetector corners);
 DescriptorKind parseDescriptorKind(const std::string& name);
 DistortionForm parseDistortionForm(const std::string& name);
 Sampling parseSampling(const std::string& name);
+OrientationSource parseOrientationSource(const std::string& name);
 CornerDetector parseCornerDetector(const std::string& name);
 
 class MdBrief : public cv::Feature2D {
  public:
-  // camera may be null only for DescriptorKind::Brief (then no valid-area mask and any image
-  // size). Throws std::invalid_argument on unusable options or a missing camera.
+  // camera may be null only for DescriptorKind::Brief and MaskedBrief (then no valid-area
+  // mask and any image size). Throws std::invalid_argument on unusable options or a missing camera.
   static cv::Ptr<MdBrief> create(CameraPtr camera, const MdBriefOptions& options = {});
 
   MdBrief(CameraPtr camera, const MdBriefOptions& options);
