@@ -172,7 +172,8 @@ def plot_pr(results, figures):
         study = [m for m in methods if m not in main]
         for suffix, sel in [("", [m for m in main if m in methods]),
                             ("_studies", [m for m in methods if m.startswith("dBRIEF-") and m not in
-                                          ("dBRIEF-256-paper", "dBRIEF-256-noori", "dBRIEF-256-kp")] + ["BRIEF-256"])]:
+                                          ("dBRIEF-256-paper", "dBRIEF-256-kp")
+                                          and not m.endswith("-noori")] + ["BRIEF-256"])]:
             if suffix and not study:
                 continue
             fig, ax = plt.subplots(figsize=(6.5, 4.5))

@@ -41,9 +41,12 @@ std::vector<MethodSpec> standardPrMethods(bool withStudies) {
       // Without orientation (the paper's fig. "Ignoring patch orientation").
       briefFamilyMethod("BRIEF-256-noori", MethodFamily::Brief, 256, false),
       briefFamilyMethod("mBRIEF-256-noori", MethodFamily::MaskedBrief, 256, false, af),
+      briefFamilyMethod("dBRIEF-128-noori", MethodFamily::DBrief, 128, false, af),
       briefFamilyMethod("dBRIEF-256-noori", MethodFamily::DBrief, 256, false, af),
+      briefFamilyMethod("dBRIEF-512-noori", MethodFamily::DBrief, 512, false, af),
       briefFamilyMethod("mdBRIEF-128-noori", MethodFamily::MdBrief, 128, false, af),
-      briefFamilyMethod("mdBRIEF-256-noori", MethodFamily::MdBrief, 256, false, af)};
+      briefFamilyMethod("mdBRIEF-256-noori", MethodFamily::MdBrief, 256, false, af),
+      briefFamilyMethod("mdBRIEF-512-noori", MethodFamily::MdBrief, 512, false, af)};
   if (!withStudies) return m;
   // Length study with the default set.
   for (int bits : {32, 64})
