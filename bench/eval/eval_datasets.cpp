@@ -32,6 +32,9 @@ GroundTruthMap homographyMap(const cv::Matx33d& h, cv::Size target) {
   };
 }
 
+// The scene of the rendered sequences: the texture spans 3.2 units, the reference 1 unit away.
+PlaneScene renderedScene(const cv::Mat& texture) { return {texture, 3.2 / texture.cols}; }
+
 }  // namespace
 
 cv::Matx33d readHomography(const std::string& path) {
@@ -94,7 +97,7 @@ UserSequenceFiles exportUserSequence(const std::string& dir, const cv::Mat& text
     return target.string();
   };
   UserSequenceFiles files;
-  const PlaneScene scene{texture, 3.2 / texture.cols};
+  const PlaneScene scene = renderedScene(texture);
   const std::vector<CameraPose> ps = renderedSequencePoses(poses);
   for (int k = 0; k < poses; ++k) {
     const fs::path img = fs::path(dir) / ("img" + std::to_string(k + 1) + ".png");
@@ -122,7 +125,7 @@ EvalSequence renderedFisheyeSequence(const std::string& name, const cv::Mat& tex
   s.name = name;
   s.camera = camera;
   s.cameraIsModel = true;
-  PlaneScene scene{texture, 3.2 / texture.cols};  // the texture spans 3.2 units, 1 unit away
+  const PlaneScene scene = renderedScene(texture);
   const std::vector<CameraPose> ps = renderedSequencePoses(poses);
   for (const auto& p : ps) s.images.push_back(renderPlane(*camera, p, scene));
   for (int k = 1; k < poses; ++k) {
