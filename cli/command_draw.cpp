@@ -73,12 +73,9 @@ void drawTests(cv::Mat& canvas, const cv::Mat& grey, const std::vector<std::pair
 // Rows of node `matches` (query, train, distance), checked against the keypoint counts.
 std::vector<std::pair<int, int>> loadMatches(const std::string& path, size_t queryCount, size_t trainCount,
                                              const std::string& queryImage, const std::string& trainImage) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such file");
   cv::Mat table;
   try {
-    cv::FileStorage storage(path, cv::FileStorage::READ);
-    if (!storage.isOpened()) throw InputError(path + ": cannot open as an OpenCV FileStorage file");
+    cv::FileStorage storage = openStorageForReading(path);
     if (storage["matches"].empty()) throw InputError(path + ": no node 'matches'");
     storage["matches"] >> table;
   } catch (const cv::Exception& e) {
@@ -103,7 +100,7 @@ void runDraw(const DrawArgs& args) {
   if (args.other.empty() != args.matches.empty()) throw InputError("--other and --matches go together");
   checkImageOutput(args.output);
   const CameraPtr calibration = loadCalibration(args.flags);
-  const cv::Mat image = loadImage(args.image);
+  const cv::Mat image = loadImage(args.image, args.flags.strict);
   std::optional<std::vector<cv::KeyPoint>> given;
   if (!args.keypoints.empty()) given = loadKeypoints(args.keypoints);
   const Features f = extractFeatures(args.flags, calibration, args.image, image, given);
@@ -123,7 +120,7 @@ void runDraw(const DrawArgs& args) {
   }
 
   if (!args.other.empty()) {
-    const cv::Mat otherImage = loadImage(args.other);
+    const cv::Mat otherImage = loadImage(args.other, args.flags.strict);
     std::optional<std::vector<cv::KeyPoint>> otherGiven;
     if (!args.otherKeypoints.empty()) otherGiven = loadKeypoints(args.otherKeypoints);
     const Features g = extractFeatures(args.flags, calibration, args.other, otherImage, otherGiven);

@@ -47,7 +47,7 @@ void runExtract(const ExtractArgs& args) {
   std::optional<std::vector<cv::KeyPoint>> given;
   if (!args.keypoints.empty()) given = loadKeypoints(args.keypoints);
   for (size_t i = 0; i < args.images.size(); ++i) {
-    const cv::Mat image = loadImage(args.images[i]);
+    const cv::Mat image = loadImage(args.images[i], args.flags.strict);
     const Features f = extractFeatures(args.flags, calibration, args.images[i], image, given);
     writeFeatureFile(outputs[i], f);
     std::cout << args.images[i] << ": " << f.keypoints.size() << " keypoints -> " << outputs[i].string() << "\n";

@@ -1,11 +1,15 @@
 #include "cli/extraction_flags.hpp"
 
+#include <cmath>
 #include <filesystem>
+#include <iostream>
 
 #include <opencv2/imgcodecs.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/storage_io.hpp"
 #include "mdbrief/camera_io.hpp"
+#include "patchextract/image_file.hpp"
 
 namespace mdbrief::cli {
 namespace {
@@ -41,8 +45,14 @@ void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
       ->check(CLI::IsMember({"affine", "paper"}))
       ->capture_default_str();
   cmd.add_option("--pattern", flags.pattern, "Test set: a built-in name or a JSON file (default: the built-in default)");
+  cmd.add_option("--support-scale", flags.supportScale,
+                 "The tests' 31-pixel diameter spans this times the keypoint size (1 = cv::ORB's convention)")
+      ->check(CLI::Range(0.1, 20.0))
+      ->capture_default_str();
   cmd.add_flag("--allow-size-mismatch", flags.allowSizeMismatch,
                "Rescale the calibration to the image size instead of rejecting a different size");
+  cmd.add_flag("--strict", flags.strict,
+               "Reject a truncated (partly decodable) JPEG or PNG instead of warning and describing what decodes");
 }
 
 CameraPtr loadCalibration(const ExtractionFlags& flags) {
@@ -61,8 +71,12 @@ CameraPtr loadCalibration(const ExtractionFlags& flags) {
   }
 }
 
-cv::Mat loadImage(const std::string& path) {
+cv::Mat loadImage(const std::string& path, bool strict) {
   requireReadableFile(path);
+  if (const std::string problem = train::truncationProblem(path); !problem.empty()) {
+    if (strict) throw InputError(path + ": " + problem + " (--strict)");
+    std::cerr << "warning: " << path << ": " << problem << "; describing the decodable part\n";
+  }
   cv::Mat image;
   try {
     image = cv::imread(path, cv::IMREAD_GRAYSCALE);
@@ -77,13 +91,20 @@ std::vector<cv::KeyPoint> loadKeypoints(const std::string& path) {
   requireReadableFile(path);
   std::vector<cv::KeyPoint> keypoints;
   try {
-    cv::FileStorage fs(path, cv::FileStorage::READ);
-    if (!fs.isOpened()) throw InputError(path + ": cannot open as an OpenCV FileStorage file");
+    cv::FileStorage fs = openStorageForReading(path);
     const cv::FileNode node = fs["keypoints"];
     if (node.empty()) throw InputError(path + ": no node 'keypoints'");
     cv::read(node, keypoints);
   } catch (const cv::Exception& e) {
     throw InputError(path + ": cannot parse the keypoints: " + e.err);
+  }
+  // The library drops such keypoints silently; a file that holds them is reported instead.
+  for (size_t i = 0; i < keypoints.size(); ++i) {
+    const cv::KeyPoint& k = keypoints[i];
+    if (!std::isfinite(k.pt.x) || !std::isfinite(k.pt.y) || !(k.size > 0.f) || !std::isfinite(k.size))
+      throw InputError(path + ": keypoint " + std::to_string(i) + " at (" + std::to_string(k.pt.x) + ", " +
+                       std::to_string(k.pt.y) + ") with size " + std::to_string(k.size) +
+                       ": a keypoint needs a finite position and a positive finite size");
   }
   return keypoints;
 }
@@ -106,6 +127,7 @@ cv::Ptr<MdBrief> makeFeature(const ExtractionFlags& flags, const CameraPtr& cali
   options.descriptor.orientation = parseOrientationSource(flags.orientation);
   options.descriptor.form = parseDistortionForm(flags.form);
   options.descriptor.pattern = flags.pattern;
+  options.descriptor.supportScale = flags.supportScale;
   try {
     return MdBrief::create(camera, options);
   } catch (const std::exception& e) {
@@ -122,7 +144,7 @@ Features extractFeatures(const ExtractionFlags& flags, const CameraPtr& calibrat
   try {
     feature->detectAndComputeWithMasks(image, cv::noArray(), f.keypoints, f.descriptors, f.masks, given.has_value());
   } catch (const std::invalid_argument& e) {
-    // E.g. a given keypoint whose octave the pyramid does not have.
+    // E.g. an image the calibration does not fit.
     throw InputError(imagePath + ": " + e.what());
   }
   return f;

@@ -22,20 +22,25 @@ struct ExtractionFlags {
   int features = 1000;
   std::string form = "affine";        // affine | paper
   std::string pattern;                // registry name or JSON file; empty = default set
+  double supportScale = DescriptorOptions{}.supportScale;
   bool allowSizeMismatch = false;     // rescale the calibration to the image instead of failing
+  bool strict = false;                // a truncated image file is an error, not a warning
 };
 
-// Adds --camera, --descriptor, --bits, --no-orientation, --orientation, --features, --form, --pattern and
-// --allow-size-mismatch to cmd, bound to flags (which must outlive the parse).
+// Adds --camera, --descriptor, --bits, --no-orientation, --orientation, --features, --form, --pattern,
+// --support-scale, --allow-size-mismatch and --strict to cmd, bound to flags (which must outlive the parse).
 void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags);
 
 // The calibration of flags.camera, or null when none is given (allowed for brief only).
 CameraPtr loadCalibration(const ExtractionFlags& flags);
 
-// Decoded 8UC1 image. InputError for a missing, empty or undecodable file.
-cv::Mat loadImage(const std::string& path);
+// Decoded 8UC1 image. InputError for a missing, empty or undecodable file. A truncated JPEG or
+// PNG (decoded only partly) gives a warning naming the file on stderr, or with `strict` an
+// InputError.
+cv::Mat loadImage(const std::string& path, bool strict);
 
-// The keypoints of node `keypoints` of an OpenCV FileStorage file.
+// The keypoints of node `keypoints` of an OpenCV FileStorage file. InputError naming the file and
+// the keypoint for a non-finite position or a size that is not a positive finite number.
 std::vector<cv::KeyPoint> loadKeypoints(const std::string& path);
 
 struct Features {

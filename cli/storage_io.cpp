@@ -1,6 +1,8 @@
 #include "cli/storage_io.hpp"
 
 #include <array>
+#include <fstream>
+#include <iterator>
 #include <vector>
 
 #include <unistd.h>
@@ -95,13 +97,27 @@ void writeFeatureFile(const fs::path& path, const Features& features) {
   });
 }
 
-Features readFeatureFile(const std::string& path) {
+cv::FileStorage openStorageForReading(const std::string& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw InputError(path + ": no such file");
+  if (!endsWith(path, ".gz")) {
+    std::ifstream in(path, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!in.good() && !in.eof()) throw InputError(path + ": cannot read");
+    const size_t nul = bytes.find('\0');
+    if (nul != std::string::npos)
+      throw InputError(path + ": byte " + std::to_string(nul) +
+                       " is NUL; a FileStorage text file (YAML, JSON, XML) cannot hold one");
+  }
+  cv::FileStorage storage(path, cv::FileStorage::READ);
+  if (!storage.isOpened()) throw InputError(path + ": cannot open as an OpenCV FileStorage file");
+  return storage;
+}
+
+Features readFeatureFile(const std::string& path) {
   Features f;
   try {
-    cv::FileStorage storage(path, cv::FileStorage::READ);
-    if (!storage.isOpened()) throw InputError(path + ": cannot open as an OpenCV FileStorage file");
+    cv::FileStorage storage = openStorageForReading(path);
     const cv::FileNode desc = storage["descriptors"];
     if (desc.empty()) throw InputError(path + ": no node 'descriptors'");
     desc >> f.descriptors;

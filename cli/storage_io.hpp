@@ -22,6 +22,11 @@ void checkImageOutput(const std::filesystem::path& path);
 void writeStorageAtomically(const std::filesystem::path& path, const std::function<void(cv::FileStorage&)>& write);
 void writeImageAtomically(const std::filesystem::path& path, const cv::Mat& image);
 
+// Opens an existing FileStorage file for reading. Text files (not .gz) holding a NUL byte are
+// refused before OpenCV sees them: no YAML, JSON or XML file holds one, and OpenCV 4.6's parser
+// loops forever on some (fuzz/regressions/keypoints).
+cv::FileStorage openStorageForReading(const std::string& path);
+
 // Nodes `keypoints` (cv::write), `descriptors` (N x bytes CV_8U) and, when not empty, `masks`
 // (N x bytes CV_8U).
 void writeFeatureFile(const std::filesystem::path& path, const Features& features);

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "patchextract/patch_extraction.hpp"
+#include "patchextract/view_change_flags.hpp"
 #include "trainer/progress_reporter.hpp"
 
 int main(int argc, char** argv) {
@@ -25,6 +26,13 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--render-through-camera", o.renderThroughCamera,
                "use each photo as a plane seen through --camera (synthetic fisheye images)");
+  app.add_option("--counterparts", o.counterparts,
+                 "changed views per image: stability data for mdbrief-train --selection stability|separation")
+      ->capture_default_str();
+  addViewChangeFlags(app, o.viewChange);
+  std::vector<std::string> heldOut;
+  app.add_option("--held-out", heldOut,
+                 "file of image digests never to extract from, in addition to the shipped evaluations' images");
   app.add_option("--out", out, "output HDF5 file")->required();
   try {
     app.parse(argc, argv);
@@ -35,6 +43,7 @@ int main(int argc, char** argv) {
   try {
     o.detector = parseDetector(detector);
     for (const auto& d : dirs) o.imageDirs.emplace_back(d);
+    for (const auto& file : heldOut) o.heldOut.merge(readHeldOutImages(file));
     ExtractionReport report;
     const PatchSet set = extractPatches(o, report, [&](const char* stage, size_t d, size_t t) {
       progress.update(stage, d, t);
@@ -46,7 +55,9 @@ int main(int argc, char** argv) {
     std::cout << "images: " << report.imagesFound << " found, " << report.imagesUsed << " used, "
               << report.skipped.size() << " skipped\n";
     for (const auto& [reason, n] : reasons) std::cout << "  skipped (" << reason << "): " << n << "\n";
-    std::cout << "patches: " << set.count() << " of " << o.patches << " requested -> " << out
+    std::cout << "held out (evaluation or validation images): " << report.heldOut << " images\n";
+    std::cout << "patches: " << set.count() << " of " << o.patches << " requested, " << set.counterpartCount()
+              << " counterparts -> " << out
               << " (" << report.seconds << " s)\n";
   } catch (const std::exception& e) {
     progress.finish();

@@ -7,8 +7,10 @@
 #include <string>
 #include <vector>
 
+#include "patchextract/image_digest.hpp"
 #include "patchextract/keypoint_detectors.hpp"
 #include "patchextract/patch_set.hpp"
+#include "patchextract/view_change.hpp"
 
 namespace mdbrief::train {
 
@@ -24,6 +26,21 @@ struct ExtractionOptions {
   // spanning +-renderHalfFovDeg, and keypoints are detected on that rendering. Needs cameraPath.
   bool renderThroughCamera = false;
   double renderHalfFovDeg = 60.0;
+  // Stability data: each image is also seen in `counterparts` random view changes
+  // (view_change.hpp); the detector runs on every view, and a keypoint is kept only if some view
+  // has a keypoint where the change puts it, at the size the change predicts. Its patch then has
+  // one counterpart patch per such view, sampled at the view keypoint's own position, size and
+  // angle: the errors a detector really makes. 0 = reference patches only (the paper's data).
+  int counterparts = 0;
+  ViewChangeOptions viewChange;
+  // A view keypoint matches when it lies within this many pixels of the predicted position, in
+  // units of the keypoint's sampling step (size / 31), and its size within this ratio of the
+  // predicted one: one pyramid level of ORB (1.2) plus the zoom's in-between values.
+  double matchRadius = 2.5;
+  double matchSizeRatio = 1.3;
+  // Images never to train on (by content digest): the shipped evaluations' images
+  // (shippedHeldOutImages()) plus any a caller adds. They are skipped and reported.
+  HeldOutImages heldOut = shippedHeldOutImages();
 };
 
 struct SkippedImage {
@@ -34,8 +51,11 @@ struct SkippedImage {
 struct ExtractionReport {
   size_t imagesFound = 0;
   size_t imagesUsed = 0;          // images that gave at least one patch
-  std::vector<SkippedImage> skipped;
-  size_t usableKeypoints = 0;     // keypoints whose whole patch could be sampled
+  std::vector<SkippedImage> skipped;  // includes the held-out ones
+  size_t heldOut = 0;                 // images skipped because an evaluation uses them
+  size_t usableKeypoints = 0;     // keypoints whose whole patch could be sampled (and, with
+                                  // counterparts, that were found again in a view)
+  size_t detectedInViews = 0;     // with counterparts: usable keypoints before the view check
   double seconds = 0;
 };
 

@@ -1,5 +1,6 @@
 #include "patchextract/patch_set.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <system_error>
 
@@ -80,13 +81,61 @@ void readDataset(hid_t file, const char* name, hid_t memType, size_t expected, v
                  const std::string& path) {
   Handle ds(H5Dopen2(file, name, H5P_DEFAULT), H5Dclose);
   if (!ds.ok()) throw std::runtime_error(path + ": missing dataset /" + name);
+  // Every dataset holds numbers of at most 8 bytes or variable-length strings; a damaged type
+  // could make the library's conversion buffer as large as it claims.
+  Handle fileType(H5Dget_type(ds.get()), H5Tclose);
+  if (!fileType.ok() || (H5Tis_variable_str(fileType.get()) <= 0 && H5Tget_size(fileType.get()) > 8))
+    throw std::runtime_error(path + ": dataset /" + name + " has an unexpected element type (damaged file?)");
   Handle space(H5Dget_space(ds.get()), H5Sclose);
   const hssize_t n = H5Sget_simple_extent_npoints(space.get());
   if (n < 0 || static_cast<size_t>(n) != expected)
     throw std::runtime_error(path + ": dataset /" + name + " has " + std::to_string(n) +
                              " elements, expected " + std::to_string(expected));
+  // The writer stores every dataset contiguously inside the file; anything else is damage that
+  // libhdf5 1.10 may not survive reading (fuzzing found a NULL read in H5Dread).
+  Handle dcpl(H5Dget_create_plist(ds.get()), H5Pclose);
+  const haddr_t offset = H5Dget_offset(ds.get());
+  const double bytes = static_cast<double>(expected) * static_cast<double>(H5Tget_size(fileType.get()));
+  hsize_t fileSize = 0;
+  if (expected > 0 &&
+      (!dcpl.ok() || H5Pget_layout(dcpl.get()) != H5D_CONTIGUOUS || offset == HADDR_UNDEF ||
+       H5Fget_filesize(file, &fileSize) < 0 || static_cast<double>(H5Dget_storage_size(ds.get())) < bytes ||
+       static_cast<double>(offset) + bytes > static_cast<double>(fileSize)))
+    throw std::runtime_error(path + ": dataset /" + name + " is not stored as this tool writes it (damaged file?)");
   if (expected > 0 && H5Dread(ds.get(), memType, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) < 0)
     throw std::runtime_error(path + ": cannot read dataset /" + name);
+}
+
+// String lists are stored as one uint8 dataset of NUL-terminated strings: libhdf5 1.10 can loop
+// forever on a damaged variable-length string heap (found by fuzzing), plain bytes it cannot.
+void writeStringList(hid_t file, const char* name, const std::vector<std::string>& strings, const std::string& path) {
+  std::vector<uint8_t> bytes;
+  for (const auto& str : strings) {
+    bytes.insert(bytes.end(), str.begin(), str.end());
+    bytes.push_back(0);
+  }
+  writeDataset(file, name, H5T_NATIVE_UINT8, {bytes.size()}, bytes.data(), path);
+}
+
+std::vector<std::string> readStringList(hid_t file, const char* name, hsize_t count, const std::string& path) {
+  {
+    Handle ds(H5Dopen2(file, name, H5P_DEFAULT), H5Dclose);
+    Handle type(ds.ok() ? H5Dget_type(ds.get()) : -1, H5Tclose);
+    if (type.ok() && H5Tis_variable_str(type.get()) > 0)
+      throw std::runtime_error(path + ": dataset /" + name +
+                               " is in the format of an earlier mdbrief-patchextract: extract the patches again");
+  }
+  std::vector<uint8_t> bytes(count);
+  readDataset(file, name, H5T_NATIVE_UINT8, count, bytes.data(), path);
+  if (!bytes.empty() && bytes.back() != 0)
+    throw std::runtime_error(path + ": dataset /" + name + " does not end with a NUL byte (damaged file?)");
+  std::vector<std::string> out;
+  for (size_t start = 0; start < bytes.size();) {
+    const size_t end = std::find(bytes.begin() + start, bytes.end(), uint8_t(0)) - bytes.begin();
+    out.emplace_back(bytes.begin() + start, bytes.begin() + end);
+    start = end + 1;
+  }
+  return out;
 }
 
 hsize_t firstDimension(hid_t file, const char* name, int rank, const std::string& path) {
@@ -105,6 +154,16 @@ hsize_t firstDimension(hid_t file, const char* name, int rank, const std::string
 
 }  // namespace
 
+std::vector<std::string> PatchSet::usedImageDigests() const {
+  if (imageDigests.empty()) return {};
+  std::vector<std::string> used;
+  for (const auto& r : records)
+    if (!imageDigests[r.image].empty()) used.push_back(imageDigests[r.image]);
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  return used;
+}
+
 void writePatchSet(const PatchSet& s, const fs::path& path) {
   static const QuietHdf5 quiet;
   const std::string p = path.string();
@@ -114,6 +173,8 @@ void writePatchSet(const PatchSet& s, const fs::path& path) {
     throw std::runtime_error(p + ": output folder " + dir.string() + " does not exist");
   if (s.pixels.size() != s.count() * 1024)
     throw std::runtime_error(p + ": patch pixels do not match the record count");
+  if (s.counterpartPixels.size() != s.counterpartCount() * 1024)
+    throw std::runtime_error(p + ": counterpart pixels do not match their count");
   const fs::path tmp = dir / ("." + path.filename().string() + ".tmp" + std::to_string(::getpid()));
   try {
     Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
@@ -121,10 +182,12 @@ void writePatchSet(const PatchSet& s, const fs::path& path) {
     if (!file.ok()) throw std::runtime_error(p + ": cannot create " + tmp.string());
     const hsize_t n = s.count();
     writeDataset(file.get(), "patches", H5T_NATIVE_UINT8, {n, 32, 32}, s.pixels.data(), p);
-    std::vector<const char*> names;
-    for (const auto& im : s.images) names.push_back(im.c_str());
-    const Handle strType = stringType();
-    writeDataset(file.get(), "images", strType.get(), {names.size()}, names.data(), p);
+    writeStringList(file.get(), "images", s.images, p);
+    if (!s.imageDigests.empty()) {
+      if (s.imageDigests.size() != s.images.size())
+        throw std::runtime_error(p + ": one image digest per image expected");
+      writeStringList(file.get(), "image_digests", s.imageDigests, p);
+    }
     writeDataset(file.get(), "image", H5T_NATIVE_INT32, {n}, gather(s, &PatchRecord::image).data(), p);
     writeDataset(file.get(), "x", H5T_NATIVE_FLOAT, {n}, gather(s, &PatchRecord::x).data(), p);
     writeDataset(file.get(), "y", H5T_NATIVE_FLOAT, {n}, gather(s, &PatchRecord::y).data(), p);
@@ -134,6 +197,11 @@ void writePatchSet(const PatchSet& s, const fs::path& path) {
                  gather(s, &PatchRecord::response).data(), p);
     writeDataset(file.get(), "detector", H5T_NATIVE_UINT8, {n},
                  gather(s, &PatchRecord::detector).data(), p);
+    if (s.counterpartCount() > 0) {
+      const hsize_t q = s.counterpartCount();
+      writeDataset(file.get(), "counterparts", H5T_NATIVE_UINT8, {q, 32, 32}, s.counterpartPixels.data(), p);
+      writeDataset(file.get(), "counterpart_of", H5T_NATIVE_INT32, {q}, s.counterpartOf.data(), p);
+    }
     writeStringAttribute(file.get(), "detectors", kDetectorNames, p);
     for (const auto& [k, v] : s.attributes) writeStringAttribute(file.get(), k, v, p);
     if (H5Fflush(file.get(), H5F_SCOPE_GLOBAL) < 0) throw std::runtime_error(p + ": flush failed");
@@ -159,18 +227,26 @@ PatchSet readPatchSet(const fs::path& path) {
   if (!file.ok()) throw std::runtime_error(p + ": cannot open (truncated or damaged HDF5 file?)");
 
   PatchSet s;
-  const hsize_t n = firstDimension(file.get(), "patches", 3, p);
-  const hsize_t m = firstDimension(file.get(), "images", 1, p);
+  // Sizes come from the file's header: a damaged one could claim terabytes. Nothing in the file
+  // is compressed, so a dataset cannot hold more bytes than the file (64x leaves room for files
+  // written by other tools with compression).
+  const auto fileBytes = static_cast<double>(fs::file_size(path, ec));
+  const auto plausible = [&](hsize_t count, double bytesEach, const char* name) {
+    if (static_cast<double>(count) * bytesEach > 64.0 * fileBytes + 4096.0)
+      throw std::runtime_error(p + ": dataset /" + name + " claims " + std::to_string(count) +
+                               " elements, more than a file of " + std::to_string(static_cast<long long>(fileBytes)) +
+                               " bytes can hold (damaged file?)");
+    return count;
+  };
+  const hsize_t n = plausible(firstDimension(file.get(), "patches", 3, p), 1024, "patches");
+  s.images = readStringList(file.get(), "images", plausible(firstDimension(file.get(), "images", 1, p), 1, "images"), p);
+  const hsize_t m = s.images.size();
   s.pixels.resize(n * 1024);
   readDataset(file.get(), "patches", H5T_NATIVE_UINT8, n * 1024, s.pixels.data(), p);
-  {
-    const Handle strType = stringType();
-    std::vector<char*> names(m, nullptr);
-    readDataset(file.get(), "images", strType.get(), m, names.data(), p);
-    for (char* name : names) s.images.emplace_back(name ? name : "");
-    Handle ds(H5Dopen2(file.get(), "images", H5P_DEFAULT), H5Dclose);
-    Handle space(H5Dget_space(ds.get()), H5Sclose);
-    if (m > 0) H5Dvlen_reclaim(strType.get(), space.get(), H5P_DEFAULT, names.data());
+  if (H5Lexists(file.get(), "image_digests", H5P_DEFAULT) > 0) {
+    s.imageDigests = readStringList(
+        file.get(), "image_digests", plausible(firstDimension(file.get(), "image_digests", 1, p), 1, "image_digests"), p);
+    if (s.imageDigests.size() != m) throw std::runtime_error(p + ": /image_digests must have one entry per image");
   }
   s.records.resize(n);
   std::vector<int32_t> image(n);
@@ -188,6 +264,20 @@ PatchSet readPatchSet(const fs::path& path) {
       throw std::runtime_error(p + ": patch " + std::to_string(i) + " has image index " +
                                std::to_string(image[i]) + " outside the image list");
     s.records[i] = {image[i], x[i], y[i], scale[i], angle[i], response[i], detector[i]};
+  }
+  // Counterparts are optional (files of the paper's scheme have none).
+  if (H5Lexists(file.get(), "counterparts", H5P_DEFAULT) > 0) {
+    const hsize_t q = plausible(firstDimension(file.get(), "counterparts", 3, p), 1024, "counterparts");
+    s.counterpartPixels.resize(q * 1024);
+    s.counterpartOf.resize(q);
+    readDataset(file.get(), "counterparts", H5T_NATIVE_UINT8, q * 1024, s.counterpartPixels.data(), p);
+    readDataset(file.get(), "counterpart_of", H5T_NATIVE_INT32, q, s.counterpartOf.data(), p);
+    for (hsize_t j = 0; j < q; ++j)
+      if (s.counterpartOf[j] < 0 || static_cast<hsize_t>(s.counterpartOf[j]) >= n ||
+          (j > 0 && s.counterpartOf[j] < s.counterpartOf[j - 1]))
+        throw std::runtime_error(p + ": counterpart " + std::to_string(j) + " refers to patch " +
+                                 std::to_string(s.counterpartOf[j]) +
+                                 " (must be an ascending index into /patches)");
   }
   return s;
 }

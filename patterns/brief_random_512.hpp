@@ -523,6 +523,7 @@ inline constexpr TestPair kBriefRandom512[512] = {
     {3, 8, 5, 3},  // 511: length 5.4
 };
 inline constexpr PatternInfo kBriefRandom512Info{"brief_random_512", kBriefRandom512, 512,
-    "BRIEF G II random tests: isotropic Gaussian, sigma = S/5 = 6.4 px, clipped to [-15, 14], seed 20170529"};
+    "BRIEF G II random tests: isotropic Gaussian, sigma = S/5 = 6.4 px, clipped to [-15, 14], seed 20170529",
+    ""};
 
 }  // namespace mdbrief::patterns

@@ -3,6 +3,7 @@
 #include "patterns/brief_random_512.hpp"
 #include "patterns/orb_fisheye_512.hpp"
 #include "patterns/orb_perspective_512.hpp"
+#include "patterns/orb_perspective_paper_512.hpp"
 
 namespace mdbrief::patterns {
 
@@ -11,6 +12,7 @@ inline constexpr const PatternInfo* kRegistry[] = {
     &kBriefRandom512Info,
     &kOrbFisheye512Info,
     &kOrbPerspective512Info,
+    &kOrbPerspectivePaper512Info,
 };
 inline constexpr const char* kDefaultPattern = "orb_perspective_512";
 

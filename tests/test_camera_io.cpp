@@ -296,4 +296,17 @@ TEST_F(BrokenFiles, ErrorsNameTheFileAndTheKey) {
   expectError("does_not_exist_dir/x.yaml", "", "cannot open");
 }
 
+// Files that parse but describe no lens: the error names the parameters and their values.
+TEST_F(BrokenFiles, NonsenseModelsAreRejected) {
+  const std::string kbHead = "model: kannala_brandt\nwidth: 752\nheight: 480\nfx: 461\nfy: 460\ncx: 366\ncy: 249\n";
+  expectError("kb_huge_k1.yaml", kbHead + "k1: 1e30\nk2: 0\nk3: 0\nk4: 0\n", "k1: 1e+30");
+  expectError("kb_huge_k1_span.yaml", kbHead + "k1: 1e30\nk2: 0\nk3: 0\nk4: 0\n", "spans only");
+  expectError("radtan_huge_k1.yaml",
+              "model: radtan\nwidth: 752\nheight: 480\nfx: 461\nfy: 460\ncx: 366\ncy: 249\nk1: 1e30\nk2: 0\np1: 0\np2: 0\n",
+              "k1: 1e+30");
+  // A principal point outside the image.
+  expectError("pinhole_far_centre.yaml", kPinholeHead + "fx: 377\nfy: 377\ncx: 5000\ncy: 240\n",
+              "optical axis does not project into the image");
+}
+
 }  // namespace

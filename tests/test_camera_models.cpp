@@ -211,7 +211,7 @@ TEST(CameraModels, UnifiedAndDoubleSphereReduceToPinhole) {
   const DoubleSphereCamera ds(DoubleSphereParams{kFisheye, 0.0, 0.0});
   EXPECT_EQ(ucm.modelName(), "ucm");
   EXPECT_EQ(UnifiedCamera(UnifiedParams{kFisheye, 0.5, 1.2}).modelName(), "eucm");
-  for (const cv::Vec3d ray : {cv::Vec3d(0.3, -0.2, 1.0), cv::Vec3d(-0.7, 0.4, 1.0)}) {
+  for (const cv::Vec3d& ray : {cv::Vec3d(0.3, -0.2, 1.0), cv::Vec3d(-0.7, 0.4, 1.0)}) {
     cv::Point2d a, b, c;
     ASSERT_TRUE(pinhole.bearingToPixel(ray, a));
     ASSERT_TRUE(ucm.bearingToPixel(ray, b));

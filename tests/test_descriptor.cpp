@@ -14,7 +14,7 @@ namespace {
 TestSet randomTests(int n, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> u(-15, 14);
-  TestSet set{"test_random", {}};
+  TestSet set{"test_random", {}, {}};
   while (static_cast<int>(set.tests.size()) < n) {
     TestPair t{int8_t(u(rng)), int8_t(u(rng)), int8_t(u(rng)), int8_t(u(rng))};
     if (t.x1 != t.x2 || t.y1 != t.y2) set.tests.push_back(t);
@@ -104,14 +104,50 @@ TEST(Brief, KeypointsWhoseTestsLeaveTheImageAreDroppedConsistently) {
   EXPECT_FLOAT_EQ(kps[1].pt.x, 70.f);
 }
 
-TEST(Brief, OctaveBeyondThePyramidIsAnError) {
+// The footprint follows the size, not the octave: sizes that are not positive finite numbers
+// are dropped, any octave is accepted, and nothing is read outside the image.
+TEST(Brief, KeypointsFromOutsideAreDescribedBySizeOrDropped) {
   const TestSet tests = randomTests(256, 4);
   cv::Mat img(120, 160, CV_8U, cv::Scalar(10));
   const ImagePyramid pyramid(img, PyramidOptions{}, 2);
-  std::vector<cv::KeyPoint> kps{cv::KeyPoint(80, 60, 31, 0, 1, 5)};
+  std::vector<cv::KeyPoint> kps{
+      cv::KeyPoint(80, 60, 31, 0, 1, 5),          // octave beyond the pyramid: ignored, kept
+      cv::KeyPoint(80, 60, 31, 0, 1, -3),         // negative octave: ignored, kept
+      cv::KeyPoint(81, 60, 0, 0, 1, 0),           // size 0: dropped
+      cv::KeyPoint(82, 60, -31, 0, 1, 0),         // negative size: dropped
+      cv::KeyPoint(83, 60, NAN, 0, 1, 0),         // NaN size: dropped
+      cv::KeyPoint(84, 60, INFINITY, 0, 1, 0),    // infinite size: dropped
+      cv::KeyPoint(85, 60, 400, 0, 1, 0),         // footprint larger than the image: dropped
+      cv::KeyPoint(-40, 60, 31, 0, 1, 0),         // outside the image: dropped
+  };
   cv::Mat desc;
-  EXPECT_THROW(DescriptorExtractor(nullptr, briefOptions(256), tests).compute(pyramid, kps, desc),
-               std::invalid_argument);
+  ASSERT_NO_THROW(DescriptorExtractor(nullptr, briefOptions(256), tests).compute(pyramid, kps, desc));
+  ASSERT_EQ(kps.size(), 2u);
+  EXPECT_EQ(desc.rows, 2);
+  EXPECT_EQ(kps[0].octave, 5);
+  EXPECT_EQ(kps[1].octave, -3);
+}
+
+// The same keypoint at sizes s and 1.2 s samples a footprint 1.2 x wider, whichever levels the
+// two sizes fall on; supportScale scales it the same way.
+TEST(Brief, FootprintIsProportionalToTheKeypointSize) {
+  const TestSet tests = randomTests(256, 6);
+  const auto spread = [&](float size, double supportScale) {
+    auto o = briefOptions(256);
+    o.supportScale = supportScale;
+    const auto pos = DescriptorExtractor(nullptr, o, tests).testPositions(cv::KeyPoint(400, 300, size, 30, 1, 0));
+    EXPECT_EQ(pos.size(), 256u);
+    double sum = 0;
+    for (const auto& [p1, p2] : pos) sum += cv::norm(p1 - cv::Point2f(400, 300)) + cv::norm(p2 - cv::Point2f(400, 300));
+    return sum;
+  };
+  for (const float s : {23.f, 31.f, 40.f, 57.f, 90.f}) {
+    EXPECT_NEAR(spread(1.2f * s, 1.0) / spread(s, 1.0), 1.2, 0.01) << s;
+    EXPECT_NEAR(spread(s, 2.0) / spread(s, 1.0), 2.0, 0.02) << s;
+  }
+  auto bad = briefOptions(256);
+  bad.supportScale = 0;
+  EXPECT_THROW(DescriptorExtractor(nullptr, bad, tests), std::invalid_argument);
 }
 
 TEST(Brief, InvalidOptionsAreRejected) {

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "eval_datasets.hpp"
 #include "mdbrief/camera_io.hpp"
@@ -198,6 +199,31 @@ TEST(EvalPrecisionRecall, ExportedUserSequenceReproducesThePlaneGroundTruth) {
   const std::string singular = (dir.path / "H_singular").string();
   std::ofstream(singular) << "1 0 0  0 1 0  0 0 0\n";
   EXPECT_THROW(loadUserSequence("bad", {files.images[0], files.images[1]}, files.camera, {singular}),
+               std::runtime_error);
+}
+
+// A real photo seen by the turned lens: the written rotations are the ground truth, and a bright
+// spot lands where they map it.
+TEST(EvalPrecisionRecall, RotatedViewsOfAPhotoMapByTheirRotations) {
+  const CameraPtr cam = loadCamera((testing::sourceDir() / "configs/cameras/lafida_fisheye0.yaml").string());
+  const cv::Size size = cam->imageSize();
+  cv::Mat photo(size, CV_8UC1, cv::Scalar(40));
+  const cv::Point2d spot(400, 250);
+  cv::circle(photo, cv::Point(400, 250), 3, cv::Scalar(255), cv::FILLED);
+  const testing::TempDir dir("rotated");
+  const UserSequenceFiles files = exportRotatedViews(dir.path.string(), photo, cam, 3);
+  ASSERT_EQ(files.images.size(), 3u);
+  ASSERT_EQ(files.homographies.size(), 2u);
+  const EvalSequence seq = loadUserSequence("rotated", files.images, files.camera, files.homographies);
+  for (size_t p = 0; p < seq.pairs.size(); ++p) {
+    const auto mapped = seq.pairs[p].map(spot);
+    ASSERT_TRUE(mapped) << "pair " << p;
+    const cv::Moments m = cv::moments(seq.images[seq.pairs[p].second] > 128, true);
+    ASSERT_GT(m.m00, 0.0);
+    EXPECT_LT(cv::norm(cv::Point2d(m.m10 / m.m00, m.m01 / m.m00) - *mapped), 1.0) << "pair " << p;
+    EXPECT_GT(cv::norm(*mapped - spot), 20.0) << "the lens turned";
+  }
+  EXPECT_THROW(exportRotatedViews(dir.path.string(), cv::Mat(100, 100, CV_8UC1, cv::Scalar(0)), cam, 3),
                std::runtime_error);
 }
 

@@ -218,6 +218,7 @@ TEST(MdBriefFeature2D, FileStorageRoundTripKeepsEveryOption) {
   o.descriptor.sampling = Sampling::Nearest;
   o.descriptor.maskRotationDeg = 7.5;
   o.descriptor.maxIncidenceDeg = 70.0;
+  o.descriptor.supportScale = 2.5;
   const CameraPtr camera = fisheyeCamera();
 
   for (const char* ext : {".yml", ".json", ".xml"}) {
@@ -257,6 +258,7 @@ TEST(MdBriefFeature2D, FileStorageRoundTripKeepsEveryOption) {
     EXPECT_EQ(r.descriptor.sampling, Sampling::Nearest);
     EXPECT_DOUBLE_EQ(r.descriptor.maskRotationDeg, 7.5);
     EXPECT_DOUBLE_EQ(r.descriptor.maxIncidenceDeg, 70.0);
+    EXPECT_DOUBLE_EQ(r.descriptor.supportScale, 2.5);
     EXPECT_EQ(back->descriptorSize(), 16);
   }
 }

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera_pinhole.hpp"
 #include "mdbrief/descriptor.hpp"
 #include "mdbrief/patterns.hpp"
 #include "mdbrief/plane_renderer.hpp"
@@ -129,9 +130,16 @@ TEST(Extraction, SpreadsOverImagesSkipsBrokenFilesAndIsDeterministic) {
   const auto doc = mdbrief::testing::opencvDocDataDir();
   if (!doc) GTEST_SKIP() << "opencv-doc not installed";
   TempDir dir("extract");
-  for (const char* f : {"graf1.png", "box_in_scene.png", "building.jpg"})
+  for (const char* f : {"box.png", "box_in_scene.png", "butterfly.jpg"})
     fs::copy_file(*doc / f, dir.path / f);
   std::ofstream(dir.path / "broken.jpg") << "not a jpeg";
+  {
+    // A truncated JPEG decodes partly: skipped, not trained on.
+    std::vector<uchar> jpeg;
+    cv::imencode(".jpg", cv::imread((*doc / "box.png").string(), cv::IMREAD_GRAYSCALE), jpeg);
+    std::ofstream(dir.path / "cut.jpg", std::ios::binary).write(reinterpret_cast<const char*>(jpeg.data()),
+                                                               static_cast<std::streamsize>(jpeg.size() / 2));
+  }
   ExtractionOptions o;
   o.imageDirs = {dir.path};
   o.patches = 600;
@@ -139,16 +147,17 @@ TEST(Extraction, SpreadsOverImagesSkipsBrokenFilesAndIsDeterministic) {
   ExtractionReport r1, r2;
   const PatchSet a = extractPatches(o, r1);
   const PatchSet b = extractPatches(o, r2);
-  EXPECT_EQ(r1.imagesFound, 4u);
+  EXPECT_EQ(r1.imagesFound, 5u);
   EXPECT_EQ(r1.imagesUsed, 3u);
-  ASSERT_EQ(r1.skipped.size(), 1u);
+  ASSERT_EQ(r1.skipped.size(), 2u);
   EXPECT_EQ(r1.skipped[0].reason, "unreadable");
+  EXPECT_NE(r1.skipped[1].reason.find("truncated JPEG"), std::string::npos) << r1.skipped[1].reason;
   ASSERT_EQ(a.count(), 600u);
   EXPECT_EQ(a.pixels, b.pixels);
   std::vector<size_t> perImage(a.images.size(), 0);
   for (const auto& rec : a.records) ++perImage[rec.image];
   for (size_t i = 0; i < a.images.size(); ++i) {
-    if (fs::path(a.images[i]).filename() != "broken.jpg") {
+    if (fs::path(a.images[i]).filename() != "broken.jpg" && fs::path(a.images[i]).filename() != "cut.jpg") {
       EXPECT_EQ(perImage[i], 200u) << a.images[i];
     }
   }
@@ -191,4 +200,76 @@ TEST(PatchFile, RoundTripAndBrokenFiles) {
   fs::resize_file(dir.path / "cut.h5", size / 2);
   EXPECT_THROW(readPatchSet(dir.path / "cut.h5"), std::runtime_error);
   EXPECT_THROW(writePatchSet(s, dir.path / "nofolder" / "x.h5"), std::runtime_error);
+}
+
+TEST(ViewChange, MapsBothWaysAndIsReproducible) {
+  ViewChangeOptions o;
+  const cv::Size size(640, 480);
+  const auto perspective = randomViewChange(size, nullptr, o, 42);
+  const auto again = randomViewChange(size, nullptr, o, 42);
+  cv::Point2d v, back, v2;
+  ASSERT_TRUE(perspective->toView({320, 240}, v));
+  ASSERT_TRUE(again->toView({320, 240}, v2));
+  EXPECT_EQ(v, v2);
+  ASSERT_TRUE(perspective->toSource(v, back));
+  EXPECT_NEAR(cv::norm(back - cv::Point2d(320, 240)), 0.0, 1e-6);
+  EXPECT_GT(perspective->localZoom({320, 240}), 1 / o.maxZoom / 1.5);
+  // With a camera: a turned and zoomed fisheye lens, round trip through the bearings.
+  CameraIntrinsics k{640, 480, 300, 300, 319.5, 239.5};
+  const CameraPtr pinhole = std::make_shared<PinholeCamera>(k);
+  const auto turned = randomViewChange(size, pinhole, o, 7);
+  ASSERT_NE(turned->viewCamera(), nullptr);
+  int mapped = 0;
+  for (double x = 100; x < 600; x += 50)
+    for (double y = 100; y < 400; y += 50)
+      if (turned->toView({x, y}, v)) {
+        ASSERT_TRUE(turned->toSource(v, back));
+        EXPECT_NEAR(cv::norm(back - cv::Point2d(x, y)), 0.0, 1e-6);
+        ++mapped;
+      }
+  EXPECT_GT(mapped, 10);
+  const cv::Mat img(size, CV_8UC1, cv::Scalar(100));
+  EXPECT_EQ(cv::countNonZero(perspective->render(img, 1) != again->render(img, 1)), 0) << "same seed, same view";
+  ViewChangeOptions bad;
+  bad.maxZoom = 0.5;
+  EXPECT_THROW(randomViewChange(size, nullptr, bad, 1), std::invalid_argument);
+}
+
+TEST(Extraction, CounterpartsAreTheSameKeypointsInChangedViewsAndHeldOutImagesAreSkipped) {
+  const auto doc = mdbrief::testing::opencvDocDataDir();
+  if (!doc) GTEST_SKIP() << "opencv-doc not installed";
+  TempDir dir("pairs");
+  for (const char* f : {"graf1.png", "box_in_scene.png", "butterfly.jpg"}) fs::copy_file(*doc / f, dir.path / f);
+  ExtractionOptions o;
+  o.imageDirs = {dir.path};
+  o.patches = 400;
+  o.counterparts = 2;
+  ExtractionReport r1, r2;
+  const PatchSet a = extractPatches(o, r1);
+  const PatchSet b = extractPatches(o, r2);
+  // graf1.png is Oxford graf img1 under another name: held out by its pixels.
+  EXPECT_EQ(r1.heldOut, 1u);
+  ASSERT_EQ(a.count(), 400u);
+  EXPECT_EQ(a.pixels, b.pixels);
+  EXPECT_EQ(a.counterpartPixels, b.counterpartPixels);
+  ASSERT_GE(a.counterpartCount(), a.count());
+  ASSERT_LE(a.counterpartCount(), 2 * a.count());
+  EXPECT_TRUE(std::is_sorted(a.counterpartOf.begin(), a.counterpartOf.end()));
+  // A counterpart resembles its own reference patch more than another keypoint's.
+  double own = 0, other = 0;
+  for (size_t j = 0; j < a.counterpartCount(); ++j) {
+    const uint8_t* c = a.counterpartPixels.data() + j * 1024;
+    const uint8_t* r = a.pixels.data() + a.counterpartOf[j] * 1024;
+    const uint8_t* s = a.pixels.data() + ((a.counterpartOf[j] + 97) % a.count()) * 1024;
+    for (int i = 0; i < 1024; ++i) own += std::abs(c[i] - r[i]), other += std::abs(c[i] - s[i]);
+  }
+  EXPECT_LT(own, 0.6 * other);
+  EXPECT_EQ(a.usedImageDigests().size(), 2u);
+  // The pairs and digests survive the patch file.
+  const fs::path file = dir.path / "pairs.h5";
+  writePatchSet(a, file);
+  const PatchSet c = readPatchSet(file);
+  EXPECT_EQ(c.counterpartPixels, a.counterpartPixels);
+  EXPECT_EQ(c.counterpartOf, a.counterpartOf);
+  EXPECT_EQ(c.imageDigests, a.imageDigests);
 }

@@ -165,3 +165,89 @@ TEST(Trainer, IsDeterministicWithCorrelationsBelowTheFinalThreshold) {
   EXPECT_EQ(patchDigest({px.data(), P}), patchDigest({px.data(), P}));
   EXPECT_EQ(patchDigest({px.data(), P}).size(), 16u);
 }
+
+TEST(Pairs, DisagreementCountsAndBitsMatchAScalarEvaluation) {
+  const size_t P = 70, Q = 90;
+  const auto ref = randomPatches(P, 11), cp = randomPatches(Q, 12);
+  std::vector<int32_t> of(Q);
+  for (size_t j = 0; j < Q; ++j) of[j] = static_cast<int32_t>(j * P / Q);
+  const std::vector<TestPair> tests{{-3, 2, 5, -7}, {0, 0, 1, 1}, {-15, -15, 14, 14}, {4, -2, -9, 8}};
+  const auto flips = countDisagreements({ref.data(), P}, {cp.data(), Q}, of, tests);
+  const TestResponses bits = disagreementBits({ref.data(), P}, {cp.data(), Q}, of, tests);
+  const auto at = [](const std::vector<uint8_t>& px, size_t p, int x, int y) { return px[p * 1024 + (y + 16) * 32 + x + 16]; };
+  for (size_t d = 0; d < tests.size(); ++d) {
+    const TestPair& t = tests[d];
+    uint32_t expected = 0;
+    for (size_t j = 0; j < Q; ++j) {
+      const bool a = at(ref, of[j], t.x1, t.y1) < at(ref, of[j], t.x2, t.y2);
+      const bool b = at(cp, j, t.x1, t.y1) < at(cp, j, t.x2, t.y2);
+      expected += a != b;
+      EXPECT_EQ((bits.column(d)[j / 64] >> (j % 64)) & 1u, uint64_t(a != b)) << d << " " << j;
+    }
+    EXPECT_EQ(flips[d], expected) << d;
+  }
+  EXPECT_THROW(countDisagreements({ref.data(), P}, {cp.data(), Q}, std::vector<int32_t>(Q, int32_t(P)), tests),
+               std::invalid_argument);
+}
+
+TEST(Criteria, ParseNamesAndRankByMargin) {
+  EXPECT_EQ(parseSelectionCriterion("paper"), SelectionCriterion::Paper);
+  EXPECT_EQ(parseSelectionCriterion("separation"), SelectionCriterion::Separation);
+  try {
+    parseSelectionCriterion("boost");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("paper, stability or separation"), std::string::npos);
+  }
+  // Three tests over 4 patches: 2 alpha (1 - alpha) = 0.5, 0.5, 0.375; flips 3, 0, 0 of 4 pairs.
+  TestResponses r(3, 4);
+  r.column(0)[0] = 0b0011;
+  r.column(1)[0] = 0b0101;
+  r.column(2)[0] = 0b0001;
+  const auto order = sortByCriterion(r, SelectionCriterion::Stability, {3, 0, 0}, 4);
+  EXPECT_EQ(order, (std::vector<size_t>{1, 2, 0}));  // margins 0.5, 0.375, -0.25
+  EXPECT_EQ(sortByCriterion(r, SelectionCriterion::Paper, {}, 0), sortByVariance(r));
+  EXPECT_THROW(sortByCriterion(r, SelectionCriterion::Stability, {}, 0), std::invalid_argument);
+}
+
+TEST(Criteria, StabilityAndSeparationPreferTestsThatSurviveTheViewChange) {
+  // Counterparts: the same structured patches with noise added only to the right half, so tests
+  // on the left half are the stable ones.
+  const size_t P = 512;
+  const auto px = structuredPatches(P, 9);
+  auto cp = px;
+  std::mt19937 rng(3);
+  for (size_t p = 0; p < P; ++p)
+    for (int y = 0; y < 32; ++y)
+      for (int x = 16; x < 32; ++x) {
+        uint8_t& v = cp[p * 1024 + y * 32 + x];
+        v = static_cast<uint8_t>(std::clamp(int(v) + int(rng() % 81) - 40, 0, 255));
+      }
+  std::vector<int32_t> of(P);
+  for (size_t p = 0; p < P; ++p) of[p] = static_cast<int32_t>(p);
+  GreedyOptions opt;
+  opt.tests = 64;
+  int paperLeftHalf = 0;
+  for (auto c : {SelectionCriterion::Paper, SelectionCriterion::Stability, SelectionCriterion::Separation}) {
+    const LearnedTests a = learnTests({px.data(), P}, opt, c, {{cp.data(), P}, of.data()});
+    const LearnedTests b = learnTests({px.data(), P}, opt, c, {{cp.data(), P}, of.data()});
+    ASSERT_EQ(a.tests.size(), 64u);
+    double flip = 0;
+    int leftHalf = 0;
+    for (size_t i = 0; i < a.tests.size(); ++i) {
+      EXPECT_EQ(a.tests[i].x1, b.tests[i].x1);
+      EXPECT_EQ(a.tests[i].y2, b.tests[i].y2);
+      flip += a.flipRate[i] / a.tests.size();
+      leftHalf += a.tests[i].x1 < 0 && a.tests[i].x2 < 0;
+    }
+    RecordProperty("flip_" + selectionCriterionName(c), std::to_string(flip));
+    RecordProperty("left_half_" + selectionCriterionName(c), leftHalf);
+    if (c == SelectionCriterion::Paper) {
+      paperLeftHalf = leftHalf;
+      EXPECT_LT(leftHalf, 40) << "the paper's criterion cannot see the noise";
+    } else {
+      EXPECT_GE(leftHalf, paperLeftHalf + 16) << selectionCriterionName(c) << " keeps the stable half";
+    }
+  }
+  EXPECT_THROW(learnTests({px.data(), P}, opt, SelectionCriterion::Separation), std::invalid_argument);
+}

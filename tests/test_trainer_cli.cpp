@@ -9,6 +9,7 @@
 
 #include "mdbrief/patterns.hpp"
 #include "patchextract/patch_set.hpp"
+#include "patchextract/image_digest.hpp"
 #include "test_data.hpp"
 #include "trainer/train_cli.hpp"
 
@@ -62,6 +63,8 @@ TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
       {{"--detector", "sift", "--out", o}, "sift"},
       {{"--patches-file", (dir.path / "none.h5").string(), "--out", o}, "none.h5"},
       {{"--no-such-flag"}, ""},
+      {{"--selection", "boosting", "--out", o}, "use paper, stability or separation"},
+      {{"--held-out", (dir.path / "nolist.txt").string(), "--out", o}, "nolist.txt: cannot read the held-out list"},
   };
   for (const auto& [args, message] : cases) {
     const CliRun r = runTrain(args);
@@ -69,6 +72,51 @@ TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
     EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
   }
   EXPECT_TRUE(fs::is_empty(out));
+}
+
+TEST(TrainCli, CriteriaThatNeedPairsRefuseAPatchFileWithout) {
+  TempDir dir("nopairs");
+  const fs::path images = smallImageFolder(dir);
+  if (fs::is_empty(images)) GTEST_SKIP() << "opencv-doc not installed";
+  const fs::path patchFile = dir.path / "plain.h5";
+  ASSERT_EQ(runTrain({"--images", images.string(), "--patches", "300", "--tests", "64", "--name", "plain_64",
+                      "--out", dir.path.string(), "--save-patches", patchFile.string()})
+                .code,
+            0);
+  for (const char* criterion : {"stability", "separation"}) {
+    const CliRun r = runTrain({"--patches-file", patchFile.string(), "--selection", criterion, "--tests", "64",
+                               "--name", "pairs_64", "--out", dir.path.string()});
+    EXPECT_EQ(r.code, 2) << criterion;
+    EXPECT_NE(r.err.find("no counterpart patches"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("mdbrief-patchextract --counterparts"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir.path / "pairs_64.hpp"));
+}
+
+TEST(TrainCli, SeparationIsByteIdenticalAndRecordsCriterionPairsAndImages) {
+  TempDir dir("sep");
+  const fs::path images = smallImageFolder(dir);
+  if (fs::is_empty(images)) GTEST_SKIP() << "opencv-doc not installed";
+  std::vector<std::string> common{"--images", images.string(), "--patches", "600", "--tests", "64",
+                                  "--selection", "separation", "--name", "sep_64"};
+  for (const char* sub : {"a", "b"}) {
+    fs::create_directories(dir.path / sub);
+    auto args = common;
+    args.insert(args.end(), {"--out", (dir.path / sub).string()});
+    const CliRun r = runTrain(args);
+    ASSERT_EQ(r.code, 0) << r.err;
+    // graf1.png (Oxford graf img1) and building.jpg are evaluation images: left out by content.
+    EXPECT_NE(r.out.find("held out (evaluation or validation images): 2 images"), std::string::npos) << r.out;
+  }
+  const std::string header = readFile(dir.path / "a" / "sep_64.hpp");
+  EXPECT_EQ(header, readFile(dir.path / "b" / "sep_64.hpp"));
+  EXPECT_NE(header.find("--counterparts 1 --selection separation --tests 64"), std::string::npos);
+  EXPECT_NE(header.find("Learned (separation forward selection)"), std::string::npos);
+  EXPECT_NE(header.find(" flip 0."), std::string::npos) << "per-test flip rates";
+  const TestSet learned = loadTestSetJson((dir.path / "a" / "sep_64.json").string());
+  EXPECT_EQ(learned.tests.size(), 64u);
+  ASSERT_EQ(learned.trainingImages.size(), 1u) << "box_in_scene only";
+  EXPECT_EQ(learned.trainingImages[0], imageFileDigest(images / "box_in_scene.png"));
 }
 
 TEST(TrainCli, FewerPatchesThanTestsExitsWith2) {
@@ -103,7 +151,7 @@ TEST(TrainCli, SameInputsAndSeedGiveByteIdenticalHeaders) {
   const std::string header = readFile(dir.path / "a" / "tiny_64.hpp");
   EXPECT_EQ(header, readFile(dir.path / "b" / "tiny_64.hpp"));
   EXPECT_EQ(readFile(dir.path / "a" / "tiny_64.json"), readFile(dir.path / "b" / "tiny_64.json"));
-  EXPECT_NE(header.find("--seed 3 --tests 64 --name tiny_64. Do not edit."), std::string::npos);
+  EXPECT_NE(header.find("--seed 3 --selection paper --tests 64 --name tiny_64. Do not edit."), std::string::npos);
   EXPECT_TRUE(fs::exists(dir.path / "a" / "registry.hpp"));
 
   // The JSON copy loads at run time; the patch file reproduces the same tests.

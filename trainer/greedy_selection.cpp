@@ -22,18 +22,33 @@ constexpr size_t kScreenBatch = 2048;
 struct Threshold {
   int64_t milli;  // t_c * 1000
   int64_t patches;
-  bool below(size_t differences) const {
-    const int64_t dev = std::llabs(2 * static_cast<int64_t>(differences) - patches);
-    return dev * 1000 < milli * patches;
-  }
+  bool below(int64_t deviation) const { return deviation * 1000 < milli * patches; }
 };
 
-bool uncorrelatedWithAll(const TestResponses& r, size_t candidate, const std::vector<size_t>& kept,
-                         size_t from, size_t to, const Threshold& t) {
-  for (size_t k = from; k < to; ++k)
-    if (!t.below(r.differences(candidate, kept[k]))) return false;
-  return true;
-}
+// Each candidate's screening so far: the highest |2h - P| against kept[0, reached). A test
+// correlated at one threshold stays so at a looser one only if that maximum still reaches it,
+// so a new pass resumes each candidate where it stopped instead of restarting.
+class ScreeningCache {
+ public:
+  explicit ScreeningCache(size_t candidates) : reached_(candidates, 0), maxDeviation_(candidates, 0) {}
+
+  // Whether candidate d is below the threshold with every kept test before `to`.
+  bool uncorrelated(const TestResponses& r, size_t d, const std::vector<size_t>& kept, size_t to, const Threshold& t) {
+    if (!t.below(maxDeviation_[d])) return false;
+    const auto p = static_cast<int64_t>(r.patches());
+    for (size_t k = reached_[d]; k < to; ++k) {
+      const int64_t dev = std::llabs(2 * static_cast<int64_t>(r.differences(d, kept[k])) - p);
+      maxDeviation_[d] = std::max(maxDeviation_[d], dev);
+      reached_[d] = static_cast<uint32_t>(k + 1);
+      if (!t.below(dev)) return false;
+    }
+    return true;
+  }
+
+ private:
+  std::vector<uint32_t> reached_;
+  std::vector<int64_t> maxDeviation_;
+};
 
 }  // namespace
 
@@ -45,6 +60,47 @@ std::vector<size_t> sortByVariance(const TestResponses& responses) {
   tbb::parallel_for(size_t(0), n, [&](size_t d) {
     const uint64_t ones = responses.ones(d);
     key[d] = ones * (p - ones);
+  });
+  std::vector<size_t> order(n);
+  std::iota(order.begin(), order.end(), size_t(0));
+  tbb::parallel_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    return key[a] != key[b] ? key[a] > key[b] : a < b;
+  });
+  return order;
+}
+
+SelectionCriterion parseSelectionCriterion(const std::string& name) {
+  if (name == "paper") return SelectionCriterion::Paper;
+  if (name == "stability") return SelectionCriterion::Stability;
+  if (name == "separation") return SelectionCriterion::Separation;
+  throw std::invalid_argument("unknown selection criterion '" + name + "' (use paper, stability or separation)");
+}
+
+std::string selectionCriterionName(SelectionCriterion criterion) {
+  switch (criterion) {
+    case SelectionCriterion::Paper: return "paper";
+    case SelectionCriterion::Stability: return "stability";
+    case SelectionCriterion::Separation: return "separation";
+  }
+  return "?";
+}
+
+bool needsCounterparts(SelectionCriterion criterion) { return criterion != SelectionCriterion::Paper; }
+
+std::vector<size_t> sortByCriterion(const TestResponses& responses, SelectionCriterion criterion,
+                                    const std::vector<uint32_t>& flips, size_t pairs) {
+  if (criterion == SelectionCriterion::Paper) return sortByVariance(responses);
+  const size_t n = responses.tests();
+  if (pairs == 0 || flips.size() != n)
+    throw std::invalid_argument("selection criterion " + selectionCriterionName(criterion) +
+                                " needs the flip counts of matching pairs");
+  const double p = static_cast<double>(responses.patches()), q = static_cast<double>(pairs);
+  // IEEE double keys from the same operations everywhere: deterministic across platforms.
+  std::vector<double> key(n);
+  tbb::parallel_for(size_t(0), n, [&](size_t d) {
+    const double alpha = responses.ones(d) / p;
+    const double distinct = 2 * alpha * (1 - alpha);
+    key[d] = distinct - flips[d] / q;
   });
   std::vector<size_t> order(n);
   std::iota(order.begin(), order.end(), size_t(0));
@@ -70,6 +126,7 @@ GreedyResult selectUncorrelated(const TestResponses& responses, const std::vecto
                                 " candidates");
   GreedyResult result;
   std::vector<char> taken(responses.tests(), 0);
+  ScreeningCache cache(responses.tests());
   const int64_t start = std::llround(options.startThreshold * 1000);
   const int64_t step = std::llround(options.thresholdStep * 1000);
   std::vector<char> survives(kScreenBatch);
@@ -85,14 +142,12 @@ GreedyResult selectUncorrelated(const TestResponses& responses, const std::vecto
       const size_t keptBefore = result.kept.size();
       tbb::parallel_for(b0, b1, [&](size_t i) {
         const size_t d = sorted[i];
-        survives[i - b0] = !taken[d] && uncorrelatedWithAll(responses, d, result.kept, 0,
-                                                            keptBefore, t);
+        survives[i - b0] = !taken[d] && cache.uncorrelated(responses, d, result.kept, keptBefore, t);
       });
       for (size_t i = b0; i < b1 && result.kept.size() < options.tests; ++i) {
         const size_t d = sorted[i];
         if (!survives[i - b0]) continue;
-        if (!uncorrelatedWithAll(responses, d, result.kept, keptBefore, result.kept.size(), t))
-          continue;
+        if (!cache.uncorrelated(responses, d, result.kept, result.kept.size(), t)) continue;
         taken[d] = 1;
         result.kept.push_back(d);
       }

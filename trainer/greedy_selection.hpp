@@ -4,7 +4,9 @@
 // c = |2/P * sum_p |t_d,p - t_s,p| - 1| with every kept test is below t_c; t_c starts at 0.2
 // and rises by 0.1 after each full pass until the requested number is kept.
 #include <cstddef>
+#include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "trainer/test_responses.hpp"
@@ -14,6 +16,32 @@ namespace mdbrief::train {
 // Test indices sorted by variance, highest first; equal variances by index, so the order does
 // not depend on the sort implementation.
 std::vector<size_t> sortByVariance(const TestResponses& responses);
+
+// What the greedy walk ranks the candidates by (docs/training.md "Selection criteria"). With
+// alpha = the fraction of patches where a test is 1 and f = the fraction of matching pairs
+// (reference patch, counterpart in a changed view) on which it flips:
+enum class SelectionCriterion {
+  Paper,      // alpha(1 - alpha): the paper's (ORB's) unsupervised order; needs no pairs
+  // 2 alpha(1 - alpha) - f: the test's expected contribution to the distance of two unrelated
+  // patches minus its contribution to the distance of a matching pair, i.e. to the margin
+  // between the non-matching and matching distance distributions.
+  Stability,
+  // Forward selection by the Fisher-like separation of the whole set's matching and
+  // non-matching distance distributions (separation_selection.hpp), over the best candidates
+  // of the Stability order; no correlation threshold.
+  Separation,
+};
+
+// "paper" | "stability" | "separation". Throws std::invalid_argument naming the accepted values.
+SelectionCriterion parseSelectionCriterion(const std::string& name);
+std::string selectionCriterionName(SelectionCriterion criterion);
+bool needsCounterparts(SelectionCriterion criterion);
+
+// Test indices sorted by the criterion, best first, ties by index. flips[d] = pairs on which
+// test d flips, out of `pairs` (ignored, and may be empty, for Paper; Paper gives exactly
+// sortByVariance; Separation sorts as Stability, the order its pool is taken from). Throws std::invalid_argument if a criterion needs pairs and has none.
+std::vector<size_t> sortByCriterion(const TestResponses& responses, SelectionCriterion criterion,
+                                    const std::vector<uint32_t>& flips, size_t pairs);
 
 struct GreedyOptions {
   size_t tests = 512;             // number of tests to keep

@@ -47,6 +47,34 @@ inline uint64_t lessMask(const uint8_t* a, const uint8_t* b) {
 
 int pixelIndex(int x, int y) { return (y + kPatchHalf) * kPatchSize + (x + kPatchHalf); }
 
+std::vector<std::pair<int, int>> pixelPairsOf(const std::vector<TestPair>& tests) {
+  std::vector<std::pair<int, int>> pixelPairs(tests.size());
+  for (size_t d = 0; d < tests.size(); ++d) {
+    const TestPair& t = tests[d];
+    for (int v : {t.x1, t.y1, t.x2, t.y2})
+      if (v < -kPatchHalf || v >= kPatchHalf)
+        throw std::invalid_argument("evaluateTests: test " + std::to_string(d) +
+                                    " has an offset outside [-16, 15]");
+    pixelPairs[d] = {pixelIndex(t.x1, t.y1), pixelIndex(t.x2, t.y2)};
+  }
+  return pixelPairs;
+}
+
+// The reference patch of every pair, in pair order, so both sides of a pair share one layout.
+std::vector<uint8_t> pairedReferences(const PatchMatrix& reference, const PatchMatrix& counterparts,
+                                      const std::vector<int32_t>& counterpartOf) {
+  if (counterparts.count == 0 || counterpartOf.size() != counterparts.count)
+    throw std::invalid_argument("matching pairs: no counterparts, or their reference index is missing");
+  std::vector<uint8_t> paired(counterparts.count * kPixels);
+  for (size_t j = 0; j < counterparts.count; ++j) {
+    const auto r = static_cast<size_t>(counterpartOf[j]);
+    if (counterpartOf[j] < 0 || r >= reference.count)
+      throw std::invalid_argument("matching pairs: counterpart index out of range");
+    std::copy_n(reference.pixels + r * kPixels, kPixels, paired.data() + j * kPixels);
+  }
+  return paired;
+}
+
 }  // namespace
 
 TestResponses::TestResponses(size_t tests, size_t patches)
@@ -71,15 +99,7 @@ TestResponses evaluateTests(const PatchMatrix& patches, const std::vector<TestPa
                             const std::function<void(size_t, size_t)>& progress) {
   if (patches.count == 0 || !patches.pixels)
     throw std::invalid_argument("evaluateTests: no patches");
-  std::vector<std::pair<int, int>> pixelPairs(tests.size());
-  for (size_t d = 0; d < tests.size(); ++d) {
-    const TestPair& t = tests[d];
-    for (int v : {t.x1, t.y1, t.x2, t.y2})
-      if (v < -kPatchHalf || v >= kPatchHalf)
-        throw std::invalid_argument("evaluateTests: test " + std::to_string(d) +
-                                    " has an offset outside [-16, 15]");
-    pixelPairs[d] = {pixelIndex(t.x1, t.y1), pixelIndex(t.x2, t.y2)};
-  }
+  const auto pixelPairs = pixelPairsOf(tests);
 
   TestResponses responses(tests.size(), patches.count);
   const size_t words = responses.words();
@@ -110,6 +130,52 @@ TestResponses evaluateTests(const PatchMatrix& patches, const std::vector<TestPa
         }
       });
   return responses;
+}
+
+std::vector<uint32_t> countDisagreements(const PatchMatrix& reference, const PatchMatrix& counterparts,
+                                         const std::vector<int32_t>& counterpartOf,
+                                         const std::vector<TestPair>& tests,
+                                         const std::function<void(size_t, size_t)>& progress) {
+  const auto pixelPairs = pixelPairsOf(tests);
+  const std::vector<uint8_t> paired = pairedReferences(reference, counterparts, counterpartOf);
+  const size_t words = (counterparts.count + kLanes - 1) / kLanes;
+  const std::vector<uint8_t> a = transposeIntoLanes({paired.data(), counterparts.count}, words);
+  const std::vector<uint8_t> b = transposeIntoLanes(counterparts, words);
+
+  std::vector<uint32_t> flips(tests.size(), 0);
+  const size_t testBlocks = (tests.size() + kTestBlock - 1) / kTestBlock;
+  std::atomic<size_t> done{0};
+  // Parallel over tests only: each count is then summed by one thread, in word order.
+  tbb::parallel_for(size_t(0), testBlocks, [&](size_t tb) {
+    const size_t d0 = tb * kTestBlock, d1 = std::min(tests.size(), d0 + kTestBlock);
+    for (size_t w0 = 0; w0 < words; w0 += kWordGroup) {
+      const size_t w1 = std::min(words, w0 + kWordGroup);
+      for (size_t d = d0; d < d1; ++d) {
+        const auto [p1, p2] = pixelPairs[d];
+        uint32_t n = 0;
+        for (size_t w = w0; w < w1; ++w) {
+          const uint8_t* ba = a.data() + w * kPixels * kLanes;
+          const uint8_t* bb = b.data() + w * kPixels * kLanes;
+          n += static_cast<uint32_t>(__builtin_popcountll(lessMask(ba + p1 * kLanes, ba + p2 * kLanes) ^
+                                                          lessMask(bb + p1 * kLanes, bb + p2 * kLanes)));
+        }
+        flips[d] += n;
+      }
+    }
+    const size_t n = ++done;
+    if (progress) progress(n, testBlocks);
+  });
+  return flips;
+}
+
+TestResponses disagreementBits(const PatchMatrix& reference, const PatchMatrix& counterparts,
+                               const std::vector<int32_t>& counterpartOf, const std::vector<TestPair>& tests) {
+  const std::vector<uint8_t> paired = pairedReferences(reference, counterparts, counterpartOf);
+  TestResponses bits = evaluateTests({paired.data(), counterparts.count}, tests);
+  const TestResponses other = evaluateTests(counterparts, tests);
+  for (size_t d = 0; d < tests.size(); ++d)
+    for (size_t w = 0; w < bits.words(); ++w) bits.column(d)[w] ^= other.column(d)[w];
+  return bits;
 }
 
 }  // namespace mdbrief::train

@@ -45,4 +45,18 @@ class TestResponses {
 TestResponses evaluateTests(const PatchMatrix& patches, const std::vector<TestPair>& tests,
                             const std::function<void(size_t, size_t)>& progress = {});
 
+// Stability data: for every test, on how many pairs (counterpart j, reference patch
+// counterpartOf[j]) its outcome differs. The pairs' bits are compared on the fly and never
+// stored. progress(done, total) as above. Throws std::invalid_argument on no counterparts, a
+// reference index out of range or an offset outside [-16, 15].
+std::vector<uint32_t> countDisagreements(const PatchMatrix& reference, const PatchMatrix& counterparts,
+                                         const std::vector<int32_t>& counterpartOf,
+                                         const std::vector<TestPair>& tests,
+                                         const std::function<void(size_t, size_t)>& progress = {});
+
+// The pairs' flip bits of a few tests, as columns: bit j of column d = test d differs between
+// pair j's two patches. Same errors as countDisagreements.
+TestResponses disagreementBits(const PatchMatrix& reference, const PatchMatrix& counterparts,
+                               const std::vector<int32_t>& counterpartOf, const std::vector<TestPair>& tests);
+
 }  // namespace mdbrief::train

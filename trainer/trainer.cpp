@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "trainer/candidate_tests.hpp"
+#include "trainer/separation_selection.hpp"
 
 namespace mdbrief::train {
 
@@ -18,13 +19,18 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options,
-                        const TrainingProgress& progress) {
+LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options, SelectionCriterion criterion,
+                        const Counterparts& counterparts, const TrainingProgress& progress) {
   if (patches.count == 0) throw std::invalid_argument("training: no patches");
+  if (needsCounterparts(criterion) && counterparts.patches.count == 0)
+    throw std::invalid_argument("training: selection criterion " + selectionCriterionName(criterion) +
+                                " needs counterpart patches");
   const std::vector<TestPair> candidates = candidateTests();
   LearnedTests out;
   out.candidates = candidates.size();
   out.patches = patches.count;
+  out.criterion = criterion;
+  out.pairs = counterparts.patches.count;
 
   auto t0 = std::chrono::steady_clock::now();
   const TestResponses responses =
@@ -34,15 +40,39 @@ LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options
   out.responseBytes = responses.bytes();
   out.times.evaluateSeconds = secondsSince(t0);
 
+  std::vector<uint32_t> flips;
+  if (out.pairs > 0) {
+    t0 = std::chrono::steady_clock::now();
+    flips = countDisagreements(patches, counterparts.patches,
+                               std::vector<int32_t>(counterparts.of, counterparts.of + out.pairs), candidates,
+                               [&](size_t done, size_t total) {
+                                 if (progress) progress("pairs", done, total);
+                               });
+    out.times.flipSeconds = secondsSince(t0);
+  }
+
   t0 = std::chrono::steady_clock::now();
-  const std::vector<size_t> sorted = sortByVariance(responses);
+  const std::vector<size_t> sorted = sortByCriterion(responses, criterion, flips, out.pairs);
   out.times.sortSeconds = secondsSince(t0);
 
   t0 = std::chrono::steady_clock::now();
-  const GreedyResult greedy =
-      selectUncorrelated(responses, sorted, options, [&](size_t kept, int) {
-        if (progress) progress("greedy", kept, options.tests);
-      });
+  GreedyResult greedy;
+  if (criterion == SelectionCriterion::Separation) {
+    SeparationOptions so;
+    so.tests = options.tests;
+    so.pool = std::max(options.tests, so.pool);
+    std::vector<TestPair> poolTests;
+    for (size_t i = 0; i < std::min(so.pool, sorted.size()); ++i) poolTests.push_back(candidates[sorted[i]]);
+    const TestResponses poolFlips = disagreementBits(
+        patches, counterparts.patches, std::vector<int32_t>(counterparts.of, counterparts.of + out.pairs), poolTests);
+    greedy.kept = selectBySeparation(responses, sorted, poolFlips, so, [&](size_t kept) {
+                    if (progress) progress("greedy", kept, options.tests);
+                  }).kept;
+  } else {
+    greedy = selectUncorrelated(responses, sorted, options, [&](size_t kept, int) {
+      if (progress) progress("greedy", kept, options.tests);
+    });
+  }
   out.times.greedySeconds = secondsSince(t0);
   out.passes = greedy.passes;
   out.finalThreshold = greedy.finalThreshold;
@@ -54,6 +84,7 @@ LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options
   for (size_t i = 0; i < n; ++i) {
     out.tests.push_back(candidates[greedy.kept[i]]);
     out.mean[i] = static_cast<double>(responses.ones(greedy.kept[i])) / patches.count;
+    if (out.pairs > 0) out.flipRate.push_back(static_cast<double>(flips[greedy.kept[i]]) / out.pairs);
   }
   tbb::parallel_for(size_t(0), n, [&](size_t i) {
     for (size_t j = 0; j < n; ++j)

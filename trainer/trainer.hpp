@@ -15,6 +15,7 @@ namespace mdbrief::train {
 
 struct StageTimes {
   double evaluateSeconds = 0;  // all candidates on all patches
+  double flipSeconds = 0;      // all candidates on all matching pairs (stability criteria)
   double sortSeconds = 0;      // variance + sort
   double greedySeconds = 0;    // all greedy passes
 };
@@ -23,21 +24,36 @@ struct LearnedTests {
   std::vector<TestPair> tests;          // in selection order
   std::vector<double> mean;             // per test: fraction of patches where it is 1
   std::vector<double> maxCorrelation;   // per test: max correlation with the other kept tests
+  std::vector<double> flipRate;         // per test: fraction of matching pairs where it flips
+                                        // (empty without pairs)
+  SelectionCriterion criterion = SelectionCriterion::Paper;
   size_t candidates = 0;
   size_t patches = 0;
+  size_t pairs = 0;                     // matching pairs (counterparts) used
   int passes = 0;
   double finalThreshold = 0;
   size_t responseBytes = 0;             // size of the bit-packed response matrix
   StageTimes times;
 };
 
-// stage is "evaluate" or "greedy"; done/total in stage units (work blocks, kept tests).
+// stage is "evaluate", "pairs" or "greedy"; done/total in stage units (work blocks, kept tests).
 using TrainingProgress = std::function<void(const char* stage, size_t done, size_t total)>;
 
-// Throws std::invalid_argument if the patch set is empty or options.tests exceeds the number of
-// candidates.
+// The matching pairs of the stability criteria: counterpart patch j (32 x 32, as PatchMatrix)
+// is the reference patch of[j] seen in a changed view.
+struct Counterparts {
+  PatchMatrix patches;
+  const int32_t* of = nullptr;
+};
+
+// The candidates are ranked by `criterion` (with the flip rates measured on `counterparts`
+// when it needs them) and kept greedily as the paper does. With pairs, the flip rate of every
+// kept test is reported even for the paper's criterion. Throws std::invalid_argument if the
+// patch set is empty, options.tests exceeds the number of candidates, or the criterion needs
+// pairs and there are none.
 LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options,
-                        const TrainingProgress& progress = {});
+                        SelectionCriterion criterion = SelectionCriterion::Paper,
+                        const Counterparts& counterparts = {}, const TrainingProgress& progress = {});
 
 // Quality of a test set on a patch set: the learning's two criteria.
 struct TestSetQuality {

@@ -1,5 +1,6 @@
 #include "eval_commands.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -8,7 +9,10 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "eval_datasets.hpp"
+#include "held_out.hpp"
+#include "patchextract/image_file.hpp"
 #include "mdbrief/camera_io.hpp"
+#include "mdbrief/pattern_io.hpp"
 #include "pr_experiment.hpp"
 #include "simulation.hpp"
 #include "timing_table.hpp"
@@ -17,8 +21,6 @@ namespace mdbrief::eval {
 namespace {
 
 namespace fs = std::filesystem;
-
-const std::string kDocData = "/usr/share/doc/opencv-doc/examples/data";
 
 std::string sourcePath(const std::string& rel) { return (fs::path(MDBRIEF_SOURCE_DIR) / rel).string(); }
 
@@ -38,6 +40,9 @@ CameraPtr loadCameraOrThrow(const std::string& path) {
 
 cv::Mat loadGreyOrThrow(const std::string& path) {
   if (!fs::is_regular_file(path)) throw InputError(path + ": no such file");
+  // An evaluation on a partly decoded image would be wrong without saying so.
+  if (const std::string problem = train::truncationProblem(path); !problem.empty())
+    throw InputError(path + ": " + problem);
   cv::Mat m = cv::imread(path, cv::IMREAD_GRAYSCALE);
   if (m.empty()) throw InputError(path + ": cannot read the image");
   return m;
@@ -110,6 +115,8 @@ void addSimCommand(CLI::App& app) {
     o->runDetected = !*noDetected;
     const auto cameras = parseCameras(*cams);
     loadGreyOrThrow(o->texturePath);
+    // The simulation describes the texture with the default test set.
+    requireDisjointTraining({briefFamilyMethod("default", MethodFamily::DBrief, 256, true)}, {o->texturePath});
     asInputErrors([&] { runSimulation(cameras, *o); });
   });
 }
@@ -119,7 +126,7 @@ void addEvalCommand(CLI::App& app) {
                                          "fisheye sequences and user data");
   struct Args {
     std::string oxfordDir = sharedData() + "/oxford-affine";
-    std::vector<std::string> sequences{"bikes", "boat", "graf", "leuven", "trees", "ubc"};
+    std::vector<std::string> sequences = kOxfordSequences;
     // The three fisheye models of configs/cameras (OCamCalib, double sphere, Kannala-Brandt).
     std::vector<std::string> fisheyeCameras{sourcePath("configs/cameras/lafida_fisheye0.yaml"),
                                             sourcePath("configs/cameras/double_sphere_example.yaml"),
@@ -130,6 +137,9 @@ void addEvalCommand(CLI::App& app) {
     std::string userCamera;
     PrOptions pr;
     bool noPerspective = false, noFisheye = false, quick = false;
+    std::vector<std::string> testSets;
+    std::string keypointsFrom = "modorb";
+    std::vector<double> supportScales;
   };
   auto a = std::make_shared<Args>();
   a->pr.outDir = sourcePath("docs/results");
@@ -149,16 +159,27 @@ void addEvalCommand(CLI::App& app) {
   cmd->add_flag("--no-perspective", a->noPerspective, "Skip the Oxford sequences");
   cmd->add_flag("--no-fisheye", a->noFisheye, "Skip the rendered fisheye sequences");
   cmd->add_flag("--quick", a->quick, "Only the paper's main comparison (no length / test-set study)");
+  cmd->add_option("--keypoints-from", a->keypointsFrom,
+                  "Keypoints every method but AKAZE describes: modorb (the library's detector) | orb | akaze | sift")
+      ->capture_default_str();
+  cmd->add_option("--support-scales", a->supportScales,
+                  "Only the footprint study: dBRIEF-256 and mdBRIEF-256 at these DescriptorOptions::supportScale values")
+      ->check(CLI::Range(0.1, 20.0));
+  cmd->add_option("--test-set", a->testSets,
+                  "Only the test-set study, with these sets (registry names or JSON files; repeatable)");
   cmd->callback([a] {
     if (!a->userImages.empty() && a->userCamera.empty()) throw InputError("--user-images needs --user-camera");
     std::vector<EvalGroup> groups;
+    std::vector<std::string> imagePaths = a->userImages;  // the files behind every evaluated image
     asInputErrors([&] {
       if (!a->noPerspective) {
         EvalGroup g{"perspective", {}};
         for (const auto& s : a->sequences) {
           auto seq = loadOxfordSequence(a->oxfordDir + "/" + s, s);
-          if (seq)
+          if (seq) {
             g.sequences.push_back(std::move(*seq));
+            for (int k = 1; k <= 6; ++k) imagePaths.push_back(a->oxfordDir + "/" + s + "/img" + std::to_string(k) + ".png");
+          }
           else
             std::fprintf(stderr, "eval: skipping Oxford sequence %s: %s/%s not found or incomplete\n", s.c_str(),
                          a->oxfordDir.c_str(), s.c_str());
@@ -173,9 +194,9 @@ void addEvalCommand(CLI::App& app) {
             if (fs::exists(p)) textures.push_back(p);
           }
           // Textured photos of opencv-doc (present on every machine the setup script prepared).
-          for (const char* p : {"building.jpg", "home.jpg", "aero1.jpg", "baboon.jpg", "fruits.jpg", "messi5.jpg"})
-            textures.push_back(kDocData + "/" + p);
+          for (const auto& p : kDocFisheyeTextures) textures.push_back(kDocData + "/" + p);
         }
+        imagePaths.insert(imagePaths.end(), textures.begin(), textures.end());
         EvalGroup g{"fisheye", {}};
         for (const auto& camPath : a->fisheyeCameras) {
           const CameraPtr cam = loadCameraOrThrow(camPath);
@@ -189,7 +210,14 @@ void addEvalCommand(CLI::App& app) {
       }
       if (!a->userImages.empty())
         groups.push_back({"user", {loadUserSequence("user", a->userImages, a->userCamera, a->userHomographies)}});
-      const auto methods = standardPrMethods(!a->quick);
+      a->pr.keypointSource = parseKeypointSource(a->keypointsFrom);
+      // The footprint study compares sizes on the keypoints the largest footprint keeps.
+      a->pr.commonKeypoints = !a->supportScales.empty();
+      std::sort(a->supportScales.begin(), a->supportScales.end());
+      const auto methods = !a->supportScales.empty() ? supportScaleStudyMethods(a->supportScales)
+                           : a->testSets.empty()     ? standardPrMethods(!a->quick)
+                                                     : testSetStudyMethods(a->testSets);
+      requireDisjointTraining(methods, imagePaths);
       runPrecisionRecall(groups, methods, a->pr);
     });
   });
@@ -244,6 +272,55 @@ void addExportUserSampleCommand(CLI::App& app) {
       std::printf("%s: %zu images, camera.yaml, %zu homographies\n", a->out.c_str(), files.images.size(),
                   files.homographies.size());
     });
+  });
+}
+
+void addExportRotatedViewsCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("export-rotated-views",
+                                 "Write a real photo and the same lens turned (images, camera.yaml, bearing "
+                                 "homographies H1toK = the rotations) for `eval --user-images ...`");
+  struct Args {
+    std::string photo, camera, out;
+    int views = 6;
+  };
+  auto a = std::make_shared<Args>();
+  cmd->add_option("--image", a->photo, "Photo taken with the calibrated camera")->required();
+  cmd->add_option("--camera", a->camera, "Its calibration")->required();
+  cmd->add_option("--views", a->views, "Images, the photo included")->check(CLI::Range(2, 20))->capture_default_str();
+  cmd->add_option("--out", a->out, "Output folder")->required();
+  cmd->callback([a] {
+    const CameraPtr cam = loadCameraOrThrow(a->camera);
+    const cv::Mat photo = loadGreyOrThrow(a->photo);
+    asInputErrors([&] {
+      const auto files = exportRotatedViews(a->out, photo, cam, a->views);
+      std::printf("%s: %zu images, camera.yaml, %zu homographies\n", a->out.c_str(), files.images.size(),
+                  files.homographies.size());
+    });
+  });
+}
+
+void addHeldOutImagesCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("held-out-images",
+                                 "Write the digests of every image the default evaluations read (the training's "
+                                 "held-out list, configs/held-out-images.txt)");
+  auto oxfordDir = std::make_shared<std::string>(sharedData() + "/oxford-affine");
+  auto out = std::make_shared<std::string>();
+  auto only = std::make_shared<std::vector<std::string>>();
+  cmd->add_option("--oxford-dir", *oxfordDir, "Folder of the Oxford affine sequences")->capture_default_str();
+  cmd->add_option("--only", *only,
+                  "List these images instead (e.g. a validation set used for tuning), labelled by their "
+                  "folder and file name");
+  cmd->add_option("--out", *out, "Output file")->required();
+  cmd->callback([oxfordDir, out, only] {
+    std::vector<EvaluationImage> images;
+    for (const auto& p : *only) {
+      loadGreyOrThrow(p);
+      images.push_back({p, (fs::path(p).parent_path().filename() / fs::path(p).filename()).string()});
+    }
+    if (only->empty()) images = defaultEvaluationImages(*oxfordDir);
+    if (images.empty()) throw InputError("no evaluation image found (opencv-doc and " + *oxfordDir + " missing)");
+    asInputErrors([&] { writeFileAtomically(*out, heldOutListText(images)); });
+    std::printf("%s: %zu images\n", out->c_str(), images.size());
   });
 }
 

@@ -18,5 +18,7 @@ void addSimCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
 void addTimingCommand(CLI::App& app);
 void addExportUserSampleCommand(CLI::App& app);
+void addExportRotatedViewsCommand(CLI::App& app);
+void addHeldOutImagesCommand(CLI::App& app);
 
 }  // namespace mdbrief::eval

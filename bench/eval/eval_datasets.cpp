@@ -10,6 +10,7 @@
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/camera_pinhole.hpp"
 #include "mdbrief/plane_renderer.hpp"
+#include "patchextract/view_change.hpp"
 #include "plane_geometry.hpp"
 
 namespace mdbrief::eval {
@@ -86,8 +87,12 @@ std::vector<CameraPose> renderedSequencePoses(int poses) {
   return ps;
 }
 
-UserSequenceFiles exportUserSequence(const std::string& dir, const cv::Mat& texture, const CameraPtr& camera,
-                                     int poses) {
+namespace {
+
+// Writes images, the bearing homographies image 1 -> image k and the camera into dir (created
+// if missing), each file through a temporary name and a rename.
+UserSequenceFiles writeUserSequence(const std::string& dir, const std::vector<cv::Mat>& images,
+                                    const std::vector<cv::Matx33d>& homographies, const Camera& camera) {
   namespace fs = std::filesystem;
   fs::create_directories(dir);
   const auto atomically = [](const fs::path& target, const auto& write) {
@@ -97,26 +102,55 @@ UserSequenceFiles exportUserSequence(const std::string& dir, const cv::Mat& text
     return target.string();
   };
   UserSequenceFiles files;
-  const PlaneScene scene = renderedScene(texture);
-  const std::vector<CameraPose> ps = renderedSequencePoses(poses);
-  for (int k = 0; k < poses; ++k) {
+  for (size_t k = 0; k < images.size(); ++k) {
     const fs::path img = fs::path(dir) / ("img" + std::to_string(k + 1) + ".png");
     files.images.push_back(atomically(img, [&](const std::string& tmp) {
-      if (!cv::imwrite(tmp, renderPlane(*camera, ps[k], scene))) throw std::runtime_error(tmp + ": cannot write");
+      if (!cv::imwrite(tmp, images[k])) throw std::runtime_error(tmp + ": cannot write");
     }));
-    if (k == 0) continue;
-    const fs::path h = fs::path(dir) / ("H1to" + std::to_string(k + 1));
+  }
+  for (size_t k = 0; k < homographies.size(); ++k) {
+    const fs::path h = fs::path(dir) / ("H1to" + std::to_string(k + 2));
     files.homographies.push_back(atomically(h, [&](const std::string& tmp) {
-      const cv::Matx33d m = planeBearingHomography(ps[0], ps[k]);
       std::ofstream out(tmp);
       out.precision(17);
-      for (int i = 0; i < 9; ++i) out << m.val[i] << (i % 3 == 2 ? "\n" : " ");
+      for (int i = 0; i < 9; ++i) out << homographies[k].val[i] << (i % 3 == 2 ? "\n" : " ");
       if (!out) throw std::runtime_error(tmp + ": cannot write");
     }));
   }
   files.camera = (fs::path(dir) / "camera.yaml").string();
-  saveCamera(*camera, files.camera);  // atomic itself
+  saveCamera(camera, files.camera);  // atomic itself
   return files;
+}
+
+}  // namespace
+
+UserSequenceFiles exportUserSequence(const std::string& dir, const cv::Mat& texture, const CameraPtr& camera,
+                                     int poses) {
+  const PlaneScene scene = renderedScene(texture);
+  const std::vector<CameraPose> ps = renderedSequencePoses(poses);
+  std::vector<cv::Mat> images;
+  std::vector<cv::Matx33d> homographies;
+  for (int k = 0; k < poses; ++k) {
+    images.push_back(renderPlane(*camera, ps[k], scene));
+    if (k > 0) homographies.push_back(planeBearingHomography(ps[0], ps[k]));
+  }
+  return writeUserSequence(dir, images, homographies, *camera);
+}
+
+UserSequenceFiles exportRotatedViews(const std::string& dir, const cv::Mat& photo, const CameraPtr& camera,
+                                     int views) {
+  if (photo.size() != camera->imageSize())
+    throw std::runtime_error("the photo is " + std::to_string(photo.cols) + "x" + std::to_string(photo.rows) +
+                             " but the calibration " + std::to_string(camera->imageSize().width) + "x" +
+                             std::to_string(camera->imageSize().height));
+  std::vector<cv::Mat> images{photo};
+  std::vector<cv::Matx33d> homographies;
+  for (int k = 1; k < views; ++k) {
+    const cv::Matx33d r = cameraRotation(8.0 * k, -4.0 * k, 12.0 * k);
+    images.push_back(train::lensRotation(camera, r)->render(photo, 0));
+    homographies.push_back(r);
+  }
+  return writeUserSequence(dir, images, homographies, *camera);
 }
 
 EvalSequence renderedFisheyeSequence(const std::string& name, const cv::Mat& texture, const CameraPtr& camera,

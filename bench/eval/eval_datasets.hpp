@@ -17,6 +17,17 @@
 
 namespace mdbrief::eval {
 
+// Where the default evaluations read their images (held_out.hpp lists them for the training).
+inline const std::string kDocData = "/usr/share/doc/opencv-doc/examples/data";
+inline const std::vector<std::string> kOxfordSequences{"bikes", "boat", "graf", "leuven", "trees", "ubc"};
+// opencv-doc photos rendered as fisheye sequences (besides img1 of every Oxford sequence).
+inline const std::vector<std::string> kDocFisheyeTextures{"building.jpg", "home.jpg",   "aero1.jpg",
+                                                          "baboon.jpg",   "fruits.jpg", "messi5.jpg"};
+// Every opencv-doc photo an evaluation reads: graf1 (sim, timing), graf3 (export-user-sample)
+// and the fisheye textures.
+inline const std::vector<std::string> kDocEvaluationPhotos{"graf1.png", "graf3.png", "building.jpg", "home.jpg",
+                                                           "aero1.jpg", "baboon.jpg", "fruits.jpg", "messi5.jpg"};
+
 struct EvalPair {
   int first = 0, second = 0;  // image indices
   GroundTruthMap map;         // pixel of `first` -> pixel of `second`
@@ -56,6 +67,13 @@ struct UserSequenceFiles {
 };
 UserSequenceFiles exportUserSequence(const std::string& dir, const cv::Mat& texture, const CameraPtr& camera,
                                      int poses);
+
+// A real photo of `camera` (its calibration size) and the same lens turned: view k (k = 2..views)
+// is the photo as a camera turned by cameraRotation(8 (k-1), -4 (k-1), 12 (k-1)) degrees sees it,
+// resampled exactly (a pure rotation needs no scene depth); the bearing homographies are the
+// rotations. Written like exportUserSequence. Throws std::runtime_error on a size mismatch.
+UserSequenceFiles exportRotatedViews(const std::string& dir, const cv::Mat& photo, const CameraPtr& camera,
+                                     int views);
 
 // User data: images[0] is the reference; homographyFiles[k] relates bearings of image 0 and
 // image k+1 (3x3, nine numbers, whitespace separated, bearing_k ~ H * bearing_0). A homography

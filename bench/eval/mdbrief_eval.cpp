@@ -12,6 +12,8 @@ int main(int argc, char** argv) {
   mdbrief::eval::addEvalCommand(app);
   mdbrief::eval::addTimingCommand(app);
   mdbrief::eval::addExportUserSampleCommand(app);
+  mdbrief::eval::addExportRotatedViewsCommand(app);
+  mdbrief::eval::addHeldOutImagesCommand(app);
   auto oneLine = [](std::string s) {
     std::replace(s.begin(), s.end(), '\n', ' ');
     return s;

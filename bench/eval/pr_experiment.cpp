@@ -1,9 +1,12 @@
 #include "pr_experiment.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
 #include "csv_table.hpp"
+#include <opencv2/features2d.hpp>
+
 #include "mdbrief/detector.hpp"
 #include "mdbrief/patterns.hpp"
 
@@ -51,16 +54,66 @@ std::vector<MethodSpec> standardPrMethods(bool withStudies) {
   // Length study with the default set.
   for (int bits : {32, 64})
     m.push_back(briefFamilyMethod("dBRIEF-" + std::to_string(bits), MethodFamily::DBrief, bits, true, af));
-  // Test-set study: every compiled-in set at 256 bits (fewer if the set is shorter).
-  for (const auto& name : builtinTestSetNames()) {
-    const int size = static_cast<int>(builtinTestSet(name).tests.size());
-    const int bits = std::min(256, size / 32 * 32);
-    if (bits < 32) continue;
-    m.push_back(briefFamilyMethod("dBRIEF-" + std::to_string(bits) + "@" + name, MethodFamily::DBrief, bits, true, af,
-                                  DescriptorOptions{}.maskRotationDeg, name));
+  const auto study = testSetStudyMethods(builtinTestSetNames());
+  m.insert(m.end(), study.begin(), study.end());
+  return m;
+}
+
+std::vector<MethodSpec> testSetStudyMethods(const std::vector<std::string>& testSets) {
+  std::vector<MethodSpec> m;
+  for (const auto& set : testSets) {
+    const int size = static_cast<int>(resolveTestSet(set).tests.size());
+    const std::string label = std::filesystem::path(set).extension() == ".json" ? std::filesystem::path(set).stem().string() : set;
+    for (const auto& [prefix, family] : {std::pair{"dBRIEF-", MethodFamily::DBrief}, std::pair{"mdBRIEF-", MethodFamily::MdBrief}})
+      for (int bits : {128, 256, 512})
+        if (bits <= size)
+          m.push_back(briefFamilyMethod(prefix + std::to_string(bits) + "@" + label, family, bits, true,
+                                        DistortionForm::Affine, DescriptorOptions{}.maskRotationDeg, set));
   }
   return m;
 }
+
+KeypointSource parseKeypointSource(const std::string& name) {
+  if (name == "modorb") return KeypointSource::ModOrb;
+  if (name == "orb") return KeypointSource::Orb;
+  if (name == "akaze") return KeypointSource::Akaze;
+  if (name == "sift") return KeypointSource::Sift;
+  throw std::invalid_argument("unknown keypoint source '" + name + "' (use modorb, orb, akaze or sift)");
+}
+
+std::vector<MethodSpec> supportScaleStudyMethods(const std::vector<double>& scales) {
+  std::vector<MethodSpec> m;
+  for (double scale : scales)
+    for (const auto& [prefix, family] : {std::pair{"dBRIEF-256-s", MethodFamily::DBrief}, std::pair{"mdBRIEF-256-s", MethodFamily::MdBrief}}) {
+      char label[32];
+      std::snprintf(label, sizeof label, "%s%g", prefix, scale);
+      MethodSpec spec = briefFamilyMethod(label, family, 256, true);
+      spec.options.supportScale = scale;
+      m.push_back(spec);
+    }
+  return m;
+}
+
+namespace {
+
+// The `count` strongest keypoints of an OpenCV detector inside `mask` (strongest first; ties
+// cut deterministically).
+std::vector<cv::KeyPoint> opencvKeypoints(KeypointSource source, const cv::Mat& image, const cv::Mat& mask, int count) {
+  cv::Ptr<cv::Feature2D> detector;
+  switch (source) {
+    case KeypointSource::Orb: detector = cv::ORB::create(count); break;
+    case KeypointSource::Akaze: detector = cv::AKAZE::create(); break;
+    case KeypointSource::Sift: detector = cv::SIFT::create(count); break;
+    case KeypointSource::ModOrb: break;
+  }
+  std::vector<cv::KeyPoint> kps;
+  detector->detect(image, kps, mask);
+  std::stable_sort(kps.begin(), kps.end(), [](const cv::KeyPoint& a, const cv::KeyPoint& b) { return a.response > b.response; });
+  if (static_cast<int>(kps.size()) > count) kps.resize(count);
+  return kps;
+}
+
+}  // namespace
 
 void runPrecisionRecall(const std::vector<EvalGroup>& groups, const std::vector<MethodSpec>& methods,
                         const PrOptions& o) {
@@ -79,8 +132,12 @@ void runPrecisionRecall(const std::vector<EvalGroup>& groups, const std::vector<
       dopt.nfeatures = o.keypoints;
       const Detector det(dopt, seq.cameraIsModel ? seq.camera : nullptr);
       for (const auto& img : seq.images) {
-        kps[s].push_back(det.detect(img));
         masks[s].push_back(seq.cameraIsModel ? validAreaMask(*seq.camera, img.size()) : cv::Mat());
+        kps[s].push_back(o.keypointSource == KeypointSource::ModOrb
+                             ? det.detect(img)
+                             : opencvKeypoints(o.keypointSource, img, masks[s].back(), o.keypoints));
+        if (o.commonKeypoints && !methods.empty())
+          kps[s].back() = describe(methods.back(), img, seq.camera, kps[s].back(), o.keypoints, masks[s].back()).keypoints;
       }
     }
     CsvTable curves({"method", "threshold", "one_minus_precision", "recall"});

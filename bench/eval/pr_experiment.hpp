@@ -16,16 +16,35 @@ struct EvalGroup {
   std::vector<EvalSequence> sequences;
 };
 
+// Whose keypoints every method but AKAZE describes.
+enum class KeypointSource { ModOrb, Orb, Akaze, Sift };
+// "modorb" | "orb" | "akaze" | "sift"; throws std::invalid_argument naming the accepted values.
+KeypointSource parseKeypointSource(const std::string& name);
+
 struct PrOptions {
   std::string outDir;
   int keypoints = 300;
+  KeypointSource keypointSource = KeypointSource::ModOrb;
+  // Keep only the keypoints the last method can describe, for every method: methods whose
+  // footprints differ in size then compare on the same keypoints (a larger footprint drops
+  // more keypoints near borders, which changes the ground truth).
+  bool commonKeypoints = false;
   double radiusPx = 3.0;
   int curveSteps = 100;
 };
 
 // The paper's comparison set; with studies also the length study (32, 64 bits) and the
-// test-set study (every name of builtinTestSetNames() at run time).
+// test-set study (testSetStudyMethods of every name of builtinTestSetNames()).
 std::vector<MethodSpec> standardPrMethods(bool withStudies = true);
+
+// The test-set study: dBRIEF and mdBRIEF at 128, 256 and 512 bits (those the set is long
+// enough for) with each test set (registry name or JSON path), named "dBRIEF-256@<set>" (a
+// JSON path by its file stem).
+std::vector<MethodSpec> testSetStudyMethods(const std::vector<std::string>& testSets);
+
+// mdBRIEF-256 and dBRIEF-256 (default set) at each DescriptorOptions::supportScale, named
+// "mdBRIEF-256-s<scale>": the footprint study for keypoints of other detectors.
+std::vector<MethodSpec> supportScaleStudyMethods(const std::vector<double>& scales);
 
 void runPrecisionRecall(const std::vector<EvalGroup>& groups, const std::vector<MethodSpec>& methods,
                         const PrOptions& options);

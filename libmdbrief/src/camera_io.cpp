@@ -99,15 +99,67 @@ class YamlReader {
   std::string prefix_;
 };
 
+// The model's parameters as "key: value, ..." (its YAML form without the image size), for
+// errors about the model as a whole.
+std::string parameterList(const Camera& camera) {
+  std::istringstream yaml(cameraToYaml(camera));
+  std::string line, list;
+  while (std::getline(yaml, line))
+    if (line.rfind("model:", 0) != 0 && line.rfind("width:", 0) != 0 && line.rfind("height:", 0) != 0)
+      list += (list.empty() ? "" : ", ") + line;
+  return list;
+}
+
+// A calibration can parse and still be no lens: checked along 16 rays from the principal point
+// to the image border, over the pixels the model calls valid, the angle to the optical axis
+// must grow with the distance (the distortion is monotonic over the field of view), every
+// pixel must unproject and project back within 0.01 px (the inverse converges), and the image
+// must span at least half a degree. Throws std::runtime_error naming the file, the parameters
+// and the failing pixel.
+void requirePlausible(const Camera& camera, const std::string& path) {
+  const auto fail = [&](const std::string& problem) {
+    return std::runtime_error(path + ": " + camera.modelName() + " camera with " + parameterList(camera) + ": " +
+                              problem);
+  };
+  cv::Point2d centre;
+  if (!camera.bearingToPixel({0, 0, 1}, centre) || !camera.isValid(centre))
+    throw fail("the optical axis does not project into the image");
+  const cv::Size size = camera.imageSize();
+  double widest = 0.0;
+  for (int k = 0; k < 16; ++k) {
+    const cv::Point2d dir(std::cos(k * CV_PI / 8), std::sin(k * CV_PI / 8));
+    double previous = -1.0;
+    for (double r = 1.0; r < size.width + size.height; r += 1.0) {
+      const cv::Point2d px = centre + r * dir;
+      if (!camera.isValid(px)) break;
+      cv::Vec3d b;
+      cv::Point2d back;
+      if (!camera.pixelToBearing(px, b) || !camera.bearingToPixel(b, back) || !(cv::norm(back - px) < 0.01))
+        throw fail("the inverse does not converge at pixel (" + std::to_string(px.x) + ", " + std::to_string(px.y) + ")");
+      const double angle = std::atan2(std::hypot(b[0], b[1]), b[2]);
+      if (!(angle > previous))
+        throw fail("the distortion is not monotonic: the ray angle stops growing at pixel (" + std::to_string(px.x) +
+                   ", " + std::to_string(px.y) + ")");
+      previous = angle;
+      widest = std::max(widest, angle);
+    }
+  }
+  if (!(widest * 180.0 / CV_PI >= 0.5))
+    throw fail("the image spans only " + std::to_string(widest * 180.0 / CV_PI) + " degrees from the axis");
+}
+
 // Builds a camera, turning the constructors' std::invalid_argument into a runtime_error that
-// names the file (the constructors already name the parameter).
+// names the file (the constructors already name the parameter), and checks that it is a lens.
 template <class CameraType, class Params>
 std::shared_ptr<Camera> construct(const std::string& path, const Params& params) {
+  std::shared_ptr<Camera> camera;
   try {
-    return std::make_shared<CameraType>(params);
+    camera = std::make_shared<CameraType>(params);
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(path + ": " + e.what());
   }
+  requirePlausible(*camera, path);
+  return camera;
 }
 
 // a0 > 0 means z points forward (fisheye-calib-adapter); OCamCalib's convention is a0 < 0.
@@ -286,8 +338,8 @@ std::shared_ptr<Camera> loadOcamText(const std::string& path, const std::string&
     }
   const auto polynomial = [&](std::size_t i) {
     const std::vector<double>& row = values[i];
-    if (row.empty() || row[0] != std::floor(row[0]) || row[0] < 2 ||
-        row.size() != static_cast<std::size_t>(row[0]) + 1)
+    // The count is checked against the row before it is converted (a huge count is UB to cast).
+    if (row.empty() || row[0] != std::floor(row[0]) || row[0] < 2 || row[0] + 1 != static_cast<double>(row.size()))
       throw std::runtime_error(path + ": key '" + names[i] +
                                "': wrong polynomial length (the first number must be the count "
                                "of the coefficients that follow, at least 2)");

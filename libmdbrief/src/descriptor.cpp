@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -228,6 +229,8 @@ void validate(const DescriptorOptions& o) {
   if (o.orientationRadius < 4 || o.orientationRadius > 15)
     throw std::invalid_argument("descriptor option orientationRadius=" + std::to_string(o.orientationRadius) +
                                 ": must be 4..15");
+  if (!(o.supportScale >= 0.1 && o.supportScale <= 20.0))
+    throw std::invalid_argument("descriptor option supportScale must be in [0.1, 20]");
   if (o.pyramid.levels < 1 || !(o.pyramid.scaleFactor > 1.0))
     throw std::invalid_argument("descriptor pyramid options: levels >= 1 and scaleFactor > 1 required");
 }
@@ -305,6 +308,43 @@ std::optional<double> centroidAngle(const cv::Mat& img, const cv::Point2d& centr
   return std::atan2(static_cast<double>(m01), static_cast<double>(m10)) * 180.0 / CV_PI;
 }
 
+// cv::ORB's patch size: a keypoint of this size at scale 1 is described with step 1.
+constexpr double kReferenceSize = 31.0;
+
+// Where a keypoint is sampled: the pyramid level whose scale is nearest (in log) to the
+// footprint's, and the footprint relative to that level (1 when it is the level's own).
+struct Support {
+  int level = -1;  // -1: the size is not a positive finite number
+  double fraction = 1.0;
+};
+
+// The tests' 31-pixel diameter spans supportScale * size level-0 pixels.
+Support supportOf(float size, double supportScale, const std::vector<double>& scales) {
+  const double s = supportScale * static_cast<double>(size) / kReferenceSize;
+  if (!(s > 0.0) || !std::isfinite(s)) return {};
+  Support out;
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < static_cast<int>(scales.size()); ++k)
+    if (const double d = std::abs(std::log(s / scales[k])); d < best - 1e-9) best = d, out.level = k;
+  out.fraction = s / scales[out.level];
+  // A keypoint at its level's own size (cv::ORB: size = 31 * scale) keeps the exact integer
+  // footprint it always had, whatever the float rounding of its size.
+  if (std::abs(out.fraction - 1.0) < 1e-4) out.fraction = 1.0;
+  return out;
+}
+
+std::vector<double> pyramidScales(const PyramidOptions& o) {
+  std::vector<double> scales(o.levels);
+  for (int k = 0; k < o.levels; ++k) scales[k] = std::pow(o.scaleFactor, k - o.firstLevel);
+  return scales;
+}
+
+std::vector<double> pyramidScales(const ImagePyramid& pyramid) {
+  std::vector<double> scales(pyramid.levels());
+  for (int k = 0; k < pyramid.levels(); ++k) scales[k] = pyramid.scale(k);
+  return scales;
+}
+
 // What placementsFor needs to re-measure the orientation on the tangent plane; null image =
 // use the keypoint's angle (testPositions has no image).
 struct OrientationInput {
@@ -314,12 +354,13 @@ struct OrientationInput {
   int* ys = nullptr;
 };
 
-// Placements of the test set for one keypoint: rotation 0, then (masked kinds) +delta and
-// -delta. Returns the number of placements, 0 when the keypoint cannot be described.
+// Placements of the test set for one keypoint sampled on the level of scale `scale`, the
+// footprint enlarged by `fraction` on that level (Support). Rotation 0, then (masked kinds)
+// +delta and -delta. Returns the number of placements, 0 when the keypoint cannot be described.
 // imageAngle receives the image direction (degrees) of a re-measured orientation, else -1.
 int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::KeyPoint& kp, double scale,
-                  const OrientationInput& measure, TangentPlaneFrame& frame, std::array<Placement, 3>& out,
-                  float& imageAngle) {
+                  double fraction, const OrientationInput& measure, TangentPlaneFrame& frame,
+                  std::array<Placement, 3>& out, float& imageAngle) {
   imageAngle = -1.f;
   if (!std::isfinite(kp.pt.x) || !std::isfinite(kp.pt.y)) return 0;
   const int count = hasMasks(o.kind) ? 3 : 1;
@@ -330,7 +371,7 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
     const bool oriented = o.useOrientation && kp.angle >= 0.f;
     for (int r = 0; r < count; ++r) {
       out[r].centre = centre;
-      out[r].map = rotation((oriented ? kp.angle : 0.0) + deltas[r]);
+      out[r].map = rotation((oriented ? kp.angle : 0.0) + deltas[r]) * fraction;
       out[r].scale = scale;
     }
     return count;
@@ -342,9 +383,10 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
   // Offset -> level coordinates before rotation. Affine: shape from the camera, size from the
   // detector (unit-determinant Jacobian). Paper: the Jacobian itself (plane offsets are scaled
   // by the octave scale, level coordinates divide it out); used for the orientation disc.
-  const cv::Matx22d shape = o.form == DistortionForm::Affine
-                                ? frame.jacobian * (1.0 / std::sqrt(std::abs(cv::determinant(frame.jacobian))))
-                                : frame.jacobian;
+  const cv::Matx22d shape = (o.form == DistortionForm::Affine
+                                 ? frame.jacobian * (1.0 / std::sqrt(std::abs(cv::determinant(frame.jacobian))))
+                                 : frame.jacobian) *
+                            fraction;
   double planeAngle = 0.0;
   if (o.useOrientation && o.orientation == OrientationSource::TangentPlane && measure.image) {
     const auto a = centroidAngle(*measure.image, centre, shape, *measure.disc, measure.xs, measure.ys);
@@ -369,7 +411,7 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
     } else {
       pl.affine = false;
       pl.frame = &frame;
-      pl.map = rot * scale;
+      pl.map = rot * (scale * fraction);
     }
   }
   return count;
@@ -383,15 +425,14 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
   const int bytes = descriptorBytes();
   const int nTests = options_.bits;
   const bool wantMasks = hasMasks(options_.kind);
-  int maxOctave = 0;
+  // Each keypoint's level and footprint from its size; octave is not read.
+  std::vector<Support> supports(n);
+  int maxLevel = -1;
   for (int i = 0; i < n; ++i) {
-    const int oct = keypoints[i].octave;
-    if (oct < 0 || oct >= pyramid.levels())
-      throw std::invalid_argument("keypoint " + std::to_string(i) + " has octave " + std::to_string(oct) +
-                                  " but the pyramid has " + std::to_string(pyramid.levels()) + " levels");
-    maxOctave = std::max(maxOctave, oct);
+    supports[i] = supportOf(keypoints[i].size, options_.supportScale, pyramidScales(pyramid));
+    maxLevel = std::max(maxLevel, supports[i].level);
   }
-  if (n > 0) pyramid.prepareSmoothed(maxOctave);
+  if (maxLevel >= 0) pyramid.prepareSmoothed(maxLevel);
 
   cv::Mat desc(n, bytes, CV_8U, cv::Scalar(0)), mask(wantMasks ? n : 0, bytes, CV_8U, cv::Scalar(0));
   std::vector<uchar> ok(n, 0);
@@ -409,10 +450,12 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
     std::array<Placement, 3> placements;
     for (int i = range.begin(); i != range.end(); ++i) {
       const cv::KeyPoint& kp = keypoints[i];
-      const cv::Mat& img = pyramid.smoothed(kp.octave);
+      const Support& support = supports[i];
+      if (support.level < 0) continue;  // no usable size
+      const cv::Mat& img = pyramid.smoothed(support.level);
       const OrientationInput in{measure ? &img : nullptr, &disc, discX.data(), discY.data()};
-      const int count =
-          placementsFor(options_, camera, kp, pyramid.scale(kp.octave), in, frame, placements, angles[i]);
+      const int count = placementsFor(options_, camera, kp, pyramid.scale(support.level), support.fraction, in, frame,
+                                      placements, angles[i]);
       bool good = count > 0;
       for (int r = 0; good && r < count; ++r) {
         const Positions p{&xs[2 * nTests * r], &ys[2 * nTests * r]};
@@ -458,18 +501,23 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
 void DescriptorExtractor::compute(const cv::Mat& image, std::vector<cv::KeyPoint>& keypoints,
                                   cv::Mat& descriptors, cv::Mat* masks) const {
   int levels = 1;
-  for (const auto& kp : keypoints) levels = std::max(levels, kp.octave + 1);
+  const std::vector<double> scales = pyramidScales(options_.pyramid);
+  for (const auto& kp : keypoints) levels = std::max(levels, supportOf(kp.size, options_.supportScale, scales).level + 1);
   const ImagePyramid pyramid(image, options_.pyramid, levels);
   compute(pyramid, keypoints, descriptors, masks);
 }
 
 std::vector<std::pair<cv::Point2f, cv::Point2f>> DescriptorExtractor::testPositions(
     const cv::KeyPoint& keypoint) const {
-  const double scale = std::pow(options_.pyramid.scaleFactor, keypoint.octave - options_.pyramid.firstLevel);
+  const std::vector<double> scales = pyramidScales(options_.pyramid);
+  const Support support = supportOf(keypoint.size, options_.supportScale, scales);
+  if (support.level < 0) return {};
+  const double scale = scales[support.level];
   TangentPlaneFrame frame;
   std::array<Placement, 3> placements;
   float imageAngle;
-  if (placementsFor(options_, camera_.get(), keypoint, scale, OrientationInput{}, frame, placements, imageAngle) == 0)
+  if (placementsFor(options_, camera_.get(), keypoint, scale, support.fraction, OrientationInput{}, frame, placements,
+                    imageAngle) == 0)
     return {};
   const int nTests = options_.bits;
   std::vector<int> xs(2 * nTests), ys(2 * nTests);

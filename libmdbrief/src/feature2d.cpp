@@ -186,7 +186,7 @@ void MdBrief::write(cv::FileStorage& fs) const {
   fs << "useOrientation" << static_cast<int>(e.useOrientation) << "orientation" << toString(e.orientation);
   fs << "orientationRadius" << e.orientationRadius << "form" << toString(e.form);
   fs << "sampling" << toString(e.sampling) << "maskRotationDeg" << e.maskRotationDeg;
-  fs << "maxIncidenceDeg" << e.maxIncidenceDeg;
+  fs << "maxIncidenceDeg" << e.maxIncidenceDeg << "supportScale" << e.supportScale;
   fs << "}";
 }
 
@@ -229,6 +229,7 @@ void MdBrief::read(const cv::FileNode& node) {
   readEnum(e, "sampling", o.descriptor.sampling, &parseSampling);
   readDouble(e, "maskRotationDeg", o.descriptor.maskRotationDeg);
   readDouble(e, "maxIncidenceDeg", o.descriptor.maxIncidenceDeg);
+  readDouble(e, "supportScale", o.descriptor.supportScale);
 
   // Build first, assign after: a bad file leaves the object as it was.
   MdBrief updated(camera_, o);

@@ -39,6 +39,17 @@ std::string cppString(const std::string& s) {
 
 std::string jsonString(const std::string& s) { return nlohmann::json(s).dump(); }
 
+// The digests as one C++ string literal, split over lines of eight.
+std::string digestString(const std::vector<std::string>& digests) {
+  if (digests.empty()) return "\"\"";
+  std::string out;
+  for (size_t i = 0; i < digests.size(); ++i) {
+    if (i % 8 == 0) out += i ? "\"\n    \"" : "\"";
+    out += digests[i] + (i + 1 < digests.size() ? " " : "");
+  }
+  return out + "\"";
+}
+
 }  // namespace
 
 void validate(const PatternDocument& d) {
@@ -57,6 +68,10 @@ void validate(const PatternDocument& d) {
         throw std::invalid_argument("pattern '" + d.name + "': test " + std::to_string(i) +
                                     " has offset " + std::to_string(v) + " outside [-16, 15]");
   }
+  for (const auto& digest : d.trainingImages)
+    if (digest.size() != 16 || digest.find_first_not_of("0123456789abcdef") != std::string::npos)
+      throw std::invalid_argument("pattern '" + d.name + "': training image digest '" + digest +
+                                  "' is not 16 lower-case hex digits");
   std::vector<std::string> lines = d.provenance;
   lines.insert(lines.end(), d.testComments.begin(), d.testComments.end());
   lines.push_back(d.description);
@@ -101,7 +116,8 @@ std::string patternHeaderText(const PatternDocument& d) {
   }
   out << "};\n"
       << "inline constexpr PatternInfo " << id << "Info{" << cppString(d.name) << ", " << id
-      << ", " << count << ",\n    " << cppString(d.description) << "};\n\n"
+      << ", " << count << ",\n    " << cppString(d.description) << ",\n    " << digestString(d.trainingImages)
+      << "};\n\n"
       << "}  // namespace mdbrief::patterns\n";
   return out.str();
 }
@@ -124,6 +140,12 @@ std::string patternJsonText(const PatternDocument& d) {
         << "]" << (i + 1 < d.tests.size() ? ",\n" : "\n");
   }
   out << "  ]";
+  if (!d.trainingImages.empty()) {
+    out << ",\n  \"training_images\": [\n";
+    for (size_t i = 0; i < d.trainingImages.size(); ++i)
+      out << "    " << jsonString(d.trainingImages[i]) << (i + 1 < d.trainingImages.size() ? ",\n" : "\n");
+    out << "  ]";
+  }
   if (!d.testComments.empty()) {
     out << ",\n  \"test_comments\": [\n";
     for (size_t i = 0; i < d.testComments.size(); ++i)

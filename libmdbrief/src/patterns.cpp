@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
@@ -41,7 +42,10 @@ TestSet builtinTestSet(const std::string& name) {
   if (!info)
     throw std::invalid_argument("unknown test set '" + name + "' (built-in: " + knownNames() +
                                 ")");
-  return TestSet{info->name, std::vector<TestPair>(info->tests, info->tests + info->count)};
+  TestSet set{info->name, std::vector<TestPair>(info->tests, info->tests + info->count), {}};
+  std::istringstream digests(info->trainingImages ? info->trainingImages : "");
+  for (std::string d; digests >> d;) set.trainingImages.push_back(d);
+  return set;
 }
 
 TestSet resolveTestSet(const std::string& nameOrPath) {
@@ -90,6 +94,14 @@ TestSet loadTestSetJson(const std::string& path) {
     }
     set.tests.push_back(TestPair{static_cast<int8_t>(v[0]), static_cast<int8_t>(v[1]),
                                  static_cast<int8_t>(v[2]), static_cast<int8_t>(v[3])});
+  }
+  if (doc.contains("training_images")) {
+    const auto& images = doc["training_images"];
+    if (!images.is_array()) throw fail("\"training_images\" is not an array");
+    for (const auto& d : images) {
+      if (!d.is_string()) throw fail("\"training_images\" holds a non-string");
+      set.trainingImages.push_back(d.get<std::string>());
+    }
   }
   if (set.tests.empty() || set.tests.size() % 32 != 0)
     throw fail(std::to_string(set.tests.size()) +

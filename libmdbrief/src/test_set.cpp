@@ -10,7 +10,7 @@ TestSet TestSet::first(int n) const {
     throw std::invalid_argument("test set '" + name + "': cannot take the first " +
                                 std::to_string(n) + " tests (need a multiple of 32 in 32.." +
                                 std::to_string(size) + ")");
-  return TestSet{name, std::vector<TestPair>(tests.begin(), tests.begin() + n)};
+  return TestSet{name, std::vector<TestPair>(tests.begin(), tests.begin() + n), trainingImages};
 }
 
 }  // namespace mdbrief

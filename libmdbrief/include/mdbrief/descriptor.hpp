@@ -59,7 +59,9 @@ enum class Sampling { Bilinear, Nearest };
 struct DescriptorOptions {
   DescriptorKind kind = DescriptorKind::MdBrief;
   int bits = 256;                   // 32..512 in steps of 32: the first `bits` tests of the set
-  std::string pattern;              // registry name or path to a JSON test set; empty = default
+  // Registry name or path to a JSON test set; empty = the registry's default, the learned set
+  // chosen by held-out measurement (docs/RESULTS.md "Learned vs random test sets").
+  std::string pattern;
   bool useOrientation = true;       // rotate the tests by the keypoint angle
   // TangentPlane: recognition of dBRIEF-Affine 74.6 % vs 67.7 % with the detector's angle (mean
   // over the oriented detected-keypoint simulations of four lenses); fisheye precision-recall
@@ -79,7 +81,16 @@ struct DescriptorOptions {
   // dBRIEF/mdBRIEF: keypoints whose ray is further than this from the optical axis are dropped;
   // Pi_lambda degenerates towards 90 degrees (the test footprint stretches without bound).
   double maxIncidenceDeg = 80.0;
-  PyramidOptions pyramid;           // must match the detector's pyramid (octave -> scale)
+  // The footprint follows the keypoint's size continuously: the tests' 31-pixel diameter
+  // (cv::ORB's patch) spans supportScale * size level-0 pixels, sampled on the pyramid level
+  // whose scale is nearest, at the remaining fractional scale on that level. 1 = cv::ORB's
+  // convention (size = patch diameter), so ORB and modORB keypoints (size = 31 * scale of their
+  // octave) give exactly the descriptors of an octave-based placement, and 1 is also where
+  // they match best. Detectors whose size measures a blob rather than a patch (cv::AKAZE,
+  // cv::SIFT) want a larger factor: the measured one per detector is in docs/RESULTS.md
+  // "Descriptor footprint for other detectors".
+  double supportScale = 1.0;
+  PyramidOptions pyramid;           // the levels the footprints are sampled on (the detector's)
 };
 
 // Throws std::invalid_argument with a message naming the option if the options are unusable.
@@ -92,8 +103,9 @@ class DescriptorExtractor {
   // With an explicit test set (options.pattern is ignored); its first options.bits tests are used.
   DescriptorExtractor(CameraPtr camera, DescriptorOptions options, const TestSet& tests);
 
-  // Keypoints: level-0 pixels, octave = pyramid level, angle in degrees (cv::KeyPoint's
-  // convention, -1 = none). Keypoints whose tests cannot all be sampled inside the image and
+  // Keypoints: level-0 pixels, angle in degrees (cv::KeyPoint's convention, -1 = none), size
+  // as DescriptorOptions::supportScale describes (octave is not read). Keypoints whose size is
+  // not a positive finite number are dropped. Keypoints whose tests cannot all be sampled inside the image and
   // the camera's valid area are removed from `keypoints` (as cv::Feature2D::compute does), so
   // rows stay aligned. masks is filled only for MdBrief and MaskedBrief (otherwise released).
   // With OrientationSource::TangentPlane (dBRIEF/mdBRIEF) the kept keypoints' angle becomes

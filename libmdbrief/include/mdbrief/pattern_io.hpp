@@ -23,6 +23,8 @@ struct PatternDocument {
   std::vector<TestPair> tests;  // emitted in this order; offsets in [-16, 15]
   // Optional, empty or one per test: the per-test comment (e.g. "mean 0.48 max corr 0.17").
   std::vector<std::string> testComments;
+  // Digests of the training images (PatternInfo::trainingImages), sorted; empty for random sets.
+  std::vector<std::string> trainingImages;
 };
 
 // Throws std::invalid_argument naming the problem (bad name, empty set, offsets out of range,

@@ -17,7 +17,8 @@ TestSet builtinTestSet(const std::string& name);
 // A name from the registry, or else a path to a JSON test set file.
 TestSet resolveTestSet(const std::string& nameOrPath);
 
-// JSON form: {"name": str, "tests": [[x1,y1,x2,y2], ...], ...extra metadata ignored}.
+// JSON form: {"name": str, "tests": [[x1,y1,x2,y2], ...], optional "training_images": [digest,
+// ...], ...extra metadata ignored}.
 // Throws std::runtime_error naming the file and the problem (missing key, offset outside
 // [-16, 15], wrong arity, not a multiple of 32 tests...).
 TestSet loadTestSetJson(const std::string& path);

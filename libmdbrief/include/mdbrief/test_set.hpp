@@ -22,11 +22,15 @@ struct PatternInfo {
   const TestPair* tests;    // sorted as emitted: the first N tests form the N-bit descriptor
   int count;
   const char* description;  // one line: how it was made
+  // Digests (16 hex digits, space-separated) of the decoded grey pixels of the images the set
+  // was learned from, so an evaluation can prove it never saw them; "" for a random set.
+  const char* trainingImages;
 };
 
 struct TestSet {
   std::string name;
   std::vector<TestPair> tests;
+  std::vector<std::string> trainingImages;  // digests, as PatternInfo::trainingImages
 
   // The first n tests (n in 32..size(), multiple of 32). Throws std::invalid_argument otherwise.
   TestSet first(int n) const;

@@ -1,0 +1,23 @@
+#pragma once
+// The parsers of outside input, each as one fuzz target: bytes -> a file -> the parser. A target
+// returns normally for any input (a clear exception is the expected answer to bad bytes); a
+// crash, a hang or a sanitizer report is a finding. libFuzzer drives them in the fuzz build
+// (fuzz_main.cpp), tests/test_fuzz_regressions.cpp replays every kept finding in every build.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace mdbrief::fuzz {
+
+struct Target {
+  const char* name;  // also the folder of its seeds and regressions: fuzz/{seeds,regressions}/<name>
+  void (*run)(const uint8_t* data, size_t size);
+};
+
+// camera (loadCamera: project YAML, OCamCalib text, calib-adapter YAML), pattern_json
+// (loadTestSetJson), keypoints (mdbrief extract --keypoints), patch_set (HDF5 readPatchSet),
+// train_config (mdbrief-train --config TOML).
+const std::vector<Target>& targets();
+
+}  // namespace mdbrief::fuzz

@@ -1,0 +1,69 @@
+#include "patchextract/image_digest.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <opencv2/imgcodecs.hpp>
+
+namespace mdbrief::train {
+
+// The text of configs/held-out-images.txt, generated into the build tree by CMake.
+extern const char* const kShippedHeldOutText;
+
+std::string imageDigest(const cv::Mat& grey) {
+  if (grey.empty() || grey.type() != CV_8UC1) throw std::invalid_argument("imageDigest: need a non-empty 8UC1 image");
+  uint64_t h = 1469598103934665603ull;  // FNV-1a 64 offset basis
+  const auto mix = [&h](uint8_t byte) {
+    h ^= byte;
+    h *= 1099511628211ull;  // FNV-1a 64 prime
+  };
+  for (int v : {grey.cols, grey.rows})
+    for (int b = 0; b < 4; ++b) mix(static_cast<uint8_t>(static_cast<uint32_t>(v) >> (8 * b)));
+  for (int y = 0; y < grey.rows; ++y) {
+    const uint8_t* row = grey.ptr<uint8_t>(y);
+    for (int x = 0; x < grey.cols; ++x) mix(row[x]);
+  }
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+std::string imageFileDigest(const std::filesystem::path& path) {
+  const cv::Mat grey = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
+  return grey.empty() ? std::string() : imageDigest(grey);
+}
+
+HeldOutImages parseHeldOutImages(const std::string& text, const std::string& source) {
+  HeldOutImages out;
+  std::istringstream in(text);
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+    std::istringstream fields(line);
+    std::string digest, label;
+    if (!(fields >> digest)) continue;
+    std::getline(fields >> std::ws, label);
+    if (digest.size() != 16 || digest.find_first_not_of("0123456789abcdef") != std::string::npos)
+      throw std::runtime_error(source + ":" + std::to_string(number) + ": '" + digest +
+                               "' is not a digest (16 lower-case hex digits)");
+    out.emplace(digest, label.empty() ? digest : label);
+  }
+  return out;
+}
+
+HeldOutImages readHeldOutImages(const std::filesystem::path& path) {
+  std::ifstream f(path);
+  if (!f) throw std::runtime_error(path.string() + ": cannot read the held-out list");
+  std::ostringstream text;
+  text << f.rdbuf();
+  return parseHeldOutImages(text.str(), path.string());
+}
+
+const HeldOutImages& shippedHeldOutImages() {
+  static const HeldOutImages images = parseHeldOutImages(kShippedHeldOutText, "configs/held-out-images.txt");
+  return images;
+}
+
+}  // namespace mdbrief::train

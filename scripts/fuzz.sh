@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Fuzzes every parser of outside input (fuzz/fuzz_targets.hpp) with libFuzzer under ASan + UBSan:
+# each target for SECONDS (default 600), starting from fuzz/seeds/<target> (plus the
+# calibrations of ../shared/data/fisheye for `camera`). A crash, hang or sanitizer report is
+# kept in fuzz/regressions/<target>/, which tests/test_fuzz_regressions.cpp replays in every
+# build; the script then exits 1. Prints one summary line per target (executions, corpus).
+# Usage: scripts/fuzz.sh [SECONDS] [BUILD_DIR]   (defaults: 600, build-fuzz). FUZZ_SEED fixes
+# libFuzzer's random seed (CI: 1, so a run repeats); unset, every run explores anew.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+SECONDS_PER_TARGET=${1:-600}
+BUILD_DIR=${2:-build-fuzz}
+bash scripts/setup-deps.sh
+CC=clang CXX=clang++ cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMDBRIEF_BUILD_FUZZERS=ON \
+  -DMDBRIEF_SANITIZE=ON -DMDBRIEF_BUILD_TESTS=OFF -DMDBRIEF_BUILD_BENCH=OFF > /dev/null
+targets=(camera pattern_json keypoints patch_set train_config)
+cmake --build "$BUILD_DIR" -j"$(nproc)" --target "${targets[@]/#/fuzz_}"
+DATA=${MDBRIEF_DATA:-../shared/data}
+WORK=$(mktemp -d)
+trap 'rm -rf "$WORK"' EXIT
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+export LSAN_OPTIONS=suppressions=$PWD/fuzz/lsan.supp
+export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+found=0
+for t in "${targets[@]}"; do
+  corpus="$WORK/$t" && mkdir -p "$corpus" "fuzz/regressions/$t"
+  cp fuzz/seeds/"$t"/* "$corpus"/
+  if [ "$t" = camera ] && [ -d "$DATA/fisheye" ]; then
+    find "$DATA/fisheye" \( -name '*.yml' -o -name '*.yaml' -o -name 'calib_results.txt' \) -exec cp --backup=numbered {} "$corpus"/ \;
+  fi
+  log="$WORK/$t.log"
+  if ! "$BUILD_DIR/fuzz/fuzz_$t" "$corpus" -max_total_time="$SECONDS_PER_TARGET" -timeout=10 -rss_limit_mb=4096 \
+      -artifact_prefix="fuzz/regressions/$t/" -print_final_stats=1 ${FUZZ_SEED:+-seed=$FUZZ_SEED} > "$log" 2>&1; then
+    found=1
+    echo "fuzz: $t: FINDING kept in fuzz/regressions/$t/ ($(grep -m1 -E 'ERROR|runtime error|deadly signal|timeout' "$log"))"
+  fi
+  execs=$(grep -m1 'stat::number_of_executed_units' "$log" | awk '{print $2}')
+  echo "fuzz: $t: ${SECONDS_PER_TARGET} s, ${execs:-?} executions, corpus $(ls "$corpus" | wc -l) inputs"
+done
+exit $found
