@@ -8,6 +8,7 @@
 // Frames: Graffiti rendered through configs/cameras/lafida_fisheye0.yaml (needs opencv-doc).
 #include <benchmark/benchmark.h>
 
+#include <array>
 #include <memory>
 
 #include <opencv2/core/utility.hpp>
@@ -138,4 +139,43 @@ BENCHMARK(BM_FrameMdBrief)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRe
 // Arg: 0 = detect, 1 = describe, 2 = match.
 BENCHMARK(BM_FrameMdBriefStages)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// Detectors alone and with their descriptors, single-threaded, on frame A (issue 10's speed
+// targets): Arg 0 modORB (+ mdBRIEF-256), 1 Hessian (+ mdBRIEF-256), 2 cv::ORB, 3 cv::AKAZE.
+void detectorRun(benchmark::State& state, bool describe) {
+  const Views& v = views();
+  if (v.a.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
+  cv::setNumThreads(1);
+  const tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+  const int which = static_cast<int>(state.range(0));
+  cv::Ptr<cv::Feature2D> feature;
+  if (which <= 1) {
+    mdbrief::MdBriefOptions options;
+    options.detector.nfeatures = kFeatures;
+    options.detector.method = which == 0 ? mdbrief::DetectorMethod::ModOrb : mdbrief::DetectorMethod::Hessian;
+    feature = mdbrief::MdBrief::create(v.camera, options);
+  } else if (which == 2) {
+    feature = cv::ORB::create(kFeatures);
+  } else {
+    feature = cv::AKAZE::create();
+  }
+  state.SetLabel(std::array<const char*, 4>{"modORB", "Hessian", "cv::ORB", "cv::AKAZE"}[which]);
+  size_t keypoints = 0;
+  for (auto _ : state) {
+    std::vector<cv::KeyPoint> ka;
+    cv::Mat da;
+    if (describe)
+      feature->detectAndCompute(v.a, cv::noArray(), ka, da);
+    else
+      feature->detect(v.a, ka);
+    keypoints = ka.size();
+    benchmark::DoNotOptimize(ka.data());
+  }
+  state.counters["keypoints"] = double(keypoints);
+  cv::setNumThreads(-1);
+}
+void BM_Detect(benchmark::State& state) { detectorRun(state, false); }
+void BM_DetectAndDescribe(benchmark::State& state) { detectorRun(state, true); }
+
 }  // namespace
+BENCHMARK(BM_Detect)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DetectAndDescribe)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -41,6 +41,10 @@ void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
   cmd.add_option("--features", flags.features, "Maximum number of keypoints per image")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
+  cmd.add_option("--detector", flags.detector,
+                 "Keypoint detector: modorb (FAST corners, ORB's scheme) or hessian (scale-space blobs)")
+      ->check(CLI::IsMember({toString(DetectorMethod::ModOrb), toString(DetectorMethod::Hessian)}))
+      ->capture_default_str();
   cmd.add_option("--form", flags.form, "How dBRIEF/mdBRIEF distort the tests: affine (fast) or paper (eq. 8-11)")
       ->check(CLI::IsMember({"affine", "paper"}))
       ->capture_default_str();
@@ -121,6 +125,7 @@ cv::Ptr<MdBrief> makeFeature(const ExtractionFlags& flags, const CameraPtr& cali
   }
   MdBriefOptions options;
   options.detector.nfeatures = flags.features;
+  options.detector.method = parseDetectorMethod(flags.detector);
   options.descriptor.kind = parseDescriptorKind(flags.descriptor);
   options.descriptor.bits = flags.bits;
   options.descriptor.useOrientation = !flags.noOrientation;

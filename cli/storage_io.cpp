@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <opencv2/imgcodecs.hpp>
+#include <yaml-cpp/yaml.h>
 
 #include "cli/commands.hpp"
 #include "mdbrief/pattern_io.hpp"
@@ -29,6 +30,25 @@ std::string storageExtension(const fs::path& path) {
   for (const char* ext : kExtensions)
     if (endsWith(name, ext) && name.size() > std::string(ext).size()) return ext;
   return "";
+}
+
+// yaml-cpp recurses once per nesting level: bound the depth before it parses.
+constexpr int kMaxFlowDepth = 64;
+
+void requireWellFormedYaml(const std::string& path, const std::string& bytes) {
+  int depth = 0;
+  for (const char c : bytes) {
+    depth += (c == '[' || c == '{') - (c == ']' || c == '}');
+    if (depth > kMaxFlowDepth)
+      throw InputError(path + ": brackets nested deeper than " + std::to_string(kMaxFlowDepth));
+  }
+  // OpenCV's "%YAML:1.0" first line is not a YAML 1.2 directive.
+  const size_t start = bytes.rfind("%YAML:", 0) == 0 ? bytes.find('\n') : std::string::npos;
+  try {
+    YAML::Load(start == std::string::npos ? bytes : bytes.substr(start + 1));
+  } catch (const YAML::Exception& e) {
+    throw InputError(path + ": not well-formed YAML/JSON: " + e.what());
+  }
 }
 
 void checkFolder(const fs::path& path) {
@@ -108,6 +128,8 @@ cv::FileStorage openStorageForReading(const std::string& path) {
     if (nul != std::string::npos)
       throw InputError(path + ": byte " + std::to_string(nul) +
                        " is NUL; a FileStorage text file (YAML, JSON, XML) cannot hold one");
+    const std::string ext = storageExtension(path);
+    if (ext != ".xml") requireWellFormedYaml(path, bytes);
   }
   cv::FileStorage storage(path, cv::FileStorage::READ);
   if (!storage.isOpened()) throw InputError(path + ": cannot open as an OpenCV FileStorage file");

@@ -22,9 +22,10 @@ void checkImageOutput(const std::filesystem::path& path);
 void writeStorageAtomically(const std::filesystem::path& path, const std::function<void(cv::FileStorage&)>& write);
 void writeImageAtomically(const std::filesystem::path& path, const cv::Mat& image);
 
-// Opens an existing FileStorage file for reading. Text files (not .gz) holding a NUL byte are
-// refused before OpenCV sees them: no YAML, JSON or XML file holds one, and OpenCV 4.6's parser
-// loops forever on some (fuzz/regressions/keypoints).
+// Opens an existing FileStorage file for reading. OpenCV 4.6's YAML parser loops forever on some
+// malformed files (fuzz/regressions/keypoints), so text files are checked before it sees them:
+// none may hold a NUL byte, and YAML and JSON files must parse as YAML (yaml-cpp; JSON is YAML)
+// with flow brackets nested at most 64 deep. XML and .gz files go to OpenCV unchecked.
 cv::FileStorage openStorageForReading(const std::string& path);
 
 // Nodes `keypoints` (cv::write), `descriptors` (N x bytes CV_8U) and, when not empty, `masks`

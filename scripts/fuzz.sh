@@ -13,7 +13,8 @@ BUILD_DIR=${2:-build-fuzz}
 bash scripts/setup-deps.sh
 CC=clang CXX=clang++ cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMDBRIEF_BUILD_FUZZERS=ON \
   -DMDBRIEF_SANITIZE=ON -DMDBRIEF_BUILD_TESTS=OFF -DMDBRIEF_BUILD_BENCH=OFF > /dev/null
-targets=(camera pattern_json keypoints patch_set train_config)
+# FUZZ_TARGETS: a subset, e.g. "keypoints camera".
+targets=(${FUZZ_TARGETS:-camera pattern_json keypoints patch_set train_config})
 cmake --build "$BUILD_DIR" -j"$(nproc)" --target "${targets[@]/#/fuzz_}"
 DATA=${MDBRIEF_DATA:-../shared/data}
 WORK=$(mktemp -d)

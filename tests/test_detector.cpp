@@ -6,6 +6,7 @@
 #include <memory>
 #include <numeric>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -308,6 +309,128 @@ TEST(Detector, KeypointsKeepThePatchInsideTheCameraValidArea) {
   }
   // ...and the detector does use the disc up to its rim, not some smaller area.
   EXPECT_GT(outermost, radius - 15);
+}
+
+// --- Hessian (scale-space blobs) ---
+
+DetectorOptions hessianOptions(int nfeatures) {
+  DetectorOptions o;
+  o.method = mdbrief::DetectorMethod::Hessian;
+  o.nfeatures = nfeatures;
+  return o;
+}
+
+// Dark Gaussian blobs of known position and width on a grey background.
+struct SyntheticBlob {
+  cv::Point2d centre;
+  double sigma;
+};
+cv::Mat blobImage(const std::vector<SyntheticBlob>& blobs) {
+  cv::Mat image(480, 560, CV_32F, cv::Scalar(200));
+  for (int y = 0; y < image.rows; ++y)
+    for (int x = 0; x < image.cols; ++x)
+      for (const auto& b : blobs) {
+        const double d2 = (x - b.centre.x) * (x - b.centre.x) + (y - b.centre.y) * (y - b.centre.y);
+        image.at<float>(y, x) -= static_cast<float>(150.0 * std::exp(-d2 / (2 * b.sigma * b.sigma)));
+      }
+  cv::Mat out;
+  image.convertTo(out, CV_8U);
+  return out;
+}
+
+TEST(HessianDetector, FindsBlobsAtTheirSubPixelPositionWithSizesInProportion) {
+  const std::vector<SyntheticBlob> blobs{{{120.3, 140.6}, 3.0}, {{330.5, 170.2}, 6.0}, {{250.7, 330.4}, 4.5}};
+  const std::vector<cv::KeyPoint> kps = Detector(hessianOptions(20)).detect(blobImage(blobs));
+  std::vector<float> sizes;
+  for (const auto& b : blobs) {
+    const auto nearest = std::min_element(kps.begin(), kps.end(), [&](const cv::KeyPoint& a, const cv::KeyPoint& c) {
+      return cv::norm(cv::Point2d(a.pt) - b.centre) < cv::norm(cv::Point2d(c.pt) - b.centre);
+    });
+    ASSERT_NE(nearest, kps.end());
+    EXPECT_LT(cv::norm(cv::Point2d(nearest->pt) - b.centre), 0.35 * b.sigma) << b.centre << " " << nearest->pt;
+    sizes.push_back(nearest->size);
+  }
+  // The scale follows the blob's width, between pyramid levels too (4.5 / 3 = 1.5 is not a power of 1.2).
+  EXPECT_NEAR(sizes[1] / sizes[0], 2.0, 0.3);
+  EXPECT_NEAR(sizes[2] / sizes[0], 1.5, 0.2);
+}
+
+// The same photo at 1 / 1.5 of its size: keypoints found in both agree in position and their
+// sizes differ by the zoom.
+TEST(HessianDetector, ScaleFollowsAZoom) {
+  const cv::Mat image = textured();
+  REQUIRE_IMAGE(image);
+  const double zoom = 1.5;
+  cv::Mat small;
+  cv::resize(image, small, cv::Size(), 1 / zoom, 1 / zoom, cv::INTER_AREA);
+  const Detector detector(hessianOptions(500));
+  const auto big = detector.detect(image), little = detector.detect(small);
+  std::vector<double> ratios;
+  for (const auto& k : little) {
+    const cv::Point2d p(k.pt.x * zoom, k.pt.y * zoom);
+    for (const auto& b : big)
+      if (cv::norm(cv::Point2d(b.pt) - p) <= 2.0 * zoom) {
+        ratios.push_back(b.size / k.size);
+        break;
+      }
+  }
+  ASSERT_GT(ratios.size(), little.size() / 3) << "few keypoints found again after the zoom";
+  std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+  EXPECT_NEAR(ratios[ratios.size() / 2], zoom, 0.15);
+}
+
+TEST(HessianDetector, BudgetOrderDeterminismAndTheCameraValidArea) {
+  const cv::Mat image = textured();
+  REQUIRE_IMAGE(image);
+  const cv::Point2d centre(400, 320);
+  const double radius = 300;
+  const Detector detector(hessianOptions(400), std::make_shared<DiscCamera>(image.size(), centre, radius));
+  const auto keypoints = detector.detect(image);
+  EXPECT_EQ(keypoints.size(), 400u);
+  EXPECT_TRUE(identical(keypoints, detector.detect(image)));
+  for (size_t i = 0; i < keypoints.size(); ++i) {
+    const auto& kp = keypoints[i];
+    if (i > 0) {
+      EXPECT_GE(keypoints[i - 1].response, kp.response);
+    }
+    const double scale = std::pow(1.2, kp.octave);
+    EXPECT_NEAR(kp.size, 31 * scale, 31 * scale * 0.1);  // within half a level of its octave
+    EXPECT_TRUE(kp.angle >= 0.f && kp.angle < 360.f);
+    EXPECT_LE(std::hypot(kp.pt.x - centre.x, kp.pt.y - centre.y) + 24 * scale, radius + 2 * scale) << kp.pt;
+  }
+  // The descriptor reads the size: it describes nearly all of them.
+  std::vector<cv::KeyPoint> described = keypoints;
+  cv::Mat descriptors;
+  mdbrief::DescriptorOptions brief;
+  brief.kind = mdbrief::DescriptorKind::Brief;
+  mdbrief::DescriptorExtractor(nullptr, brief).compute(image, described, descriptors);
+  EXPECT_GT(described.size(), 0.95 * keypoints.size());
+}
+
+TEST(HessianDetector, SpreadKeepsTheBudgetAndCoversMoreCells) {
+  const cv::Mat image = textured();
+  REQUIRE_IMAGE(image);
+  DetectorOptions o = hessianOptions(300);
+  const auto strongest = Detector(o).detect(image);
+  o.spread = true;
+  const auto spread = Detector(o).detect(image);
+  EXPECT_LE(spread.size(), 300u);
+  EXPECT_GT(spread.size(), 250u);
+  const auto cells = [&](const std::vector<cv::KeyPoint>& kps) {
+    std::set<std::pair<int, int>> used;
+    for (const auto& k : kps) used.insert({static_cast<int>(k.pt.x) / 50, static_cast<int>(k.pt.y) / 50});
+    return used.size();
+  };
+  EXPECT_GT(cells(spread), cells(strongest));
+}
+
+TEST(HessianDetector, InvalidOptionsAreNamed) {
+  DetectorOptions o = hessianOptions(100);
+  o.hessianSigma = 0.1;
+  EXPECT_NE(messageOf([&] { Detector d(o); }).find("hessianSigma"), std::string::npos);
+  o = hessianOptions(100);
+  o.hessianThreshold = -1;
+  EXPECT_NE(messageOf([&] { Detector d(o); }).find("hessianThreshold"), std::string::npos);
 }
 
 // --- orientation ---

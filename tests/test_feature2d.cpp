@@ -199,6 +199,9 @@ TEST(MdBriefFeature2D, FileStorageRoundTripKeepsEveryOption) {
   p.smoothingSigma = 1.5;
   o.setPyramid(p);
   o.detector.nfeatures = 321;
+  o.detector.method = DetectorMethod::Hessian;
+  o.detector.hessianSigma = 1.7;
+  o.detector.hessianThreshold = 2e-4;
   o.detector.corners = CornerDetector::Agast;
   o.detector.threshold = 17;
   o.detector.fallbackThreshold = 5;
@@ -239,6 +242,9 @@ TEST(MdBriefFeature2D, FileStorageRoundTripKeepsEveryOption) {
     EXPECT_EQ(r.detector.pyramid.smoothingKernel, 5);
     EXPECT_DOUBLE_EQ(r.detector.pyramid.smoothingSigma, 1.5);
     EXPECT_EQ(r.detector.nfeatures, 321);
+    EXPECT_EQ(r.detector.method, DetectorMethod::Hessian);
+    EXPECT_DOUBLE_EQ(r.detector.hessianSigma, 1.7);
+    EXPECT_DOUBLE_EQ(r.detector.hessianThreshold, 2e-4);
     EXPECT_EQ(r.detector.corners, CornerDetector::Agast);
     EXPECT_EQ(r.detector.threshold, 17);
     EXPECT_EQ(r.detector.fallbackThreshold, 5);
@@ -273,6 +279,15 @@ TEST(MdBriefFeature2D, ReadRejectsBadValuesAndKeepsTheOldOptions) {
   EXPECT_THROW(f->read(in2.root()), std::invalid_argument);
   EXPECT_EQ(f->options().descriptor.kind, DescriptorKind::MdBrief);
   EXPECT_EQ(f->descriptorSize(), 32);
+  const std::string method = "%YAML:1.0\n---\ndetector:\n  method: harris\n";
+  cv::FileStorage in4(method, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  try {
+    f->read(in4.root());
+    ADD_FAILURE() << "an unknown detector method was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("hessian"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(f->options().detector.method, DetectorMethod::ModOrb);
   const std::string orb = "%YAML:1.0\n---\nname: Feature2D.ORB\n";
   cv::FileStorage in3(orb, cv::FileStorage::READ | cv::FileStorage::MEMORY);
   EXPECT_THROW(f->read(in3.root()), std::invalid_argument);

@@ -100,6 +100,12 @@ Features describe(const MethodSpec& m, const cv::Mat& image, const CameraPtr& ca
   throw std::logic_error("describe: unknown method family");
 }
 
+Features describeOwnKeypoints(const MethodSpec& m, const cv::Mat& image, std::vector<cv::KeyPoint> keypoints) {
+  if (m.family == MethodFamily::Akaze) return describeOpenCv(cv::AKAZE::create(), image, std::move(keypoints), 486);
+  if (m.family == MethodFamily::Sift) return describeOpenCv(cv::SIFT::create(), image, std::move(keypoints), 128);
+  return describe(m, image, nullptr, std::move(keypoints));
+}
+
 double descriptorDistance(const Features& a, int i, const Features& b, int j) {
   if (a.descriptors.type() == CV_32F) return cv::norm(a.descriptors.row(i), b.descriptors.row(j), cv::NORM_L2);
   const int bytes = a.descriptors.cols;

@@ -50,6 +50,11 @@ Features describe(const MethodSpec& method, const cv::Mat& image, const CameraPt
                   std::vector<cv::KeyPoint> keypoints, int maxKeypoints = 300,
                   const cv::Mat& validMask = {});
 
+// Describes keypoints that the method's own OpenCV detector found (AKAZE: class_id is its
+// evolution level; SIFT: octave and size are its own), as detectAndCompute would. Other
+// families: as describe().
+Features describeOwnKeypoints(const MethodSpec& method, const cv::Mat& image, std::vector<cv::KeyPoint> keypoints);
+
 // Distance of row i of a and row j of b: bits (plain or masked, in bits) or L2 for SIFT.
 double descriptorDistance(const Features& a, int i, const Features& b, int j);
 

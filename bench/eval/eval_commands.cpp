@@ -13,6 +13,7 @@
 #include "patchextract/image_file.hpp"
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/pattern_io.hpp"
+#include "pipeline_experiment.hpp"
 #include "pr_experiment.hpp"
 #include "simulation.hpp"
 #include "timing_table.hpp"
@@ -121,46 +122,108 @@ void addSimCommand(CLI::App& app) {
   });
 }
 
+namespace {
+
+// The image sequences of `eval` and `pipelines`: Oxford, rendered fisheye, user data.
+struct DatasetFlags {
+  std::string oxfordDir = sharedData() + "/oxford-affine";
+  std::vector<std::string> sequences = kOxfordSequences;
+  // The three fisheye models of configs/cameras (OCamCalib, double sphere, Kannala-Brandt).
+  std::vector<std::string> fisheyeCameras{sourcePath("configs/cameras/lafida_fisheye0.yaml"),
+                                          sourcePath("configs/cameras/double_sphere_example.yaml"),
+                                          sourcePath("configs/cameras/kannala_brandt_example.yaml")};
+  std::vector<std::string> textures;
+  int poses = 6;
+  std::vector<std::string> userImages, userHomographies;
+  std::string userCamera;
+  bool noPerspective = false, noFisheye = false;
+};
+
+void addDatasetFlags(CLI::App* cmd, DatasetFlags& d) {
+  cmd->add_option("--oxford-dir", d.oxfordDir, "Folder of the Oxford affine sequences")->capture_default_str();
+  cmd->add_option("--sequences", d.sequences, "Oxford sequences to use")->capture_default_str();
+  cmd->add_option("--fisheye-camera", d.fisheyeCameras, "Calibrations to render the fisheye sequences with");
+  cmd->add_option("--texture", d.textures, "Photos rendered as planes (default: img1 of every Oxford sequence "
+                                           "found and six opencv-doc photos)");
+  cmd->add_option("--poses", d.poses, "Rendered poses per fisheye sequence")->check(CLI::Range(2, 50))->capture_default_str();
+  cmd->add_option("--user-images", d.userImages, "User sequence: reference image first");
+  cmd->add_option("--user-camera", d.userCamera, "User sequence: camera calibration");
+  cmd->add_option("--user-homographies", d.userHomographies,
+                  "User sequence: 3x3 bearing-space homographies image 1 -> image k (k = 2..)");
+  cmd->add_flag("--no-perspective", d.noPerspective, "Skip the Oxford sequences");
+  cmd->add_flag("--no-fisheye", d.noFisheye, "Skip the rendered fisheye sequences");
+}
+
+// Loads the groups the flags select; `imagePaths` receives the file behind every image, for
+// the held-out check.
+std::vector<EvalGroup> loadGroups(const DatasetFlags& d, std::vector<std::string>& imagePaths) {
+  if (!d.userImages.empty() && d.userCamera.empty()) throw InputError("--user-images needs --user-camera");
+  std::vector<EvalGroup> groups;
+  imagePaths = d.userImages;
+  if (!d.noPerspective) {
+    EvalGroup g{"perspective", {}};
+    for (const auto& s : d.sequences) {
+      auto seq = loadOxfordSequence(d.oxfordDir + "/" + s, s);
+      if (seq) {
+        g.sequences.push_back(std::move(*seq));
+        for (int k = 1; k <= 6; ++k) imagePaths.push_back(d.oxfordDir + "/" + s + "/img" + std::to_string(k) + ".png");
+      } else {
+        std::fprintf(stderr, "eval: skipping Oxford sequence %s: %s/%s not found or incomplete\n", s.c_str(),
+                     d.oxfordDir.c_str(), s.c_str());
+      }
+    }
+    groups.push_back(std::move(g));
+  }
+  if (!d.noFisheye) {
+    std::vector<std::string> textures = d.textures;
+    if (textures.empty()) {
+      for (const auto& s : d.sequences) {
+        const std::string p = d.oxfordDir + "/" + s + "/img1.png";
+        if (fs::exists(p)) textures.push_back(p);
+      }
+      // Textured photos of opencv-doc (present on every machine the setup script prepared).
+      for (const auto& p : kDocFisheyeTextures) textures.push_back(kDocData + "/" + p);
+    }
+    imagePaths.insert(imagePaths.end(), textures.begin(), textures.end());
+    EvalGroup g{"fisheye", {}};
+    for (const auto& camPath : d.fisheyeCameras) {
+      const CameraPtr cam = loadCameraOrThrow(camPath);
+      for (const auto& t : textures) {
+        const std::string name = fs::path(camPath).stem().string() + ":" + fs::path(t).parent_path().filename().string() +
+                                 "/" + fs::path(t).stem().string();
+        g.sequences.push_back(renderedFisheyeSequence(name, loadGreyOrThrow(t), cam, d.poses));
+      }
+    }
+    groups.push_back(std::move(g));
+  }
+  if (!d.userImages.empty())
+    groups.push_back({"user", {loadUserSequence("user", d.userImages, d.userCamera, d.userHomographies)}});
+  return groups;
+}
+
+}  // namespace
+
 void addEvalCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("eval", "Precision-recall (Mikolajczyk protocol) on Oxford sequences, rendered "
                                          "fisheye sequences and user data");
   struct Args {
-    std::string oxfordDir = sharedData() + "/oxford-affine";
-    std::vector<std::string> sequences = kOxfordSequences;
-    // The three fisheye models of configs/cameras (OCamCalib, double sphere, Kannala-Brandt).
-    std::vector<std::string> fisheyeCameras{sourcePath("configs/cameras/lafida_fisheye0.yaml"),
-                                            sourcePath("configs/cameras/double_sphere_example.yaml"),
-                                            sourcePath("configs/cameras/kannala_brandt_example.yaml")};
-    std::vector<std::string> textures;
-    int poses = 6;
-    std::vector<std::string> userImages, userHomographies;
-    std::string userCamera;
+    DatasetFlags data;
     PrOptions pr;
-    bool noPerspective = false, noFisheye = false, quick = false;
+    bool quick = false;
     std::vector<std::string> testSets;
     std::string keypointsFrom = "modorb";
     std::vector<double> supportScales;
   };
   auto a = std::make_shared<Args>();
   a->pr.outDir = sourcePath("docs/results");
-  cmd->add_option("--oxford-dir", a->oxfordDir, "Folder of the Oxford affine sequences")->capture_default_str();
-  cmd->add_option("--sequences", a->sequences, "Oxford sequences to use")->capture_default_str();
-  cmd->add_option("--fisheye-camera", a->fisheyeCameras, "Calibrations to render the fisheye sequences with");
-  cmd->add_option("--texture", a->textures, "Photos rendered as planes (default: img1 of every Oxford sequence "
-                                            "found and six opencv-doc photos)");
-  cmd->add_option("--poses", a->poses, "Rendered poses per fisheye sequence")->check(CLI::Range(2, 50))->capture_default_str();
-  cmd->add_option("--user-images", a->userImages, "User sequence: reference image first");
-  cmd->add_option("--user-camera", a->userCamera, "User sequence: camera calibration");
-  cmd->add_option("--user-homographies", a->userHomographies,
-                  "User sequence: 3x3 bearing-space homographies image 1 -> image k (k = 2..)");
+  addDatasetFlags(cmd, a->data);
   cmd->add_option("--keypoints", a->pr.keypoints, "Strongest keypoints per image")->check(CLI::Range(10, 100000))->capture_default_str();
   cmd->add_option("--radius", a->pr.radiusPx, "Ground-truth radius in pixels")->check(CLI::Range(0.1, 100.0))->capture_default_str();
   cmd->add_option("--out", a->pr.outDir, "Output folder for the CSVs")->capture_default_str();
-  cmd->add_flag("--no-perspective", a->noPerspective, "Skip the Oxford sequences");
-  cmd->add_flag("--no-fisheye", a->noFisheye, "Skip the rendered fisheye sequences");
   cmd->add_flag("--quick", a->quick, "Only the paper's main comparison (no length / test-set study)");
   cmd->add_option("--keypoints-from", a->keypointsFrom,
-                  "Keypoints every method but AKAZE describes: modorb (the library's detector) | orb | akaze | sift")
+                  "Keypoints every method but AKAZE describes: modorb (the library's detector) | orb | akaze | "
+                  "brisk | sift")
       ->capture_default_str();
   cmd->add_option("--support-scales", a->supportScales,
                   "Only the footprint study: dBRIEF-256 and mdBRIEF-256 at these DescriptorOptions::supportScale values")
@@ -168,48 +231,9 @@ void addEvalCommand(CLI::App& app) {
   cmd->add_option("--test-set", a->testSets,
                   "Only the test-set study, with these sets (registry names or JSON files; repeatable)");
   cmd->callback([a] {
-    if (!a->userImages.empty() && a->userCamera.empty()) throw InputError("--user-images needs --user-camera");
-    std::vector<EvalGroup> groups;
-    std::vector<std::string> imagePaths = a->userImages;  // the files behind every evaluated image
     asInputErrors([&] {
-      if (!a->noPerspective) {
-        EvalGroup g{"perspective", {}};
-        for (const auto& s : a->sequences) {
-          auto seq = loadOxfordSequence(a->oxfordDir + "/" + s, s);
-          if (seq) {
-            g.sequences.push_back(std::move(*seq));
-            for (int k = 1; k <= 6; ++k) imagePaths.push_back(a->oxfordDir + "/" + s + "/img" + std::to_string(k) + ".png");
-          }
-          else
-            std::fprintf(stderr, "eval: skipping Oxford sequence %s: %s/%s not found or incomplete\n", s.c_str(),
-                         a->oxfordDir.c_str(), s.c_str());
-        }
-        groups.push_back(std::move(g));
-      }
-      if (!a->noFisheye) {
-        std::vector<std::string> textures = a->textures;
-        if (textures.empty()) {
-          for (const auto& s : a->sequences) {
-            const std::string p = a->oxfordDir + "/" + s + "/img1.png";
-            if (fs::exists(p)) textures.push_back(p);
-          }
-          // Textured photos of opencv-doc (present on every machine the setup script prepared).
-          for (const auto& p : kDocFisheyeTextures) textures.push_back(kDocData + "/" + p);
-        }
-        imagePaths.insert(imagePaths.end(), textures.begin(), textures.end());
-        EvalGroup g{"fisheye", {}};
-        for (const auto& camPath : a->fisheyeCameras) {
-          const CameraPtr cam = loadCameraOrThrow(camPath);
-          for (const auto& t : textures) {
-            const std::string name = fs::path(camPath).stem().string() + ":" + fs::path(t).parent_path().filename().string() +
-                                     "/" + fs::path(t).stem().string();
-            g.sequences.push_back(renderedFisheyeSequence(name, loadGreyOrThrow(t), cam, a->poses));
-          }
-        }
-        groups.push_back(std::move(g));
-      }
-      if (!a->userImages.empty())
-        groups.push_back({"user", {loadUserSequence("user", a->userImages, a->userCamera, a->userHomographies)}});
+      std::vector<std::string> imagePaths;
+      const auto groups = loadGroups(a->data, imagePaths);
       a->pr.keypointSource = parseKeypointSource(a->keypointsFrom);
       // The footprint study compares sizes on the keypoints the largest footprint keeps.
       a->pr.commonKeypoints = !a->supportScales.empty();
@@ -219,6 +243,58 @@ void addEvalCommand(CLI::App& app) {
                                                      : testSetStudyMethods(a->testSets);
       requireDisjointTraining(methods, imagePaths);
       runPrecisionRecall(groups, methods, a->pr);
+    });
+  });
+}
+
+void addPipelinesCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("pipelines", "Whole pipelines (each detector with its descriptor) at equal keypoint "
+                                              "budgets: repeatability and precision-recall");
+  struct Args {
+    DatasetFlags data;
+    PipelineOptions options;
+    std::vector<std::string> only;
+  };
+  auto a = std::make_shared<Args>();
+  a->options.outDir = sourcePath("docs/results");
+  addDatasetFlags(cmd, a->data);
+  cmd->add_option("--budgets", a->options.budgets, "Keypoint budgets per image")
+      ->check(CLI::Range(10, 100000))
+      ->capture_default_str();
+  cmd->add_option("--radius", a->options.radiusPx, "Repeatability and ground-truth radius in pixels")
+      ->check(CLI::Range(0.1, 100.0))
+      ->capture_default_str();
+  cmd->add_option("--out", a->options.outDir, "Output folder for pipelines_summary.csv")->capture_default_str();
+  cmd->add_option("--hessian-sigma", a->options.library.hessianSigma, "DetectorOptions::hessianSigma")
+      ->check(CLI::Range(0.5, 8.0))
+      ->capture_default_str();
+  cmd->add_option("--hessian-threshold", a->options.library.hessianThreshold, "DetectorOptions::hessianThreshold")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--levels", a->options.library.pyramid.levels, "Pyramid levels of the library's detectors")
+      ->check(CLI::Range(1, 32))
+      ->capture_default_str();
+  cmd->add_option("--scale-factor", a->options.library.pyramid.scaleFactor,
+                  "Pyramid scale factor of the library's detectors")
+      ->check(CLI::Range(1.01, 2.0))
+      ->capture_default_str();
+  cmd->add_flag("--spread", a->options.library.spread, "DetectorOptions::spread for the library's detectors");
+  cmd->add_option("--only", a->only, "Only the pipelines whose name starts with one of these");
+  cmd->callback([a] {
+    asInputErrors([&] {
+      std::vector<std::string> imagePaths;
+      const auto groups = loadGroups(a->data, imagePaths);
+      std::vector<PipelineSpec> pipelines;
+      for (const auto& p : standardPipelines())
+        if (a->only.empty() || std::any_of(a->only.begin(), a->only.end(), [&](const std::string& prefix) {
+              return p.name.rfind(prefix, 0) == 0;
+            }))
+          pipelines.push_back(p);
+      if (pipelines.empty()) throw InputError("--only: no pipeline name starts with any of these");
+      std::vector<MethodSpec> descriptors;
+      for (const auto& p : pipelines) descriptors.push_back(p.descriptor);
+      requireDisjointTraining(descriptors, imagePaths);
+      runPipelines(groups, pipelines, a->options);
     });
   });
 }

@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   mdbrief::eval::addSimCommand(app);
   mdbrief::eval::addEvalCommand(app);
+  mdbrief::eval::addPipelinesCommand(app);
   mdbrief::eval::addTimingCommand(app);
   mdbrief::eval::addExportUserSampleCommand(app);
   mdbrief::eval::addExportRotatedViewsCommand(app);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
 
 #include "csv_table.hpp"
 #include <opencv2/features2d.hpp>
@@ -75,10 +76,12 @@ std::vector<MethodSpec> testSetStudyMethods(const std::vector<std::string>& test
 
 KeypointSource parseKeypointSource(const std::string& name) {
   if (name == "modorb") return KeypointSource::ModOrb;
+  if (name == "hessian") return KeypointSource::Hessian;
   if (name == "orb") return KeypointSource::Orb;
   if (name == "akaze") return KeypointSource::Akaze;
+  if (name == "brisk") return KeypointSource::Brisk;
   if (name == "sift") return KeypointSource::Sift;
-  throw std::invalid_argument("unknown keypoint source '" + name + "' (use modorb, orb, akaze or sift)");
+  throw std::invalid_argument("unknown keypoint source '" + name + "' (use modorb, hessian, orb, akaze, brisk or sift)");
 }
 
 std::vector<MethodSpec> supportScaleStudyMethods(const std::vector<double>& scales) {
@@ -94,17 +97,21 @@ std::vector<MethodSpec> supportScaleStudyMethods(const std::vector<double>& scal
   return m;
 }
 
-namespace {
-
-// The `count` strongest keypoints of an OpenCV detector inside `mask` (strongest first; ties
-// cut deterministically).
-std::vector<cv::KeyPoint> opencvKeypoints(KeypointSource source, const cv::Mat& image, const cv::Mat& mask, int count) {
+std::vector<cv::KeyPoint> detectKeypoints(KeypointSource source, const cv::Mat& image, const CameraPtr& camera,
+                                          const cv::Mat& mask, int count, DetectorOptions o) {
+  if (source == KeypointSource::ModOrb || source == KeypointSource::Hessian) {
+    o.method = source == KeypointSource::Hessian ? DetectorMethod::Hessian : DetectorMethod::ModOrb;
+    o.nfeatures = count;
+    return Detector(o, camera).detect(image);
+  }
   cv::Ptr<cv::Feature2D> detector;
   switch (source) {
     case KeypointSource::Orb: detector = cv::ORB::create(count); break;
     case KeypointSource::Akaze: detector = cv::AKAZE::create(); break;
+    case KeypointSource::Brisk: detector = cv::BRISK::create(); break;
     case KeypointSource::Sift: detector = cv::SIFT::create(count); break;
-    case KeypointSource::ModOrb: break;
+    case KeypointSource::ModOrb:
+    case KeypointSource::Hessian: break;
   }
   std::vector<cv::KeyPoint> kps;
   detector->detect(image, kps, mask);
@@ -112,8 +119,6 @@ std::vector<cv::KeyPoint> opencvKeypoints(KeypointSource source, const cv::Mat& 
   if (static_cast<int>(kps.size()) > count) kps.resize(count);
   return kps;
 }
-
-}  // namespace
 
 void runPrecisionRecall(const std::vector<EvalGroup>& groups, const std::vector<MethodSpec>& methods,
                         const PrOptions& o) {
@@ -128,14 +133,10 @@ void runPrecisionRecall(const std::vector<EvalGroup>& groups, const std::vector<
     std::vector<std::vector<cv::Mat>> masks(g.sequences.size());
     for (size_t s = 0; s < g.sequences.size(); ++s) {
       const auto& seq = g.sequences[s];
-      DetectorOptions dopt;
-      dopt.nfeatures = o.keypoints;
-      const Detector det(dopt, seq.cameraIsModel ? seq.camera : nullptr);
       for (const auto& img : seq.images) {
         masks[s].push_back(seq.cameraIsModel ? validAreaMask(*seq.camera, img.size()) : cv::Mat());
-        kps[s].push_back(o.keypointSource == KeypointSource::ModOrb
-                             ? det.detect(img)
-                             : opencvKeypoints(o.keypointSource, img, masks[s].back(), o.keypoints));
+        kps[s].push_back(detectKeypoints(o.keypointSource, img, seq.cameraIsModel ? seq.camera : nullptr,
+                                         masks[s].back(), o.keypoints));
         if (o.commonKeypoints && !methods.empty())
           kps[s].back() = describe(methods.back(), img, seq.camera, kps[s].back(), o.keypoints, masks[s].back()).keypoints;
       }

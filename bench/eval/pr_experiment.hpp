@@ -8,6 +8,7 @@
 
 #include "descriptor_method.hpp"
 #include "eval_datasets.hpp"
+#include "mdbrief/detector.hpp"
 
 namespace mdbrief::eval {
 
@@ -17,8 +18,8 @@ struct EvalGroup {
 };
 
 // Whose keypoints every method but AKAZE describes.
-enum class KeypointSource { ModOrb, Orb, Akaze, Sift };
-// "modorb" | "orb" | "akaze" | "sift"; throws std::invalid_argument naming the accepted values.
+enum class KeypointSource { ModOrb, Hessian, Orb, Akaze, Brisk, Sift };
+// "modorb" | "hessian" | "orb" | "akaze" | "brisk" | "sift"; throws std::invalid_argument naming the accepted values.
 KeypointSource parseKeypointSource(const std::string& name);
 
 struct PrOptions {
@@ -45,6 +46,12 @@ std::vector<MethodSpec> testSetStudyMethods(const std::vector<std::string>& test
 // mdBRIEF-256 and dBRIEF-256 (default set) at each DescriptorOptions::supportScale, named
 // "mdBRIEF-256-s<scale>": the footprint study for keypoints of other detectors.
 std::vector<MethodSpec> supportScaleStudyMethods(const std::vector<double>& scales);
+
+// At most `count` keypoints of the source: the library's Detector (`library` with the
+// source's method and `count`; with `camera` when not null, for its valid area), or the strongest of an OpenCV detector inside `mask` (ties cut
+// deterministically).
+std::vector<cv::KeyPoint> detectKeypoints(KeypointSource source, const cv::Mat& image, const CameraPtr& camera,
+                                          const cv::Mat& mask, int count, DetectorOptions library = {});
 
 void runPrecisionRecall(const std::vector<EvalGroup>& groups, const std::vector<MethodSpec>& methods,
                         const PrOptions& options);

@@ -9,9 +9,11 @@
 
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <tbb/parallel_for.h>
 
 #include "detector_candidate.hpp"
 #include "detector_harris.hpp"
+#include "detector_hessian.hpp"
 #include "detector_orientation.hpp"
 #include "detector_quadtree.hpp"
 
@@ -33,8 +35,8 @@ void requireRange(const char* name, double value, double low, double high) {
 // Corners of one level inside `inner` (level pixels). FAST/AGAST ignore the 3 pixels next
 // to their input's border, so they run on `inner` grown by 3: no work is wasted on the
 // margin and every corner lands inside `inner`.
-std::vector<cv::KeyPoint> detectCorners(const cv::Mat& image, const cv::Rect& inner,
-                                        CornerDetector kind, int threshold) {
+std::vector<cv::KeyPoint> fastOrAgastCorners(const cv::Mat& image, const cv::Rect& inner,
+                                             CornerDetector kind, int threshold) {
   const cv::Rect roi(inner.x - 3, inner.y - 3, inner.width + 6, inner.height + 6);
   std::vector<cv::KeyPoint> corners;
   if (kind == CornerDetector::Fast)
@@ -60,6 +62,8 @@ void validate(const DetectorOptions& options) {
                                 std::to_string(options.harrisBlockSize));
   requireRange("harrisBlockSize", options.harrisBlockSize, 3, 15);
   requireRange("harrisK", options.harrisK, 0.0, 0.25);
+  requireRange("hessianSigma", options.hessianSigma, 0.5, 8.0);
+  requireRange("hessianThreshold", options.hessianThreshold, 0.0, 1.0);
   requireRange("orientationRadius", options.orientationRadius, 1, 64);
   requireRange("patchSize", options.patchSize, 1, 1024);
   // The orientation disc and the Harris window (plus its Sobel ring) must fit in the margin.
@@ -147,33 +151,46 @@ std::vector<cv::KeyPoint> Detector::detect(const ImagePyramid& pyramid, const cv
     throw std::invalid_argument("Detector::detect: image size " + sizeText(imageSize) +
                                 " differs from the camera's " + sizeText(camera_->imageSize()));
 
+  const detail::IntensityCentroid centroid(options_.orientationRadius);
+  const int margin = options_.borderMargin;
+  // A candidate at level pixel (x, y) keeps `margin` level pixels from the camera's invalid
+  // area, and the mask (if any) allows its input pixel.
+  const auto allowed = [&](int level, int x, int y) {
+    if (camera_ && validDistance_[level].at<float>(y, x) < margin) return false;
+    if (mask.empty()) return true;
+    const double scale = pyramid.scale(level);
+    const int x0 = std::min(cvRound(x * scale), imageSize.width - 1);
+    const int y0 = std::min(cvRound(y * scale), imageSize.height - 1);
+    return mask.at<uchar>(y0, x0) != 0;
+  };
+  std::vector<cv::KeyPoint> keypoints = options_.method == DetectorMethod::Hessian
+                                            ? detectBlobs(pyramid, allowed)
+                                            : detectCorners(pyramid, allowed);
+  std::sort(keypoints.begin(), keypoints.end(), [](const cv::KeyPoint& a, const cv::KeyPoint& b) {
+    if (a.response != b.response) return a.response > b.response;
+    return std::tie(a.pt.y, a.pt.x, a.octave) < std::tie(b.pt.y, b.pt.x, b.octave);
+  });
+  return keypoints;
+}
+
+std::vector<cv::KeyPoint> Detector::detectCorners(const ImagePyramid& pyramid, const Allowed& allowed) const {
   const std::vector<int> budgets =
       featuresPerLevel(options_.nfeatures, options_.pyramid.levels, options_.pyramid.scaleFactor);
   const detail::IntensityCentroid centroid(options_.orientationRadius);
   const int margin = options_.borderMargin;
   std::vector<cv::KeyPoint> keypoints;
   keypoints.reserve(options_.nfeatures);
-
   for (int level = 0; level < pyramid.levels(); ++level) {
     const cv::Mat& image = pyramid.image(level);
     const double scale = pyramid.scale(level);
     const int budget = budgets[level];
     const cv::Rect inner(margin, margin, image.cols - 2 * margin, image.rows - 2 * margin);
     if (budget == 0 || inner.width <= 0 || inner.height <= 0) continue;
-    const cv::Mat* distance = camera_ ? &validDistance_[level] : nullptr;
-
-    const auto allowed = [&](const cv::Point2f& corner) {
-      const int x = cvRound(corner.x), y = cvRound(corner.y);
-      if (distance && distance->at<float>(y, x) < margin) return false;
-      if (mask.empty()) return true;
-      const int x0 = std::min(cvRound(x * scale), imageSize.width - 1);
-      const int y0 = std::min(cvRound(y * scale), imageSize.height - 1);
-      return mask.at<uchar>(y0, x0) != 0;
-    };
     const auto findCandidates = [&](int threshold) {
       std::vector<detail::Candidate> found;
-      for (const cv::KeyPoint& corner : detectCorners(image, inner, options_.corners, threshold)) {
-        if (allowed(corner.pt)) found.push_back({cvRound(corner.pt.x), cvRound(corner.pt.y), 0.f});
+      for (const cv::KeyPoint& corner : fastOrAgastCorners(image, inner, options_.corners, threshold)) {
+        const int x = cvRound(corner.pt.x), y = cvRound(corner.pt.y);
+        if (allowed(level, x, y)) found.push_back({x, y, 0.f});
       }
       return found;
     };
@@ -197,11 +214,48 @@ std::vector<cv::KeyPoint> Detector::detect(const ImagePyramid& pyramid, const cv
                              centroid.angleDegrees(image, c.x, c.y), c.response, level);
     }
   }
+  return keypoints;
+}
 
-  std::sort(keypoints.begin(), keypoints.end(), [](const cv::KeyPoint& a, const cv::KeyPoint& b) {
-    if (a.response != b.response) return a.response > b.response;
-    return std::tie(a.pt.y, a.pt.x, a.octave) < std::tie(b.pt.y, b.pt.x, b.octave);
-  });
+std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, const Allowed& allowed) const {
+  const int levels = pyramid.levels();
+  std::vector<cv::Mat> responses(levels);
+  std::vector<double> scales(levels);
+  for (int k = 0; k < levels; ++k) scales[k] = pyramid.scale(k);
+  tbb::parallel_for(0, levels, [&](int k) { responses[k] = detail::hessianResponse(pyramid.image(k), options_.hessianSigma); });
+  std::vector<detail::Blob> blobs = detail::hessianMaxima(
+      responses, scales, static_cast<float>(options_.hessianThreshold), options_.borderMargin, allowed);
+
+  if (options_.spread) {
+    // One quadtree over the whole image, in input pixels: blobs of every level compete.
+    std::vector<detail::Candidate> candidates;
+    candidates.reserve(blobs.size());
+    for (size_t i = 0; i < blobs.size(); ++i) {
+      const detail::Blob& b = blobs[i];
+      candidates.push_back({cvRound(b.x * scales[b.level]), cvRound(b.y * scales[b.level]), b.response,
+                            static_cast<int>(i)});
+    }
+    std::vector<detail::Blob> kept;
+    for (const detail::Candidate& c : detail::spreadWithQuadtree(candidates, options_.nfeatures,
+                                                                 cv::Rect(cv::Point(), pyramid.inputSize())))
+      kept.push_back(blobs[c.id]);
+    blobs = std::move(kept);
+  } else if (static_cast<int>(blobs.size()) > options_.nfeatures) {
+    std::nth_element(blobs.begin(), blobs.begin() + options_.nfeatures, blobs.end(), detail::strongerBlob);
+    blobs.resize(options_.nfeatures);
+  }
+
+  const detail::IntensityCentroid centroid(options_.orientationRadius);
+  const double logFactor = std::log(options_.pyramid.scaleFactor);
+  std::vector<cv::KeyPoint> keypoints;
+  keypoints.reserve(blobs.size());
+  for (const detail::Blob& b : blobs) {
+    const double s = scales[b.level];
+    const double refined = s * std::exp(b.dlevel * logFactor);
+    keypoints.emplace_back(cv::Point2f(static_cast<float>((b.x + b.dx) * s), static_cast<float>((b.y + b.dy) * s)),
+                           static_cast<float>(options_.patchSize * refined),
+                           centroid.angleDegrees(pyramid.image(b.level), b.x, b.y), b.response, b.level);
+  }
   return keypoints;
 }
 

@@ -7,7 +7,8 @@ namespace mdbrief::detail {
 struct Candidate {
   int x = 0;
   int y = 0;
-  float response = 0.f;  // Harris score
+  float response = 0.f;  // Harris score (modORB) or normalised Hessian determinant
+  int id = 0;            // the caller's index of the candidate (ignored by the ordering)
 };
 
 // Strict total order used everywhere the detector ranks corners: stronger first, then by

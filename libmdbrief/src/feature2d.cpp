@@ -38,6 +38,8 @@ const std::vector<std::pair<DistortionForm, const char*>> kFormNames = {{Distort
                                                                         {DistortionForm::Paper, "paper"}};
 const std::vector<std::pair<Sampling, const char*>> kSamplingNames = {{Sampling::Bilinear, "bilinear"},
                                                                       {Sampling::Nearest, "nearest"}};
+const std::vector<std::pair<DetectorMethod, const char*>> kMethodNames = {{DetectorMethod::ModOrb, "modorb"},
+                                                                          {DetectorMethod::Hessian, "hessian"}};
 const std::vector<std::pair<CornerDetector, const char*>> kCornerNames = {{CornerDetector::Fast, "fast"},
                                                                           {CornerDetector::Agast, "agast"}};
 
@@ -100,6 +102,7 @@ std::string toString(DistortionForm form) { return nameOf(form, kFormNames); }
 std::string toString(Sampling sampling) { return nameOf(sampling, kSamplingNames); }
 std::string toString(OrientationSource source) { return nameOf(source, kOrientationNames); }
 std::string toString(CornerDetector corners) { return nameOf(corners, kCornerNames); }
+std::string toString(DetectorMethod method) { return nameOf(method, kMethodNames); }
 DescriptorKind parseDescriptorKind(const std::string& name) { return parseName(name, kKindNames, "descriptor kind"); }
 DistortionForm parseDistortionForm(const std::string& name) { return parseName(name, kFormNames, "distortion form"); }
 Sampling parseSampling(const std::string& name) { return parseName(name, kSamplingNames, "sampling"); }
@@ -107,6 +110,7 @@ OrientationSource parseOrientationSource(const std::string& name) {
   return parseName(name, kOrientationNames, "orientation source");
 }
 CornerDetector parseCornerDetector(const std::string& name) { return parseName(name, kCornerNames, "corner detector"); }
+DetectorMethod parseDetectorMethod(const std::string& name) { return parseName(name, kMethodNames, "detector method"); }
 
 void validate(const MdBriefOptions& options) {
   validate(options.detector);
@@ -175,9 +179,11 @@ void MdBrief::write(cv::FileStorage& fs) const {
   fs << "smoothingKernel" << d.pyramid.smoothingKernel << "smoothingSigma" << d.pyramid.smoothingSigma;
   fs << "}";
   fs << "detector" << "{";
+  fs << "method" << toString(d.method);
   fs << "nfeatures" << d.nfeatures << "corners" << toString(d.corners) << "threshold" << d.threshold;
   fs << "fallbackThreshold" << d.fallbackThreshold << "harrisBlockSize" << d.harrisBlockSize;
   fs << "harrisK" << d.harrisK << "spread" << static_cast<int>(d.spread);
+  fs << "hessianSigma" << d.hessianSigma << "hessianThreshold" << d.hessianThreshold;
   fs << "orientationRadius" << d.orientationRadius << "patchSize" << d.patchSize;
   fs << "borderMargin" << d.borderMargin;
   fs << "}";
@@ -207,6 +213,7 @@ void MdBrief::read(const cv::FileNode& node) {
   o.setPyramid(pyramid);
 
   const cv::FileNode d = node["detector"];
+  readEnum(d, "method", o.detector.method, &parseDetectorMethod);
   readInt(d, "nfeatures", o.detector.nfeatures);
   readEnum(d, "corners", o.detector.corners, &parseCornerDetector);
   readInt(d, "threshold", o.detector.threshold);
@@ -214,6 +221,8 @@ void MdBrief::read(const cv::FileNode& node) {
   readInt(d, "harrisBlockSize", o.detector.harrisBlockSize);
   readDouble(d, "harrisK", o.detector.harrisK);
   readBool(d, "spread", o.detector.spread);
+  readDouble(d, "hessianSigma", o.detector.hessianSigma);
+  readDouble(d, "hessianThreshold", o.detector.hessianThreshold);
   readInt(d, "orientationRadius", o.detector.orientationRadius);
   readInt(d, "patchSize", o.detector.patchSize);
   readInt(d, "borderMargin", o.detector.borderMargin);
