@@ -14,6 +14,7 @@
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/detector.hpp"
 #include "mdbrief/plane_renderer.hpp"
+#include "pipeline_experiment.hpp"
 #include "plane_geometry.hpp"
 #include "precision_recall.hpp"
 #include "test_data.hpp"
@@ -71,6 +72,27 @@ TEST(EvalPrecisionRecall, KeypointsWithoutCounterpartAreNotGroundTruth) {
   EXPECT_EQ(matchPair(a, a, shift).groundTruth, 0);
   const GroundTruthMap none = [](const cv::Point2d&) -> std::optional<cv::Point2d> { return std::nullopt; };
   EXPECT_EQ(matchPair(a, a, none).groundTruth, 0);
+}
+
+// Repeatability counts only keypoints that land inside the second image and its valid area,
+// and a repeat needs a keypoint of the second image within the radius.
+TEST(EvalPipelines, RepeatabilityCountsVisibleKeypointsWithANeighbourInRadius) {
+  const auto shift = [](const cv::Point2d& p) -> std::optional<cv::Point2d> { return p + cv::Point2d(10, 0); };
+  const std::vector<cv::KeyPoint> a{{{20, 20}, 31}, {{50, 50}, 31}, {{95, 50}, 31}, {{30, 80}, 31}};
+  // (30, 20): exact; (60, 50): 2.5 px off; (105, 50): outside the 100 px wide image; (40, 80):
+  // masked out.
+  const std::vector<cv::KeyPoint> b{{{30, 20}, 31}, {{62.5f, 50}, 31}, {{40, 80}, 31}};
+  cv::Mat mask(100, 100, CV_8U, cv::Scalar(255));
+  mask.rowRange(70, 100).setTo(0);
+  auto [repeated, candidates] = mdbrief::eval::repeatedKeypoints(a, b, shift, {100, 100}, mask, 3.0);
+  EXPECT_EQ(candidates, 2);
+  EXPECT_EQ(repeated, 2);
+  std::tie(repeated, candidates) = mdbrief::eval::repeatedKeypoints(a, b, shift, {100, 100}, mask, 2.0);
+  EXPECT_EQ(candidates, 2);
+  EXPECT_EQ(repeated, 1);
+  std::tie(repeated, candidates) = mdbrief::eval::repeatedKeypoints(a, b, shift, {100, 100}, cv::Mat(), 3.0);
+  EXPECT_EQ(candidates, 3);
+  EXPECT_EQ(repeated, 3);
 }
 
 TEST(EvalPrecisionRecall, RecallAtInterpolatesTheCrossingSegment) {
