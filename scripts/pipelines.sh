@@ -15,22 +15,11 @@ EVAL="$BUILD_DIR/bench/eval/mdbrief-eval"
 OUT=docs/results/pipelines
 mkdir -p "$OUT"
 "$EVAL" pipelines --out "$OUT"
-DATA=${MDBRIEF_DATA:-../shared/data}
 USER_DIR=$(mktemp -d)
 trap 'rm -rf "$USER_DIR"' EXIT
-if [ -d "$DATA/fisheye" ]; then
-  while read -r name image camera; do
-    [ -f "$DATA/fisheye/$image" ] || { echo "pipelines.sh: skipping $name: $DATA/fisheye/$image not found"; continue; }
-    "$EVAL" export-rotated-views --image "$DATA/fisheye/$image" --camera "$DATA/fisheye/$camera" --out "$USER_DIR/$name"
-    "$EVAL" pipelines --no-perspective --no-fisheye --out "$OUT/real_fisheye/$name" \
-      --user-images "$USER_DIR/$name"/img{1..6}.png --user-camera "$USER_DIR/$name/camera.yaml" \
-      --user-homographies "$USER_DIR/$name"/H1to{2..6}
-  done <<'EOF_PHOTOS'
-ocamcalib_sample ocamcalib-sample/test_fisheye.jpg ocamcalib-sample/calib_results.txt
-calib_adapter_kb calib-adapter/kalibr/image.png calib-adapter/kalibr/KB.yml
-calib_adapter_ocam calib-adapter/OcamCalib/image.jpg calib-adapter/OcamCalib/OcamCalib.yml
-EOF_PHOTOS
-else
-  echo "pipelines.sh: skipping the real fisheye photos: $DATA/fisheye not found"
-fi
+source scripts/real_fisheye_photos.sh
+for name in $(export_real_fisheye_views "$EVAL" "${MDBRIEF_DATA:-../shared/data}" "$USER_DIR"); do
+  # shellcheck disable=SC2046  # the flags are paths without spaces (a temporary folder)
+  "$EVAL" pipelines --no-perspective --no-fisheye --out "$OUT/real_fisheye/$name" $(user_sequence_flags "$USER_DIR/$name")
+done
 echo "pipelines.sh: CSVs in $OUT"
