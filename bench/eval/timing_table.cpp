@@ -43,6 +43,8 @@ std::vector<Pipeline> pipelines(const CameraPtr& camera, int n) {
   DetectorOptions dopt;
   dopt.nfeatures = n;
   auto modOrb = std::make_shared<Detector>(dopt, camera);
+  dopt.method = DetectorMethod::Hessian;
+  auto hessian = std::make_shared<Detector>(dopt, camera);
   auto extractor = [camera](DescriptorKind kind) {
     DescriptorOptions o;
     o.kind = kind;
@@ -75,11 +77,14 @@ std::vector<Pipeline> pipelines(const CameraPtr& camera, int n) {
     matchBruteForceMasked(a, ma, b, mb);
   };
   auto modOrbDetect = [modOrb](const cv::Mat& img) { return modOrb->detect(img); };
+  auto hessianDetect = [hessian](const cv::Mat& img) { return hessian->detect(img); };
   return {
       {"ORB", "ORB", cvDetect(orb), cvDescribe(orb), cvMatch(cv::NORM_HAMMING)},
       {"ORB", "BRIEF (ours)", cvDetect(orb), ours(brief), ourMatch},
       {"modORB", "dBRIEF", modOrbDetect, ours(dbrief), ourMatch},
       {"modORB", "mdBRIEF", modOrbDetect, ours(mdbrief), ourMaskedMatch},
+      {"Hessian", "dBRIEF", hessianDetect, ours(dbrief), ourMatch},
+      {"Hessian", "mdBRIEF", hessianDetect, ours(mdbrief), ourMaskedMatch},
       {"BRISK", "BRISK", cvDetect(brisk), cvDescribe(brisk), cvMatch(cv::NORM_HAMMING)},
       {"AKAZE", "AKAZE", cvDetect(akaze), cvDescribe(akaze), cvMatch(cv::NORM_HAMMING)},
       {"SIFT", "SIFT", cvDetect(sift), cvDescribe(sift), cvMatch(cv::NORM_L2)},
