@@ -431,6 +431,9 @@ TEST(HessianDetector, InvalidOptionsAreNamed) {
   o = hessianOptions(100);
   o.hessianThreshold = -1;
   EXPECT_NE(messageOf([&] { Detector d(o); }).find("hessianThreshold"), std::string::npos);
+  o = hessianOptions(100);
+  o.pyramid.levels = 2;
+  EXPECT_NE(messageOf([&] { Detector d(o); }).find("pyramid.levels must be >= 3"), std::string::npos);
 }
 
 // --- orientation ---

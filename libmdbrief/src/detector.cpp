@@ -62,6 +62,10 @@ void validate(const DetectorOptions& options) {
                                 std::to_string(options.harrisBlockSize));
   requireRange("harrisBlockSize", options.harrisBlockSize, 3, 15);
   requireRange("harrisK", options.harrisK, 0.0, 0.25);
+  // Blobs are extrema over scale on the inner levels: there must be one.
+  if (options.method == DetectorMethod::Hessian && options.pyramid.levels < 3)
+    throw std::invalid_argument("DetectorOptions::pyramid.levels must be >= 3 for the Hessian method, got " +
+                                std::to_string(options.pyramid.levels));
   requireRange("hessianSigma", options.hessianSigma, 0.5, 8.0);
   requireRange("hessianThreshold", options.hessianThreshold, 0.0, 1.0);
   requireRange("orientationRadius", options.orientationRadius, 1, 64);
