@@ -73,14 +73,9 @@ void drawTests(cv::Mat& canvas, const cv::Mat& grey, const std::vector<std::pair
 // Rows of node `matches` (query, train, distance), checked against the keypoint counts.
 std::vector<std::pair<int, int>> loadMatches(const std::string& path, size_t queryCount, size_t trainCount,
                                              const std::string& queryImage, const std::string& trainImage) {
-  cv::Mat table;
-  try {
-    cv::FileStorage storage = openStorageForReading(path);
-    if (storage["matches"].empty()) throw InputError(path + ": no node 'matches'");
-    storage["matches"] >> table;
-  } catch (const cv::Exception& e) {
-    throw InputError(path + ": cannot parse: " + e.err);
-  }
+  const StorageReader storage(path);
+  if (!storage.has("matches")) throw InputError(path + ": no node 'matches'");
+  cv::Mat table = storage.matrix("matches");
   if (table.empty()) return {};
   if (table.cols != 3 || table.channels() != 1) throw InputError(path + ": 'matches' must be an N x 3 matrix");
   table.convertTo(table, CV_64F);

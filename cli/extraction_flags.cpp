@@ -93,15 +93,9 @@ cv::Mat loadImage(const std::string& path, bool strict) {
 
 std::vector<cv::KeyPoint> loadKeypoints(const std::string& path) {
   requireReadableFile(path);
-  std::vector<cv::KeyPoint> keypoints;
-  try {
-    cv::FileStorage fs = openStorageForReading(path);
-    const cv::FileNode node = fs["keypoints"];
-    if (node.empty()) throw InputError(path + ": no node 'keypoints'");
-    cv::read(node, keypoints);
-  } catch (const cv::Exception& e) {
-    throw InputError(path + ": cannot parse the keypoints: " + e.err);
-  }
+  const StorageReader storage(path);
+  if (!storage.has("keypoints")) throw InputError(path + ": no node 'keypoints'");
+  const std::vector<cv::KeyPoint> keypoints = storage.keypoints("keypoints");
   // The library drops such keypoints silently; a file that holds them is reported instead.
   for (size_t i = 0; i < keypoints.size(); ++i) {
     const cv::KeyPoint& k = keypoints[i];

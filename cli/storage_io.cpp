@@ -1,8 +1,11 @@
 #include "cli/storage_io.hpp"
 
 #include <array>
+#include <cmath>
 #include <fstream>
 #include <iterator>
+#include <limits>
+#include <utility>
 #include <vector>
 
 #include <unistd.h>
@@ -35,7 +38,11 @@ std::string storageExtension(const fs::path& path) {
 // yaml-cpp recurses once per nesting level: bound the depth before it parses.
 constexpr int kMaxFlowDepth = 64;
 
-void requireWellFormedYaml(const std::string& path, const std::string& bytes) {
+YAML::Node parseYaml(const std::string& path, const std::string& bytes) {
+  const size_t nul = bytes.find('\0');
+  if (nul != std::string::npos)
+    throw InputError(path + ": byte " + std::to_string(nul) +
+                     " is NUL; a FileStorage text file (YAML, JSON, XML) cannot hold one");
   int depth = 0;
   for (const char c : bytes) {
     depth += (c == '[' || c == '{') - (c == ']' || c == '}');
@@ -44,11 +51,39 @@ void requireWellFormedYaml(const std::string& path, const std::string& bytes) {
   }
   // OpenCV's "%YAML:1.0" first line is not a YAML 1.2 directive.
   const size_t start = bytes.rfind("%YAML:", 0) == 0 ? bytes.find('\n') : std::string::npos;
+  YAML::Node root;
   try {
-    YAML::Load(start == std::string::npos ? bytes : bytes.substr(start + 1));
+    root = YAML::Load(start == std::string::npos ? bytes : bytes.substr(start + 1));
   } catch (const YAML::Exception& e) {
     throw InputError(path + ": not well-formed YAML/JSON: " + e.what());
   }
+  if (!root.IsMap()) throw InputError(path + ": not a FileStorage file (the top level is not a map of named nodes)");
+  return root;
+}
+
+// A scalar as a number: YAML's ".inf" and ".nan" spellings and OpenCV's ".Nan" too, so that
+// the caller can report a non-finite value as such.
+double number(const YAML::Node& node, const std::string& where) {
+  if (!node.IsScalar()) throw InputError(where + ": expected a number");
+  if (node.Scalar() == ".Nan") return std::numeric_limits<double>::quiet_NaN();
+  try {
+    return node.as<double>();
+  } catch (const YAML::Exception&) {
+    throw InputError(where + ": '" + node.Scalar() + "' is not a number");
+  }
+}
+
+int integer(const YAML::Node& node, const std::string& where) {
+  const double v = number(node, where);
+  if (!(v >= std::numeric_limits<int>::min() && v <= std::numeric_limits<int>::max()) || v != std::floor(v))
+    throw InputError(where + ": " + node.Scalar() + " is not an int");
+  return static_cast<int>(v);
+}
+
+cv::KeyPoint keypointFrom(const std::vector<YAML::Node>& v, const std::string& where) {
+  return cv::KeyPoint(static_cast<float>(number(v[0], where)), static_cast<float>(number(v[1], where)),
+                      static_cast<float>(number(v[2], where)), static_cast<float>(number(v[3], where)),
+                      static_cast<float>(number(v[4], where)), integer(v[5], where), integer(v[6], where));
 }
 
 void checkFolder(const fs::path& path) {
@@ -117,37 +152,128 @@ void writeFeatureFile(const fs::path& path, const Features& features) {
   });
 }
 
-cv::FileStorage openStorageForReading(const std::string& path) {
+struct StorageReader::Parsed {
+  YAML::Node yaml;          // YAML and JSON
+  cv::FileStorage storage;  // XML and .gz
+};
+
+StorageReader::StorageReader(const std::string& path) : path_(path), parsed_(std::make_unique<Parsed>()) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw InputError(path + ": no such file");
-  if (!endsWith(path, ".gz")) {
+  const std::string ext = storageExtension(path);
+  if (ext == ".yml" || ext == ".yaml" || ext == ".json") {
     std::ifstream in(path, std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (!in.good() && !in.eof()) throw InputError(path + ": cannot read");
-    const size_t nul = bytes.find('\0');
-    if (nul != std::string::npos)
-      throw InputError(path + ": byte " + std::to_string(nul) +
-                       " is NUL; a FileStorage text file (YAML, JSON, XML) cannot hold one");
-    const std::string ext = storageExtension(path);
-    if (ext != ".xml") requireWellFormedYaml(path, bytes);
+    parsed_->yaml = parseYaml(path, bytes);
+    return;
   }
-  cv::FileStorage storage(path, cv::FileStorage::READ);
-  if (!storage.isOpened()) throw InputError(path + ": cannot open as an OpenCV FileStorage file");
-  return storage;
+  try {
+    parsed_->storage.open(path, cv::FileStorage::READ);
+  } catch (const cv::Exception& e) {
+    throw InputError(path + ": cannot parse: " + e.err);
+  }
+  if (!parsed_->storage.isOpened()) throw InputError(path + ": cannot open as an OpenCV FileStorage file");
+}
+
+StorageReader::~StorageReader() = default;
+
+bool StorageReader::has(const std::string& key) const {
+  if (!parsed_->storage.isOpened()) {
+    const YAML::Node node = std::as_const(parsed_->yaml)[key];
+    return node && !node.IsNull();
+  }
+  return !parsed_->storage[key].empty();
+}
+
+std::vector<cv::KeyPoint> StorageReader::keypoints(const std::string& key) const {
+  const std::string where = path_ + ": node '" + key + "'";
+  std::vector<cv::KeyPoint> out;
+  if (parsed_->storage.isOpened()) {
+    try {
+      cv::read(parsed_->storage[key], out);
+    } catch (const cv::Exception& e) {
+      throw InputError(where + ": " + e.err);
+    }
+    return out;
+  }
+  const YAML::Node node = std::as_const(parsed_->yaml)[key];
+  if (!node || node.IsNull()) return out;
+  if (!node.IsSequence()) throw InputError(where + ": expected a sequence of keypoints");
+  std::vector<YAML::Node> flat;
+  for (size_t i = 0; i < node.size(); ++i) {
+    const YAML::Node item = node[i];
+    if (item.IsSequence()) {
+      if (item.size() != 7)
+        throw InputError(where + ": keypoint " + std::to_string(i) + " has " + std::to_string(item.size()) +
+                         " values, not 7 (x, y, size, angle, response, octave, class_id)");
+      std::vector<YAML::Node> v(item.begin(), item.end());
+      out.push_back(keypointFrom(v, where + ", keypoint " + std::to_string(i)));
+    } else {
+      flat.push_back(item);
+    }
+  }
+  if (!flat.empty()) {
+    if (!out.empty() || flat.size() % 7 != 0)
+      throw InputError(where + ": a flat keypoint list needs 7 numbers per keypoint, got " +
+                       std::to_string(flat.size()));
+    for (size_t i = 0; i < flat.size(); i += 7)
+      out.push_back(keypointFrom({flat.begin() + static_cast<long>(i), flat.begin() + static_cast<long>(i) + 7},
+                                 where + ", keypoint " + std::to_string(i / 7)));
+  }
+  return out;
+}
+
+cv::Mat StorageReader::matrix(const std::string& key) const {
+  const std::string where = path_ + ": node '" + key + "'";
+  cv::Mat out;
+  if (parsed_->storage.isOpened()) {
+    try {
+      parsed_->storage[key] >> out;
+    } catch (const cv::Exception& e) {
+      throw InputError(where + ": " + e.err);
+    }
+    return out;
+  }
+  const YAML::Node node = std::as_const(parsed_->yaml)[key];
+  if (!node || node.IsNull()) return out;
+  if (!node.IsMap() || !node["rows"] || !node["cols"] || !node["dt"] || !node["data"])
+    throw InputError(where + ": expected an opencv-matrix (rows, cols, dt, data)");
+  const int rows = integer(node["rows"], where + ", rows");
+  const int cols = integer(node["cols"], where + ", cols");
+  const YAML::Node data = node["data"];
+  if (rows < 0 || cols < 0 || !data.IsSequence() || data.size() != static_cast<size_t>(rows) * static_cast<size_t>(cols))
+    throw InputError(where + ": rows x cols must be the number of values in data");
+  static const std::string kCodes = "ucwsifd";
+  static const int kTypes[] = {CV_8U, CV_8S, CV_16U, CV_16S, CV_32S, CV_32F, CV_64F};
+  const std::string dt = node["dt"].IsScalar() ? node["dt"].Scalar() : "";
+  if (dt.size() != 1 || kCodes.find(dt[0]) == std::string::npos)
+    throw InputError(where + ": dt '" + dt + "' is not a single-channel type (u, c, w, s, i, f, d)");
+  const int type = kTypes[kCodes.find(dt[0])];
+  if (rows * cols == 0) return out;
+  cv::Mat values(rows, cols, CV_64F);
+  for (int i = 0; i < rows * cols; ++i)
+    values.at<double>(i / cols, i % cols) = number(data[static_cast<size_t>(i)], where + ", value " + std::to_string(i));
+  if (type != CV_32F && type != CV_64F) {
+    cv::Mat rounded;
+    values.convertTo(rounded, type);
+    cv::Mat back;
+    rounded.convertTo(back, CV_64F);
+    if (cv::norm(back, values, cv::NORM_INF) != 0.0)
+      throw InputError(where + ": a value does not fit dt '" + dt + "'");
+    return rounded;
+  }
+  values.convertTo(out, type);
+  return out;
 }
 
 Features readFeatureFile(const std::string& path) {
   Features f;
-  try {
-    cv::FileStorage storage = openStorageForReading(path);
-    const cv::FileNode desc = storage["descriptors"];
-    if (desc.empty()) throw InputError(path + ": no node 'descriptors'");
-    desc >> f.descriptors;
-    if (!storage["masks"].empty()) storage["masks"] >> f.masks;
-    if (!storage["keypoints"].empty()) cv::read(storage["keypoints"], f.keypoints);
-  } catch (const cv::Exception& e) {
-    throw InputError(path + ": cannot parse: " + e.err);
-  }
+  const StorageReader storage(path);
+  if (!storage.has("descriptors")) throw InputError(path + ": no node 'descriptors'");
+  f.descriptors = storage.matrix("descriptors");
+  f.masks = storage.matrix("masks");
+  f.keypoints = storage.keypoints("keypoints");
   const cv::Mat& d = f.descriptors;
   if (!d.empty() && (d.type() != CV_8UC1 || d.cols % 4 != 0 || d.cols > 64))
     throw InputError(path + ": 'descriptors' must be N x bytes CV_8U with bytes a multiple of 4 in [4, 64]");

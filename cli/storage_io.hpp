@@ -5,9 +5,12 @@
 // Every failure is an InputError naming the file.
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include <opencv2/core.hpp>
+#include <opencv2/features2d.hpp>
 
 #include "cli/extraction_flags.hpp"
 
@@ -22,11 +25,32 @@ void checkImageOutput(const std::filesystem::path& path);
 void writeStorageAtomically(const std::filesystem::path& path, const std::function<void(cv::FileStorage&)>& write);
 void writeImageAtomically(const std::filesystem::path& path, const cv::Mat& image);
 
-// Opens an existing FileStorage file for reading. OpenCV 4.6's YAML parser loops forever on some
-// malformed files (fuzz/regressions/keypoints), so text files are checked before it sees them:
-// none may hold a NUL byte, and YAML and JSON files must parse as YAML (yaml-cpp; JSON is YAML)
-// with flow brackets nested at most 64 deep. XML and .gz files go to OpenCV unchecked.
-cv::FileStorage openStorageForReading(const std::string& path);
+// An existing FileStorage file opened for reading its top-level nodes. OpenCV 4.6's YAML parser
+// loops forever on some damaged files (fuzz/regressions/keypoints), so YAML and JSON never reach
+// it: they are parsed by yaml-cpp (JSON is YAML) after two checks, no NUL byte and flow brackets
+// nested at most 64 deep (yaml-cpp recurses once per level). XML and .gz files go to
+// cv::FileStorage. Every failure is an InputError naming the file and the node.
+class StorageReader {
+ public:
+  explicit StorageReader(const std::string& path);
+  ~StorageReader();
+  StorageReader(const StorageReader&) = delete;
+  StorageReader& operator=(const StorageReader&) = delete;
+
+  // True if the top-level node exists and is not empty.
+  bool has(const std::string& key) const;
+  // A keypoint list as cv::write stores it: a sequence of (x, y, size, angle, response,
+  // octave, class_id) sequences, or the same 7 numbers per keypoint in one flat sequence.
+  std::vector<cv::KeyPoint> keypoints(const std::string& key) const;
+  // A single-channel 2-D matrix as cv::FileStorage stores it (opencv-matrix: rows, cols, dt in
+  // u, c, w, s, i, f, d, and rows x cols values in data).
+  cv::Mat matrix(const std::string& key) const;
+
+ private:
+  struct Parsed;
+  std::string path_;
+  std::unique_ptr<Parsed> parsed_;
+};
 
 // Nodes `keypoints` (cv::write), `descriptors` (N x bytes CV_8U) and, when not empty, `masks`
 // (N x bytes CV_8U).

@@ -1,0 +1,155 @@
+// cli::StorageReader: reads back what cv::FileStorage writes, in every format, without handing
+// YAML or JSON to OpenCV's parser, and names the node and the problem in a malformed file.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include "cli/commands.hpp"
+#include "cli/storage_io.hpp"
+
+namespace mdbrief::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+class StorageReaderTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / ("mdbrief_test_storage_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string file(const std::string& name, const std::string& text) const {
+    std::ofstream(path(name), std::ios::binary) << text;
+    return path(name);
+  }
+
+ private:
+  fs::path dir_;
+};
+
+void expectSameMat(const cv::Mat& a, const cv::Mat& b) {
+  ASSERT_EQ(a.type(), b.type());
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0.0);
+}
+
+TEST_F(StorageReaderTest, ReadsBackWhatFileStorageWritesInEveryFormat) {
+  const std::vector<cv::KeyPoint> keypoints{cv::KeyPoint({1.5f, 2.25f}, 31.f, 10.f, 0.5f, 1, -1),
+                                            cv::KeyPoint({300.f, 4.f}, 7.5f, -1.f, 0.f, 0, 42)};
+  cv::Mat descriptors(2, 32, CV_8U);
+  cv::randu(descriptors, 0, 256);
+  const cv::Mat matches = (cv::Mat_<double>(2, 3) << 0, 1, 17.5, 1, 0, 3.25);
+  const cv::Mat ints = (cv::Mat_<int>(1, 3) << -7, 0, 1 << 30);
+  const cv::Mat floats = (cv::Mat_<float>(3, 1) << 0.1f, -2.5f, 1e-7f);
+  for (const std::string ext : {".yml", ".yaml", ".json", ".xml", ".yml.gz"}) {
+    SCOPED_TRACE(ext);
+    const std::string name = path("f" + ext);
+    {
+      cv::FileStorage storage(name, cv::FileStorage::WRITE);
+      cv::write(storage, "keypoints", keypoints);
+      storage << "descriptors" << descriptors << "matches" << matches << "ints" << ints << "floats" << floats;
+      storage << "empty" << cv::Mat();
+    }
+    const StorageReader reader(name);
+    EXPECT_TRUE(reader.has("keypoints"));
+    EXPECT_FALSE(reader.has("masks"));
+    const std::vector<cv::KeyPoint> read = reader.keypoints("keypoints");
+    ASSERT_EQ(read.size(), keypoints.size());
+    for (size_t i = 0; i < read.size(); ++i) {
+      EXPECT_EQ(read[i].pt, keypoints[i].pt);
+      EXPECT_EQ(read[i].size, keypoints[i].size);
+      EXPECT_EQ(read[i].angle, keypoints[i].angle);
+      EXPECT_EQ(read[i].response, keypoints[i].response);
+      EXPECT_EQ(read[i].octave, keypoints[i].octave);
+      EXPECT_EQ(read[i].class_id, keypoints[i].class_id);
+    }
+    expectSameMat(reader.matrix("descriptors"), descriptors);
+    expectSameMat(reader.matrix("matches"), matches);
+    expectSameMat(reader.matrix("ints"), ints);
+    expectSameMat(reader.matrix("floats"), floats);
+    EXPECT_TRUE(reader.matrix("empty").empty());
+    EXPECT_TRUE(reader.matrix("masks").empty());
+    EXPECT_TRUE(reader.keypoints("masks").empty());
+  }
+}
+
+// OpenCV before 4.x wrote keypoints as one flat list of 7 numbers each.
+TEST_F(StorageReaderTest, ReadsFlatKeypointLists) {
+  const StorageReader reader(file("flat.yml", "%YAML:1.0\n---\nkeypoints: [ 392., 243., 31., 10., 1., 0, -1,\n"
+                                              "  300.5, 200.25, 37.5, 45., .5, 1, 3 ]\n"));
+  const std::vector<cv::KeyPoint> k = reader.keypoints("keypoints");
+  ASSERT_EQ(k.size(), 2u);
+  EXPECT_EQ(k[1].pt, cv::Point2f(300.5f, 200.25f));
+  EXPECT_EQ(k[1].size, 37.5f);
+  EXPECT_EQ(k[1].octave, 1);
+  EXPECT_EQ(k[1].class_id, 3);
+}
+
+TEST_F(StorageReaderTest, MalformedNodesAreInputErrorsNamingFileNodeAndProblem) {
+  const std::vector<std::pair<std::string, std::string>> keypointCases{
+      {"keypoints: [ [ 1, 2, 3, 4, 5, 6 ] ]", "keypoint 0 has 6 values, not 7"},
+      {"keypoints: [ 1, 2, 3, 4, 5, 6, 7, 8 ]", "7 numbers per keypoint, got 8"},
+      {"keypoints: [ [ 1, 2, x, 4, 5, 0, -1 ] ]", "'x' is not a number"},
+      {"keypoints: [ [ 1, 2, 3, 4, 5, 1.5, -1 ] ]", "1.5 is not an int"},
+      {"keypoints: [ [ 1, 2, 3, 4, 5, 0, 1e12 ] ]", "1e12 is not an int"},
+      {"keypoints: [ [ 1, 2, [ 3 ], 4, 5, 0, -1 ] ]", "expected a number"},
+      {"keypoints: { a: 1 }", "expected a sequence of keypoints"}};
+  for (const auto& [text, reason] : keypointCases) {
+    const std::string name = file("k.yml", text);
+    try {
+      StorageReader(name).keypoints("keypoints");
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.rfind(name + ": node 'keypoints'", 0), 0u) << what;
+      EXPECT_NE(what.find(reason), std::string::npos) << what;
+    }
+  }
+  const std::vector<std::pair<std::string, std::string>> matrixCases{
+      {"m: !!opencv-matrix\n  rows: 2\n  cols: 2\n  dt: u\n  data: [ 1, 2, 3 ]", "rows x cols must be"},
+      {"m: !!opencv-matrix\n  rows: -1\n  cols: 0\n  dt: u\n  data: []", "rows x cols must be"},
+      {"m: !!opencv-matrix\n  rows: 1\n  cols: 1\n  dt: 3u\n  data: [ 1 ]", "not a single-channel type"},
+      {"m: !!opencv-matrix\n  rows: 1\n  cols: 1\n  dt: u\n  data: [ 300 ]", "does not fit dt 'u'"},
+      {"m: !!opencv-matrix\n  rows: 1\n  cols: 1\n  dt: i\n  data: [ 0.5 ]", "does not fit dt 'i'"},
+      {"m: [ 1, 2 ]", "expected an opencv-matrix"}};
+  for (const auto& [text, reason] : matrixCases) {
+    const std::string name = file("m.yml", text);
+    try {
+      StorageReader(name).matrix("m");
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.rfind(name + ": node 'm'", 0), 0u) << what;
+      EXPECT_NE(what.find(reason), std::string::npos) << what;
+    }
+  }
+}
+
+TEST_F(StorageReaderTest, FilesThatAreNotFileStorageMapsAreRefusedWhenOpened) {
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"- 1\n- 2\n", "the top level is not a map"},
+      {"keypoints: [ 1, 2\n", "not well-formed YAML/JSON"},
+      {std::string("a: 1\0", 5), "byte 4 is NUL"},
+      {"a: " + std::string(65, '[') + std::string(65, ']'), "nested deeper than 64"}};
+  for (const auto& [text, reason] : cases) {
+    const std::string name = file("bad.json", text);
+    try {
+      StorageReader reader(name);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(reason), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(StorageReader(path("missing.yml")), InputError);
+}
+
+}  // namespace
+}  // namespace mdbrief::cli
