@@ -10,6 +10,7 @@ PACKAGES=(
   libgtest-dev libbenchmark-dev
   libyaml-cpp-dev nlohmann-json3-dev
   python3-opencv python3-numpy python3-matplotlib python3-h5py
+  pybind11-dev python3-dev python3-pytest
   clang
 )
 

@@ -1,0 +1,20 @@
+"""mdbrief: distorted binary descriptors for calibrated wide-angle and fisheye cameras.
+
+    import cv2, mdbrief
+    camera = mdbrief.load_camera("configs/cameras/lafida_fisheye0.yaml")
+    features = mdbrief.MdBrief(camera, nfeatures=1000)
+    kp1, d1, m1 = features.detect_and_compute(cv2.imread("a.png"))
+    kp2, d2, m2 = features.detect_and_compute(cv2.imread("b.png"))
+    matches = mdbrief.match(d1, d2, m1, m2, ratio=0.8)
+
+Keypoints are cv2.KeyPoint and matches cv2.DMatch objects, so cv2.drawKeypoints,
+cv2.drawMatches and cv2.BFMatcher(cv2.NORM_HAMMING) take them unchanged. The C++ work runs
+without the GIL.
+"""
+import cv2  # noqa: F401  (the keypoint and match types the module returns)
+
+from ._mdbrief import (Camera, MdBrief, TestSet, default_pattern, load_camera, load_pattern, match,
+                       patterns, train)
+
+__all__ = ["Camera", "MdBrief", "TestSet", "default_pattern", "load_camera", "load_pattern", "match",
+           "patterns", "train"]

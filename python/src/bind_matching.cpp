@@ -1,0 +1,72 @@
+// mdbrief.match: plain or masked brute-force matching (matcher.hpp).
+#include <optional>
+
+#include "bindings.hpp"
+#include "conversions.hpp"
+#include "mdbrief/matcher.hpp"
+
+namespace mdbrief::python {
+
+void bindMatching(py::module_& m) {
+  m.def(
+      "match",
+      [](const py::handle& d1, const py::handle& d2, const py::handle& masks1, const py::handle& masks2,
+         std::optional<float> ratio, bool crossCheck, std::optional<float> maxDistance, bool parallel, bool asArray) -> py::object {
+        if (masks1.is_none() != masks2.is_none())
+          throw py::value_error("masks1 and masks2 must both be given (masked matching) or both be None");
+        MatchOptions options;
+        options.ratio = ratio;
+        options.crossCheck = crossCheck;
+        options.maxDistance = maxDistance;
+        options.parallel = parallel;
+        py::object keep1, keep2, keepM1, keepM2;
+        const cv::Mat query = descriptorsFromArray(d1, "d1", keep1);
+        const cv::Mat train = descriptorsFromArray(d2, "d2", keep2);
+        cv::Mat queryMasks, trainMasks;
+        if (!masks1.is_none()) {
+          queryMasks = descriptorsFromArray(masks1, "masks1", keepM1);
+          trainMasks = descriptorsFromArray(masks2, "masks2", keepM2);
+        }
+        std::vector<cv::DMatch> matches;
+        try {
+          py::gil_scoped_release release;
+          matches = masks1.is_none() ? matchBruteForce(query, train, options)
+                                     : matchBruteForceMasked(query, queryMasks, train, trainMasks, options);
+        } catch (const std::invalid_argument& e) {
+          throw py::value_error(e.what());
+        }
+        if (asArray) return matchesToArray(matches);
+        return matchesToPython(matches);
+      },
+      py::arg("d1"), py::arg("d2"), py::arg("masks1") = py::none(), py::arg("masks2") = py::none(),
+      py::arg("ratio") = py::none(), py::arg("cross_check") = false, py::arg("max_distance") = py::none(),
+      py::arg("parallel") = true, py::arg("as_array") = false, R"doc(
+Brute-force nearest neighbours of the rows of d1 (queries) among the rows of d2, both (N, bytes)
+uint8 arrays of the same width. With masks1 and masks2 (mdBRIEF's masks, the shapes of d1 and
+d2) the distance is the masked Hamming distance, otherwise the Hamming distance.
+
+ratio: Lowe's ratio test (keep if best < ratio * second best), in (0, 1]; None = off.
+cross_check: keep only mutual nearest neighbours. max_distance: keep if distance <= it (bits).
+parallel: spread the queries over threads (the result is the same either way).
+
+Returns a list of cv2.DMatch (queryIdx, trainIdx, distance in bits), one per query that passes,
+in query order, as cv2.BFMatcher.match does, so cv2.drawMatches takes it unchanged. With
+as_array=True, a numpy structured array with fields query_idx, train_idx (int32) and distance
+(float32) instead: no Python object per match, for large or repeated matching.)doc");
+
+  m.def(
+      "_native_match_seconds",
+      [](const py::handle& d1, const py::handle& d2, const py::handle& masks1, const py::handle& masks2, int repeats) {
+        py::object k1, k2, k3, k4;
+        const cv::Mat q = descriptorsFromArray(d1, "d1", k1), t = descriptorsFromArray(d2, "d2", k2);
+        const cv::Mat qm = descriptorsFromArray(masks1, "masks1", k3), tm = descriptorsFromArray(masks2, "masks2", k4);
+        py::gil_scoped_release release;
+        const int64 start = cv::getTickCount();
+        for (int i = 0; i < repeats; ++i) matchBruteForceMasked(q, qm, t, tm, {});
+        return static_cast<double>(cv::getTickCount() - start) / cv::getTickFrequency() / repeats;
+      },
+      py::arg("d1"), py::arg("d2"), py::arg("masks1"), py::arg("masks2"), py::arg("repeats"),
+      "Seconds per masked match in C++ alone (bench/python/binding_overhead.py).");
+}
+
+}  // namespace mdbrief::python

@@ -1,0 +1,15 @@
+#pragma once
+// The parts of the `mdbrief` Python module, one per concept; module.cpp puts them together.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+namespace mdbrief::python {
+
+namespace py = pybind11;
+
+void bindCamera(py::module_& m);
+void bindFeatures(py::module_& m);
+void bindMatching(py::module_& m);
+void bindPatterns(py::module_& m);
+
+}  // namespace mdbrief::python

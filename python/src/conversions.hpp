@@ -1,0 +1,42 @@
+#pragma once
+// Conversions between numpy / cv2 objects and the C++ types of libmdbrief. Every check raises
+// ValueError (or TypeError for a wrong kind of object) naming the argument, before any C++ code
+// runs on the data.
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+namespace mdbrief::python {
+
+namespace py = pybind11;
+
+// A uint8 image, (H, W) grey or (H, W, 3|4) BGR(A), as a cv::Mat that shares the array's memory
+// (the array is made C-contiguous first if it is not; `keep` holds it alive). None or an empty
+// array only where `allowNone` (then an empty Mat).
+cv::Mat imageFromArray(const py::handle& object, const char* argument, py::object& keep, bool allowNone = false);
+
+// (N, bytes) uint8 descriptors or masks, as a cv::Mat sharing the memory (`keep` holds it).
+cv::Mat descriptorsFromArray(const py::handle& object, const char* argument, py::object& keep);
+
+// A copy of a CV_8UC1 matrix as an (N, cols) uint8 array; an empty matrix gives shape (0, cols).
+py::array_t<uint8_t> arrayFromMat(const cv::Mat& mat, int cols);
+
+// (N, k) float64 points: accepts any array-like of shape (N, k), or (k,) for a single point
+// (then `single` is set).
+py::array_t<double, py::array::c_style> pointsFromArray(const py::handle& object, int k, const char* argument,
+                                                        bool& single);
+
+// cv2.KeyPoint objects (anything with pt, size, angle, response, octave, class_id) and back.
+std::vector<cv::KeyPoint> keypointsFromPython(const py::handle& sequence, const char* argument);
+py::list keypointsToPython(const std::vector<cv::KeyPoint>& keypoints);
+py::list matchesToPython(const std::vector<cv::DMatch>& matches);
+// The same as a structured array: query_idx, train_idx (int32), distance (float32).
+py::array matchesToArray(const std::vector<cv::DMatch>& matches);
+
+// Raises FileNotFoundError naming the path unless it is an existing file.
+void requireFile(const std::string& path);
+
+}  // namespace mdbrief::python

@@ -1,0 +1,10 @@
+// The `mdbrief` Python module (imported through the package python/mdbrief/__init__.py).
+#include "bindings.hpp"
+
+PYBIND11_MODULE(_mdbrief, m) {
+  m.doc() = "mdbrief: distorted binary descriptors (BRIEF, dBRIEF, mdBRIEF) for calibrated fisheye cameras.";
+  mdbrief::python::bindCamera(m);
+  mdbrief::python::bindFeatures(m);
+  mdbrief::python::bindMatching(m);
+  mdbrief::python::bindPatterns(m);
+}
