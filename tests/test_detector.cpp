@@ -222,6 +222,27 @@ TEST(Detector, SameInputGivesIdenticalKeypoints) {
   }
 }
 
+// Without angles (for a descriptor that measures its own) both methods return the same
+// keypoints, only with angle -1.
+TEST(Detector, KeypointsWithoutAnglesAreTheSameKeypoints) {
+  const cv::Mat image = textured();
+  REQUIRE_IMAGE(image);
+  for (const auto method : {mdbrief::DetectorMethod::ModOrb, mdbrief::DetectorMethod::Hessian}) {
+    DetectorOptions options;
+    options.method = method;
+    const Detector detector(options);
+    const mdbrief::ImagePyramid pyramid(image, options.pyramid);
+    const std::vector<cv::KeyPoint> with = detector.detect(pyramid);
+    std::vector<cv::KeyPoint> without = detector.detect(pyramid, {}, false);
+    ASSERT_EQ(with.size(), without.size());
+    ASSERT_FALSE(with.empty());
+    EXPECT_TRUE(std::all_of(without.begin(), without.end(), [](const cv::KeyPoint& k) { return k.angle == -1.f; }));
+    EXPECT_TRUE(std::any_of(with.begin(), with.end(), [](const cv::KeyPoint& k) { return k.angle > 0.f; }));
+    for (size_t i = 0; i < with.size(); ++i) without[i].angle = with[i].angle;
+    EXPECT_TRUE(identical(with, without));
+  }
+}
+
 TEST(Detector, FallbackThresholdFindsCornersOnLowContrastImages) {
   const cv::Mat image = textured();
   REQUIRE_IMAGE(image);

@@ -419,6 +419,10 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
 
 }  // namespace
 
+bool DescriptorExtractor::measuresOrientation() const {
+  return usesCamera(options_.kind) && options_.useOrientation && options_.orientation == OrientationSource::TangentPlane;
+}
+
 void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::KeyPoint>& keypoints,
                                   cv::Mat& descriptors, cv::Mat* masks) const {
   const int n = static_cast<int>(keypoints.size());
@@ -439,8 +443,7 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
   std::vector<float> angles(n, -1.f);
   const Camera* camera = camera_.get();
   const Offsets offsets = offsetsOf(tests_);
-  const bool measure = usesCamera(options_.kind) && options_.useOrientation &&
-                       options_.orientation == OrientationSource::TangentPlane;
+  const bool measure = measuresOrientation();
   const Disc disc = measure ? discOf(options_.orientationRadius, kDiscStep) : Disc{};
 
   tbb::parallel_for(tbb::blocked_range<int>(0, n, 16), [&](const tbb::blocked_range<int>& range) {

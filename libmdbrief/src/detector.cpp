@@ -135,7 +135,8 @@ std::vector<cv::KeyPoint> Detector::detect(const cv::Mat& image, const cv::Mat& 
   return detect(ImagePyramid(image, options_.pyramid), mask);
 }
 
-std::vector<cv::KeyPoint> Detector::detect(const ImagePyramid& pyramid, const cv::Mat& mask) const {
+std::vector<cv::KeyPoint> Detector::detect(const ImagePyramid& pyramid, const cv::Mat& mask,
+                                           bool measureAngles) const {
   if (pyramid.levels() == 0) throw std::invalid_argument("Detector::detect: the pyramid is empty");
   if (pyramid.options().levels != options_.pyramid.levels ||
       pyramid.options().scaleFactor != options_.pyramid.scaleFactor ||
@@ -155,7 +156,6 @@ std::vector<cv::KeyPoint> Detector::detect(const ImagePyramid& pyramid, const cv
     throw std::invalid_argument("Detector::detect: image size " + sizeText(imageSize) +
                                 " differs from the camera's " + sizeText(camera_->imageSize()));
 
-  const detail::IntensityCentroid centroid(options_.orientationRadius);
   const int margin = options_.borderMargin;
   // A candidate at level pixel (x, y) keeps `margin` level pixels from the camera's invalid
   // area, and the mask (if any) allows its input pixel.
@@ -168,8 +168,8 @@ std::vector<cv::KeyPoint> Detector::detect(const ImagePyramid& pyramid, const cv
     return mask.at<uchar>(y0, x0) != 0;
   };
   std::vector<cv::KeyPoint> keypoints = options_.method == DetectorMethod::Hessian
-                                            ? detectBlobs(pyramid, allowed)
-                                            : detectCorners(pyramid, allowed);
+                                            ? detectBlobs(pyramid, allowed, measureAngles)
+                                            : detectCorners(pyramid, allowed, measureAngles);
   std::sort(keypoints.begin(), keypoints.end(), [](const cv::KeyPoint& a, const cv::KeyPoint& b) {
     if (a.response != b.response) return a.response > b.response;
     return std::tie(a.pt.y, a.pt.x, a.octave) < std::tie(b.pt.y, b.pt.x, b.octave);
@@ -177,7 +177,8 @@ std::vector<cv::KeyPoint> Detector::detect(const ImagePyramid& pyramid, const cv
   return keypoints;
 }
 
-std::vector<cv::KeyPoint> Detector::detectCorners(const ImagePyramid& pyramid, const Allowed& allowed) const {
+std::vector<cv::KeyPoint> Detector::detectCorners(const ImagePyramid& pyramid, const Allowed& allowed,
+                                                  bool measureAngles) const {
   const std::vector<int> budgets =
       featuresPerLevel(options_.nfeatures, options_.pyramid.levels, options_.pyramid.scaleFactor);
   const detail::IntensityCentroid centroid(options_.orientationRadius);
@@ -215,13 +216,14 @@ std::vector<cv::KeyPoint> Detector::detectCorners(const ImagePyramid& pyramid, c
     for (const detail::Candidate& c : candidates) {
       keypoints.emplace_back(cv::Point2f(static_cast<float>(c.x * scale), static_cast<float>(c.y * scale)),
                              static_cast<float>(options_.patchSize * scale),
-                             centroid.angleDegrees(image, c.x, c.y), c.response, level);
+                             measureAngles ? centroid.angleDegrees(image, c.x, c.y) : -1.f, c.response, level);
     }
   }
   return keypoints;
 }
 
-std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, const Allowed& allowed) const {
+std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, const Allowed& allowed,
+                                                bool measureAngles) const {
   const int levels = pyramid.levels();
   std::vector<cv::Mat> responses(levels);
   std::vector<double> scales(levels);
@@ -258,7 +260,8 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
     const double refined = s * std::exp(b.dlevel * logFactor);
     keypoints.emplace_back(cv::Point2f(static_cast<float>((b.x + b.dx) * s), static_cast<float>((b.y + b.dy) * s)),
                            static_cast<float>(options_.patchSize * refined),
-                           centroid.angleDegrees(pyramid.image(b.level), b.x, b.y), b.response, b.level);
+                           measureAngles ? centroid.angleDegrees(pyramid.image(b.level), b.x, b.y) : -1.f,
+                           b.response, b.level);
   }
   return keypoints;
 }

@@ -154,7 +154,9 @@ void MdBrief::detectAndComputeWithMasks(cv::InputArray image, cv::InputArray mas
     for (const auto& kp : keypoints) levels = std::max(levels, kp.octave + 1);
   }
   const ImagePyramid pyramid(img, options_.detector.pyramid, levels);  // converts colour input
-  if (!useProvidedKeypoints) keypoints = detector_.detect(pyramid, mask.getMat());
+  // A descriptor that re-measures the angle overwrites the detector's: skip measuring it twice.
+  if (!useProvidedKeypoints)
+    keypoints = detector_.detect(pyramid, mask.getMat(), !(describe && extractor_.measuresOrientation()));
   if (!describe) return;
 
   cv::Mat desc, msk;

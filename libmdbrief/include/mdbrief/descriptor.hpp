@@ -117,6 +117,9 @@ class DescriptorExtractor {
                cv::Mat& descriptors, cv::Mat* masks = nullptr) const;
 
   int descriptorBytes() const { return options_.bits / 8; }
+  // True when compute() replaces the keypoints' angles with its own measurement (dBRIEF and
+  // mdBRIEF with OrientationSource::TangentPlane): the detector's angles are then not needed.
+  bool measuresOrientation() const;
   const DescriptorOptions& options() const { return options_; }
   const TestSet& testSet() const { return tests_; }
   const CameraPtr& camera() const { return camera_; }

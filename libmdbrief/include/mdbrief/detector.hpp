@@ -86,7 +86,10 @@ class Detector {
   // mask: empty, or CV_8UC1 of the level-0 size, nonzero = allowed. Output sorted by
   // response (descending), then y, then x, then octave. Throws std::invalid_argument on a
   // mismatching pyramid, mask or image size.
-  std::vector<cv::KeyPoint> detect(const ImagePyramid& pyramid, const cv::Mat& mask = {}) const;
+  // measureAngles = false leaves every angle at -1: for a descriptor that measures its own
+  // (dBRIEF/mdBRIEF on the tangent plane), which saves the intensity centroid of each keypoint.
+  std::vector<cv::KeyPoint> detect(const ImagePyramid& pyramid, const cv::Mat& mask = {},
+                                   bool measureAngles = true) const;
   // Builds the pyramid (8UC1/8UC3/8UC4 input) and detects on it. Both overloads keep no
   // state between calls: one Detector may be used from several threads.
   std::vector<cv::KeyPoint> detect(const cv::Mat& image, const cv::Mat& mask = {}) const;
@@ -97,8 +100,9 @@ class Detector {
  private:
   // Whether a candidate at level pixel (x, y) of `level` may become a keypoint.
   using Allowed = std::function<bool(int level, int x, int y)>;
-  std::vector<cv::KeyPoint> detectCorners(const ImagePyramid& pyramid, const Allowed& allowed) const;
-  std::vector<cv::KeyPoint> detectBlobs(const ImagePyramid& pyramid, const Allowed& allowed) const;
+  std::vector<cv::KeyPoint> detectCorners(const ImagePyramid& pyramid, const Allowed& allowed,
+                                          bool measureAngles) const;
+  std::vector<cv::KeyPoint> detectBlobs(const ImagePyramid& pyramid, const Allowed& allowed, bool measureAngles) const;
 
   DetectorOptions options_;
   CameraPtr camera_;
