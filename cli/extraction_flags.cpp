@@ -45,6 +45,8 @@ void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
                  "Keypoint detector: modorb (FAST corners, ORB's scheme) or hessian (scale-space blobs)")
       ->check(CLI::IsMember({toString(DetectorMethod::ModOrb), toString(DetectorMethod::Hessian)}))
       ->capture_default_str();
+  cmd.add_flag("--conformal", flags.conformal,
+               "Detect on the camera's stereographic (conformal) view and map the keypoints back (needs --camera)");
   cmd.add_option("--form", flags.form, "How dBRIEF/mdBRIEF distort the tests: affine (fast) or paper (eq. 8-11)")
       ->check(CLI::IsMember({"affine", "paper"}))
       ->capture_default_str();
@@ -120,6 +122,7 @@ cv::Ptr<MdBrief> makeFeature(const ExtractionFlags& flags, const CameraPtr& cali
   MdBriefOptions options;
   options.detector.nfeatures = flags.features;
   options.detector.method = parseDetectorMethod(flags.detector);
+  options.detector.conformal = flags.conformal;
   options.descriptor.kind = parseDescriptorKind(flags.descriptor);
   options.descriptor.bits = flags.bits;
   options.descriptor.useOrientation = !flags.noOrientation;

@@ -21,6 +21,7 @@ struct ExtractionFlags {
   std::string orientation = "tangent-plane";  // tangent-plane | keypoint
   int features = 1000;
   std::string detector = toString(DetectorOptions{}.method);  // modorb | hessian
+  bool conformal = DetectorOptions{}.conformal;  // detect on the stereographic view
   std::string form = "affine";        // affine | paper
   std::string pattern;                // registry name or JSON file; empty = default set
   double supportScale = DescriptorOptions{}.supportScale;
@@ -28,7 +29,7 @@ struct ExtractionFlags {
   bool strict = false;                // a truncated image file is an error, not a warning
 };
 
-// Adds --camera, --descriptor, --bits, --no-orientation, --orientation, --features, --detector, --form, --pattern,
+// Adds --camera, --descriptor, --bits, --no-orientation, --orientation, --features, --detector, --conformal, --form, --pattern,
 // --support-scale, --allow-size-mismatch and --strict to cmd, bound to flags (which must outlive the parse).
 void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags);
 

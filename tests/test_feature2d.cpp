@@ -211,6 +211,7 @@ TEST(MdBriefFeature2D, FileStorageRoundTripKeepsEveryOption) {
   o.detector.orientationRadius = 12;
   o.detector.patchSize = 27;
   o.detector.borderMargin = 30;
+  o.detector.conformal = true;
   o.descriptor.kind = DescriptorKind::DBrief;
   o.descriptor.bits = 128;
   o.descriptor.pattern = builtinTestSetNames().back();  // any non-empty name survives the trip
@@ -254,6 +255,7 @@ TEST(MdBriefFeature2D, FileStorageRoundTripKeepsEveryOption) {
     EXPECT_EQ(r.detector.orientationRadius, 12);
     EXPECT_EQ(r.detector.patchSize, 27);
     EXPECT_EQ(r.detector.borderMargin, 30);
+    EXPECT_TRUE(r.detector.conformal);
     EXPECT_EQ(r.descriptor.kind, DescriptorKind::DBrief);
     EXPECT_EQ(r.descriptor.bits, 128);
     EXPECT_EQ(r.descriptor.pattern, o.descriptor.pattern);

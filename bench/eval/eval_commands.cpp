@@ -279,6 +279,8 @@ void addPipelinesCommand(CLI::App& app) {
       ->check(CLI::Range(1.01, 2.0))
       ->capture_default_str();
   cmd->add_flag("--spread", a->options.library.spread, "DetectorOptions::spread for the library's detectors");
+  cmd->add_flag("--conformal", a->options.library.conformal,
+                "DetectorOptions::conformal for the library's detectors (detection on the stereographic view)");
   cmd->add_option("--only", a->only, "Only the pipelines whose name starts with one of these");
   cmd->callback([a] {
     asInputErrors([&] {

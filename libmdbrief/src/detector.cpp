@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 #include <tbb/parallel_for.h>
 
+#include "conformal_view.hpp"
 #include "detector_candidate.hpp"
 #include "detector_harris.hpp"
 #include "detector_hessian.hpp"
@@ -45,6 +46,28 @@ std::vector<cv::KeyPoint> fastOrAgastCorners(const cv::Mat& image, const cv::Rec
     cv::AGAST(image(roi), corners, threshold, true, cv::AgastFeatureDetector::OAST_9_16);
   for (cv::KeyPoint& corner : corners) corner.pt += cv::Point2f(roi.tl());
   return corners;
+}
+
+// The output order of detect(): response (descending), then y, x, octave.
+bool strongerKeypoint(const cv::KeyPoint& a, const cv::KeyPoint& b) {
+  if (a.response != b.response) return a.response > b.response;
+  return std::tie(a.pt.y, a.pt.x, a.octave) < std::tie(b.pt.y, b.pt.x, b.octave);
+}
+
+// Per pyramid level of a valid-area mask (255 = valid): the distance (level pixels) to the
+// nearest invalid pixel, so that detect() tests any margin with one lookup. The mask is
+// resampled like the image and a level pixel counts as valid only if everything it was
+// resampled from was (255 after resizing).
+std::vector<cv::Mat> distancesToInvalid(const cv::Mat& validMask, const PyramidOptions& pyramid) {
+  const ImagePyramid area(validMask, pyramid);
+  std::vector<cv::Mat> distances;
+  for (int level = 0; level < area.levels(); ++level) {
+    cv::Mat valid, distance;
+    cv::compare(area.image(level), 255, valid, cv::CMP_EQ);
+    cv::distanceTransform(valid, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+    distances.push_back(distance);
+  }
+  return distances;
 }
 
 }  // namespace
@@ -118,15 +141,10 @@ Detector::Detector(DetectorOptions options, CameraPtr camera)
     : options_(std::move(options)), camera_(std::move(camera)) {
   validate(options_);
   if (!camera_) return;
-  // The valid area, resampled like the image and shrunk so that a level pixel counts as valid
-  // only if everything it was resampled from was (255 after resizing), then turned into a
-  // distance so detect() can test any margin with one lookup.
-  const ImagePyramid area(validAreaMask(*camera_, camera_->imageSize()), options_.pyramid);
-  for (int level = 0; level < area.levels(); ++level) {
-    cv::Mat valid, distance;
-    cv::compare(area.image(level), 255, valid, cv::CMP_EQ);
-    cv::distanceTransform(valid, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
-    validDistance_.push_back(distance);
+  validDistance_ = distancesToInvalid(validAreaMask(*camera_, camera_->imageSize()), options_.pyramid);
+  if (options_.conformal) {
+    conformal_ = std::make_shared<const detail::ConformalView>(camera_);
+    conformalDistance_ = distancesToInvalid(conformal_->validMask(), options_.pyramid);
   }
 }
 
@@ -156,41 +174,42 @@ std::vector<cv::KeyPoint> Detector::detect(const ImagePyramid& pyramid, const cv
     throw std::invalid_argument("Detector::detect: image size " + sizeText(imageSize) +
                                 " differs from the camera's " + sizeText(camera_->imageSize()));
 
-  const int margin = options_.borderMargin;
-  // A candidate at level pixel (x, y) keeps `margin` level pixels from the camera's invalid
-  // area, and the mask (if any) allows its input pixel.
-  const auto allowed = [&](int level, int x, int y) {
-    if (camera_ && validDistance_[level].at<float>(y, x) < margin) return false;
-    if (mask.empty()) return true;
-    const double scale = pyramid.scale(level);
-    const int x0 = std::min(cvRound(x * scale), imageSize.width - 1);
-    const int y0 = std::min(cvRound(y * scale), imageSize.height - 1);
-    return mask.at<uchar>(y0, x0) != 0;
-  };
-  std::vector<cv::KeyPoint> keypoints = options_.method == DetectorMethod::Hessian
-                                            ? detectBlobs(pyramid, allowed, measureAngles)
-                                            : detectCorners(pyramid, allowed, measureAngles);
-  std::sort(keypoints.begin(), keypoints.end(), [](const cv::KeyPoint& a, const cv::KeyPoint& b) {
-    if (a.response != b.response) return a.response > b.response;
-    return std::tie(a.pt.y, a.pt.x, a.octave) < std::tie(b.pt.y, b.pt.x, b.octave);
-  });
+  std::vector<cv::KeyPoint> keypoints;
+  if (conformal_) {
+    keypoints = detectConformal(pyramid, mask, measureAngles);
+  } else {
+    const int margin = options_.borderMargin;
+    // A candidate at level pixel (x, y) keeps `margin` level pixels from the camera's invalid
+    // area, and the mask (if any) allows its input pixel.
+    const auto allowed = [&](int level, int x, int y) {
+      if (camera_ && validDistance_[level].at<float>(y, x) < margin) return false;
+      if (mask.empty()) return true;
+      const double scale = pyramid.scale(level);
+      const int x0 = std::min(cvRound(x * scale), imageSize.width - 1);
+      const int y0 = std::min(cvRound(y * scale), imageSize.height - 1);
+      return mask.at<uchar>(y0, x0) != 0;
+    };
+    keypoints = options_.method == DetectorMethod::Hessian
+                    ? detectBlobs(pyramid, allowed, options_.nfeatures, measureAngles)
+                    : detectCorners(pyramid, allowed, options_.nfeatures, measureAngles);
+  }
+  std::sort(keypoints.begin(), keypoints.end(), strongerKeypoint);
   return keypoints;
 }
 
-std::vector<cv::KeyPoint> Detector::detectCorners(const ImagePyramid& pyramid, const Allowed& allowed,
+std::vector<cv::KeyPoint> Detector::detectCorners(const ImagePyramid& pyramid, const Allowed& allowed, int budget,
                                                   bool measureAngles) const {
-  const std::vector<int> budgets =
-      featuresPerLevel(options_.nfeatures, options_.pyramid.levels, options_.pyramid.scaleFactor);
+  const std::vector<int> budgets = featuresPerLevel(budget, options_.pyramid.levels, options_.pyramid.scaleFactor);
   const detail::IntensityCentroid centroid(options_.orientationRadius);
   const int margin = options_.borderMargin;
   std::vector<cv::KeyPoint> keypoints;
-  keypoints.reserve(options_.nfeatures);
+  keypoints.reserve(budget);
   for (int level = 0; level < pyramid.levels(); ++level) {
     const cv::Mat& image = pyramid.image(level);
     const double scale = pyramid.scale(level);
-    const int budget = budgets[level];
+    const int levelBudget = budgets[level];
     const cv::Rect inner(margin, margin, image.cols - 2 * margin, image.rows - 2 * margin);
-    if (budget == 0 || inner.width <= 0 || inner.height <= 0) continue;
+    if (levelBudget == 0 || inner.width <= 0 || inner.height <= 0) continue;
     const auto findCandidates = [&](int threshold) {
       std::vector<detail::Candidate> found;
       for (const cv::KeyPoint& corner : fastOrAgastCorners(image, inner, options_.corners, threshold)) {
@@ -200,17 +219,17 @@ std::vector<cv::KeyPoint> Detector::detectCorners(const ImagePyramid& pyramid, c
       return found;
     };
     std::vector<detail::Candidate> candidates = findCandidates(options_.threshold);
-    if (static_cast<int>(candidates.size()) < budget && options_.fallbackThreshold < options_.threshold)
+    if (static_cast<int>(candidates.size()) < levelBudget && options_.fallbackThreshold < options_.threshold)
       candidates = findCandidates(options_.fallbackThreshold);
     for (detail::Candidate& c : candidates)
       c.response = detail::harrisResponse(image, c.x, c.y, options_.harrisBlockSize, options_.harrisK);
 
     if (options_.spread) {
-      candidates = detail::spreadWithQuadtree(candidates, budget, inner);
-    } else if (static_cast<int>(candidates.size()) > budget) {
-      std::nth_element(candidates.begin(), candidates.begin() + budget, candidates.end(),
+      candidates = detail::spreadWithQuadtree(candidates, levelBudget, inner);
+    } else if (static_cast<int>(candidates.size()) > levelBudget) {
+      std::nth_element(candidates.begin(), candidates.begin() + levelBudget, candidates.end(),
                        detail::strongerThan);
-      candidates.resize(budget);
+      candidates.resize(levelBudget);
     }
 
     for (const detail::Candidate& c : candidates) {
@@ -222,7 +241,7 @@ std::vector<cv::KeyPoint> Detector::detectCorners(const ImagePyramid& pyramid, c
   return keypoints;
 }
 
-std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, const Allowed& allowed,
+std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, const Allowed& allowed, int budget,
                                                 bool measureAngles) const {
   const int levels = pyramid.levels();
   std::vector<cv::Mat> responses(levels);
@@ -242,13 +261,13 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
                             static_cast<int>(i)});
     }
     std::vector<detail::Blob> kept;
-    for (const detail::Candidate& c : detail::spreadWithQuadtree(candidates, options_.nfeatures,
+    for (const detail::Candidate& c : detail::spreadWithQuadtree(candidates, budget,
                                                                  cv::Rect(cv::Point(), pyramid.inputSize())))
       kept.push_back(blobs[c.id]);
     blobs = std::move(kept);
-  } else if (static_cast<int>(blobs.size()) > options_.nfeatures) {
-    std::nth_element(blobs.begin(), blobs.begin() + options_.nfeatures, blobs.end(), detail::strongerBlob);
-    blobs.resize(options_.nfeatures);
+  } else if (static_cast<int>(blobs.size()) > budget) {
+    std::nth_element(blobs.begin(), blobs.begin() + budget, blobs.end(), detail::strongerBlob);
+    blobs.resize(budget);
   }
 
   const detail::IntensityCentroid centroid(options_.orientationRadius);
@@ -262,6 +281,52 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
                            static_cast<float>(options_.patchSize * refined),
                            measureAngles ? centroid.angleDegrees(pyramid.image(b.level), b.x, b.y) : -1.f,
                            b.response, b.level);
+  }
+  return keypoints;
+}
+
+std::vector<cv::KeyPoint> Detector::detectConformal(const ImagePyramid& pyramid, const cv::Mat& mask,
+                                                    bool measureAngles) const {
+  const int margin = options_.borderMargin;
+  const ImagePyramid view(conformal_->remap(pyramid.image(pyramid.options().firstLevel)), options_.pyramid);
+  const auto inView = [&](int level, int x, int y) { return conformalDistance_[level].at<float>(y, x) >= margin; };
+  // Some keypoints are lost on the way back (the margin, in camera pixels, is wider where the view
+  // magnifies): detect a quarter more, keep the strongest nfeatures of those that survive.
+  const int budget = options_.nfeatures + (options_.nfeatures + 3) / 4;
+  std::vector<cv::KeyPoint> found = options_.method == DetectorMethod::Hessian
+                                        ? detectBlobs(view, inView, budget, false)
+                                        : detectCorners(view, inView, budget, false);
+  // Back to the camera image: position and size through the camera model, octave = the level
+  // whose scale is nearest the size's, which must keep the margin there too.
+  const detail::IntensityCentroid centroid(options_.orientationRadius);
+  std::vector<cv::KeyPoint> keypoints;
+  keypoints.reserve(found.size());
+  for (const cv::KeyPoint& k : found) {
+    cv::Point2d pixel;
+    double scale = 0;
+    if (!conformal_->toCamera(cv::Point2d(k.pt.x, k.pt.y), pixel, scale)) continue;
+    const double size = k.size * scale;
+    int level = 0;
+    for (int j = 1; j < pyramid.levels(); ++j)
+      if (std::abs(std::log(size / (options_.patchSize * pyramid.scale(j)))) <
+          std::abs(std::log(size / (options_.patchSize * pyramid.scale(level)))))
+        level = j;
+    const int x = cvRound(pixel.x / pyramid.scale(level)), y = cvRound(pixel.y / pyramid.scale(level));
+    const cv::Mat& image = pyramid.image(level);
+    if (x < margin || y < margin || x >= image.cols - margin || y >= image.rows - margin) continue;
+    if (validDistance_[level].at<float>(y, x) < margin) continue;
+    if (!mask.empty()) {
+      const int x0 = std::min(cvRound(pixel.x), mask.cols - 1), y0 = std::min(cvRound(pixel.y), mask.rows - 1);
+      if (x0 < 0 || y0 < 0 || mask.at<uchar>(y0, x0) == 0) continue;
+    }
+    keypoints.emplace_back(cv::Point2f(static_cast<float>(pixel.x), static_cast<float>(pixel.y)),
+                           static_cast<float>(size), measureAngles ? centroid.angleDegrees(image, x, y) : -1.f,
+                           k.response, level);
+  }
+  if (static_cast<int>(keypoints.size()) > options_.nfeatures) {
+    std::nth_element(keypoints.begin(), keypoints.begin() + options_.nfeatures, keypoints.end(),
+                     strongerKeypoint);
+    keypoints.resize(options_.nfeatures);
   }
   return keypoints;
 }

@@ -187,7 +187,7 @@ void MdBrief::write(cv::FileStorage& fs) const {
   fs << "harrisK" << d.harrisK << "spread" << static_cast<int>(d.spread);
   fs << "hessianSigma" << d.hessianSigma << "hessianThreshold" << d.hessianThreshold;
   fs << "orientationRadius" << d.orientationRadius << "patchSize" << d.patchSize;
-  fs << "borderMargin" << d.borderMargin;
+  fs << "borderMargin" << d.borderMargin << "conformal" << static_cast<int>(d.conformal);
   fs << "}";
   fs << "descriptor" << "{";
   fs << "kind" << toString(e.kind) << "bits" << e.bits << "pattern" << e.pattern;
@@ -223,6 +223,7 @@ void MdBrief::read(const cv::FileNode& node) {
   readInt(d, "harrisBlockSize", o.detector.harrisBlockSize);
   readDouble(d, "harrisK", o.detector.harrisK);
   readBool(d, "spread", o.detector.spread);
+  readBool(d, "conformal", o.detector.conformal);
   readDouble(d, "hessianSigma", o.detector.hessianSigma);
   readDouble(d, "hessianThreshold", o.detector.hessianThreshold);
   readInt(d, "orientationRadius", o.detector.orientationRadius);

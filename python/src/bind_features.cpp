@@ -92,6 +92,7 @@ const std::vector<Keyword>& keywords() {
                  [](auto& o) -> auto& { return o.detector.orientationRadius; }),
       field<int>("patch_size", "patchSize", [](auto& o) -> auto& { return o.detector.patchSize; }),
       field<int>("border_margin", "borderMargin", [](auto& o) -> auto& { return o.detector.borderMargin; }),
+      field<bool>("conformal", "conformal", [](auto& o) -> auto& { return o.detector.conformal; }),
       enumField("descriptor", "kind", [](auto& o) -> auto& { return o.descriptor.kind; }, &parseDescriptorKind),
       field<int>("bits", "bits", [](auto& o) -> auto& { return o.descriptor.bits; }),
       field<std::string>("pattern", "pattern", [](auto& o) -> auto& { return o.descriptor.pattern; }),

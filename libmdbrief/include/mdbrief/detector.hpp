@@ -20,6 +20,7 @@
 // of the camera's valid area. An explicit mask is tested at the keypoint's position only
 // (cv::Feature2D's semantics).
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -28,6 +29,10 @@
 #include "mdbrief/image_pyramid.hpp"
 
 namespace mdbrief {
+
+namespace detail {
+class ConformalView;
+}
 
 enum class CornerDetector { Fast, Agast };
 enum class DetectorMethod { ModOrb, Hessian };
@@ -63,6 +68,11 @@ struct DetectorOptions {
   // Minimum distance (level pixels) to the level's border and to the camera's invalid area.
   // 24 = ceil(16 * sqrt(2)) + 1: the 32x32 patch at any rotation plus one bilinear neighbour.
   int borderMargin = 24;
+  // Detect on the camera's view in the stereographic projection (conformal: a structure keeps
+  // its shape wherever the lens sees it) and map the keypoints back through the camera model,
+  // size included. Needs a camera (ignored without one). Off by default: docs/RESULTS.md
+  // "Whole pipelines" ("detection on a conformal image") has what it changes.
+  bool conformal = false;
 };
 
 // Throws std::invalid_argument naming the option if the options are unusable.
@@ -100,14 +110,22 @@ class Detector {
  private:
   // Whether a candidate at level pixel (x, y) of `level` may become a keypoint.
   using Allowed = std::function<bool(int level, int x, int y)>;
-  std::vector<cv::KeyPoint> detectCorners(const ImagePyramid& pyramid, const Allowed& allowed,
+  // The `budget` strongest (corners: per level, as cv::ORB shares it out).
+  std::vector<cv::KeyPoint> detectCorners(const ImagePyramid& pyramid, const Allowed& allowed, int budget,
                                           bool measureAngles) const;
-  std::vector<cv::KeyPoint> detectBlobs(const ImagePyramid& pyramid, const Allowed& allowed, bool measureAngles) const;
+  std::vector<cv::KeyPoint> detectBlobs(const ImagePyramid& pyramid, const Allowed& allowed, int budget,
+                                        bool measureAngles) const;
 
   DetectorOptions options_;
   CameraPtr camera_;
   // Per level, with a camera: distance (level pixels) to the nearest invalid pixel.
   std::vector<cv::Mat> validDistance_;
+  // With options.conformal and a camera: the view detected on, and its distances as above.
+  std::shared_ptr<const detail::ConformalView> conformal_;
+  std::vector<cv::Mat> conformalDistance_;
+
+  std::vector<cv::KeyPoint> detectConformal(const ImagePyramid& pyramid, const cv::Mat& mask,
+                                            bool measureAngles) const;
 };
 
 }  // namespace mdbrief
