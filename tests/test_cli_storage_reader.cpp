@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,11 @@ class StorageReaderTest : public ::testing::Test {
  private:
   fs::path dir_;
 };
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
 
 void expectSameMat(const cv::Mat& a, const cv::Mat& b) {
   ASSERT_EQ(a.type(), b.type());
@@ -93,6 +99,19 @@ TEST_F(StorageReaderTest, ReadsFlatKeypointLists) {
   EXPECT_EQ(k[1].class_id, 3);
 }
 
+// read(reader) must throw an InputError that starts with the file and the node and gives the reason.
+template <typename Read>
+void expectRefused(const std::string& name, const std::string& node, const std::string& reason, Read read) {
+  try {
+    read(StorageReader(name));
+    ADD_FAILURE() << "accepted: " << readFile(name);
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind(name + ": node '" + node + "'", 0), 0u) << what;
+    EXPECT_NE(what.find(reason), std::string::npos) << what;
+  }
+}
+
 TEST_F(StorageReaderTest, MalformedNodesAreInputErrorsNamingFileNodeAndProblem) {
   const std::vector<std::pair<std::string, std::string>> keypointCases{
       {"keypoints: [ [ 1, 2, 3, 4, 5, 6 ] ]", "keypoint 0 has 6 values, not 7"},
@@ -102,17 +121,8 @@ TEST_F(StorageReaderTest, MalformedNodesAreInputErrorsNamingFileNodeAndProblem) 
       {"keypoints: [ [ 1, 2, 3, 4, 5, 0, 1e12 ] ]", "1e12 is not an int"},
       {"keypoints: [ [ 1, 2, [ 3 ], 4, 5, 0, -1 ] ]", "expected a number"},
       {"keypoints: { a: 1 }", "expected a sequence of keypoints"}};
-  for (const auto& [text, reason] : keypointCases) {
-    const std::string name = file("k.yml", text);
-    try {
-      StorageReader(name).keypoints("keypoints");
-      ADD_FAILURE() << "accepted: " << text;
-    } catch (const InputError& e) {
-      const std::string what = e.what();
-      EXPECT_EQ(what.rfind(name + ": node 'keypoints'", 0), 0u) << what;
-      EXPECT_NE(what.find(reason), std::string::npos) << what;
-    }
-  }
+  for (const auto& [text, reason] : keypointCases)
+    expectRefused(file("k.yml", text), "keypoints", reason, [](const StorageReader& r) { r.keypoints("keypoints"); });
   const std::vector<std::pair<std::string, std::string>> matrixCases{
       {"m: !!opencv-matrix\n  rows: 2\n  cols: 2\n  dt: u\n  data: [ 1, 2, 3 ]", "rows x cols must be"},
       {"m: !!opencv-matrix\n  rows: -1\n  cols: 0\n  dt: u\n  data: []", "rows x cols must be"},
@@ -120,17 +130,8 @@ TEST_F(StorageReaderTest, MalformedNodesAreInputErrorsNamingFileNodeAndProblem) 
       {"m: !!opencv-matrix\n  rows: 1\n  cols: 1\n  dt: u\n  data: [ 300 ]", "does not fit dt 'u'"},
       {"m: !!opencv-matrix\n  rows: 1\n  cols: 1\n  dt: i\n  data: [ 0.5 ]", "does not fit dt 'i'"},
       {"m: [ 1, 2 ]", "expected an opencv-matrix"}};
-  for (const auto& [text, reason] : matrixCases) {
-    const std::string name = file("m.yml", text);
-    try {
-      StorageReader(name).matrix("m");
-      ADD_FAILURE() << "accepted: " << text;
-    } catch (const InputError& e) {
-      const std::string what = e.what();
-      EXPECT_EQ(what.rfind(name + ": node 'm'", 0), 0u) << what;
-      EXPECT_NE(what.find(reason), std::string::npos) << what;
-    }
-  }
+  for (const auto& [text, reason] : matrixCases)
+    expectRefused(file("m.yml", text), "m", reason, [](const StorageReader& r) { r.matrix("m"); });
 }
 
 TEST_F(StorageReaderTest, FilesThatAreNotFileStorageMapsAreRefusedWhenOpened) {

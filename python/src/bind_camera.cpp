@@ -1,5 +1,6 @@
 // mdbrief.Camera and mdbrief.load_camera: the camera models behind camera.hpp, vectorised over
 // numpy arrays of points.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -12,48 +13,40 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Shapes the result like the input: (N, k) for (N, k') input, (k,) for a single point.
-py::array_t<double> shaped(py::ssize_t n, int k, bool single) {
-  if (single) return py::array_t<double>(std::vector<py::ssize_t>{k});
-  return py::array_t<double>(std::vector<py::ssize_t>{n, k});
+// Applies `convert` (in: `In` numbers of one point, out: `Out` numbers, false = no result) to
+// every point of an (N, In) or (In,) array without the GIL; rows without a result are NaN.
+template <int In, int Out, typename Convert>
+py::array_t<double> mapPoints(const py::handle& points, const char* argument, Convert convert) {
+  bool single = false;
+  const auto in = pointsFromArray(points, In, argument, single);
+  const py::ssize_t n = single ? 1 : in.shape(0);
+  py::array_t<double> out = single ? py::array_t<double>(std::vector<py::ssize_t>{Out})
+                                   : py::array_t<double>(std::vector<py::ssize_t>{n, Out});
+  const double* src = in.data();
+  double* dst = out.mutable_data();
+  py::gil_scoped_release release;
+  for (py::ssize_t i = 0; i < n; ++i)
+    if (!convert(src + In * i, dst + Out * i)) std::fill_n(dst + Out * i, Out, kNaN);
+  return out;
 }
 
 py::array_t<double> pixelToBearing(const Camera& camera, const py::handle& pixels) {
-  bool single = false;
-  const auto in = pointsFromArray(pixels, 2, "pixels", single);
-  const py::ssize_t n = single ? 1 : in.shape(0);
-  auto out = shaped(n, 3, single);
-  const double* p = in.data();
-  double* b = out.mutable_data();
-  {
-    py::gil_scoped_release release;
-    for (py::ssize_t i = 0; i < n; ++i) {
-      cv::Vec3d bearing;
-      const bool ok = camera.pixelToBearing({p[2 * i], p[2 * i + 1]}, bearing);
-      for (int c = 0; c < 3; ++c) b[3 * i + c] = ok ? bearing[c] : kNaN;
-    }
-  }
-  return out;
+  return mapPoints<2, 3>(pixels, "pixels", [&](const double* p, double* out) {
+    cv::Vec3d bearing;
+    if (!camera.pixelToBearing({p[0], p[1]}, bearing)) return false;
+    std::copy_n(bearing.val, 3, out);
+    return true;
+  });
 }
 
 py::array_t<double> bearingToPixel(const Camera& camera, const py::handle& bearings) {
-  bool single = false;
-  const auto in = pointsFromArray(bearings, 3, "bearings", single);
-  const py::ssize_t n = single ? 1 : in.shape(0);
-  auto out = shaped(n, 2, single);
-  const double* b = in.data();
-  double* p = out.mutable_data();
-  {
-    py::gil_scoped_release release;
-    for (py::ssize_t i = 0; i < n; ++i) {
-      cv::Point2d pixel;
-      const cv::Vec3d ray(b[3 * i], b[3 * i + 1], b[3 * i + 2]);
-      const bool ok = cv::norm(ray) > 0 && camera.bearingToPixel(ray, pixel);
-      p[2 * i] = ok ? pixel.x : kNaN;
-      p[2 * i + 1] = ok ? pixel.y : kNaN;
-    }
-  }
-  return out;
+  return mapPoints<3, 2>(bearings, "bearings", [&](const double* b, double* out) {
+    const cv::Vec3d ray(b[0], b[1], b[2]);
+    cv::Point2d pixel;
+    if (!(cv::norm(ray) > 0) || !camera.bearingToPixel(ray, pixel)) return false;
+    out[0] = pixel.x, out[1] = pixel.y;
+    return true;
+  });
 }
 
 py::object isValid(const Camera& camera, const py::handle& pixels) {
