@@ -17,7 +17,6 @@ class ConformalView {
   explicit ConformalView(CameraPtr camera);
 
   cv::Size size() const { return size_; }
-  double focal() const { return f_; }
   // 255 where the view pixel and its bilinear neighbours show valid camera pixels.
   const cv::Mat& validMask() const { return valid_; }
 
