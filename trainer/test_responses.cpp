@@ -3,18 +3,20 @@
 #include <atomic>
 #include <stdexcept>
 
-#include <immintrin.h>
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
+
+#include "mdbrief/simd_level.hpp"
+#include "trainer/test_response_kernels.hpp"
 
 namespace mdbrief::train {
 
 namespace {
 
+using kernels::kLanes;
+using kernels::ResponseKernels;
+
 constexpr size_t kPixels = kPatchSize * kPatchSize;
-// 64 patches (one result word) are transposed into a 1024 x 64 byte block: a test on 64 patches
-// is then one comparison of two contiguous 64-byte rows.
-constexpr size_t kLanes = 64;
 // Work block: kWordGroup words (a cache line of each column) x kTestBlock tests.
 constexpr size_t kWordGroup = 8;
 constexpr size_t kTestBlock = 4096;
@@ -35,14 +37,22 @@ std::vector<uint8_t> transposeIntoLanes(const PatchMatrix& patches, size_t words
 }
 
 // Bit k = a[k] < b[k] (unsigned), k = 0..63.
-inline uint64_t lessMask(const uint8_t* a, const uint8_t* b) {
-#if defined(__AVX512BW__)
-  return _mm512_cmplt_epu8_mask(_mm512_loadu_si512(a), _mm512_loadu_si512(b));
-#else
+uint64_t lessMask(const uint8_t* a, const uint8_t* b) {
   uint64_t m = 0;
   for (size_t k = 0; k < kLanes; ++k) m |= uint64_t(a[k] < b[k]) << k;
   return m;
+}
+
+// The kernels of the active SIMD level, resolved once per call.
+ResponseKernels activeResponseKernels() {
+#if defined(MDBRIEF_X86_KERNELS)
+  switch (activeSimdLevel()) {
+    case SimdLevel::Avx512: return kernels::avx512ResponseKernels();
+    case SimdLevel::Avx2: return kernels::avx2ResponseKernels();
+    case SimdLevel::Portable: break;
+  }
 #endif
+  return kernels::portableResponseKernels();
 }
 
 int pixelIndex(int x, int y) { return (y + kPatchHalf) * kPatchSize + (x + kPatchHalf); }
@@ -77,23 +87,18 @@ std::vector<uint8_t> pairedReferences(const PatchMatrix& reference, const PatchM
 
 }  // namespace
 
+ResponseKernels kernels::portableResponseKernels() { return responseKernelsWith<lessMask>(); }
+
 TestResponses::TestResponses(size_t tests, size_t patches)
-    : tests_(tests), patches_(patches), words_((patches + 63) / 64), bits_(tests * words_, 0) {}
-
-size_t TestResponses::ones(size_t test) const {
-  const uint64_t* c = column(test);
-  size_t n = 0;
-  for (size_t w = 0; w < words_; ++w) n += static_cast<size_t>(__builtin_popcountll(c[w]));
-  return n;
+    : tests_(tests), patches_(patches), words_((patches + 63) / 64), bits_(tests * words_, 0) {
+  const ResponseKernels k = activeResponseKernels();
+  popcount_ = k.popcount;
+  popcountXor_ = k.popcountXor;
 }
 
-size_t TestResponses::differences(size_t a, size_t b) const {
-  const uint64_t* ca = column(a);
-  const uint64_t* cb = column(b);
-  size_t n = 0;
-  for (size_t w = 0; w < words_; ++w) n += static_cast<size_t>(__builtin_popcountll(ca[w] ^ cb[w]));
-  return n;
-}
+size_t TestResponses::ones(size_t test) const { return popcount_(column(test), words_); }
+
+size_t TestResponses::differences(size_t a, size_t b) const { return popcountXor_(column(a), column(b), words_); }
 
 TestResponses evaluateTests(const PatchMatrix& patches, const std::vector<TestPair>& tests,
                             const std::function<void(size_t, size_t)>& progress) {
@@ -104,6 +109,7 @@ TestResponses evaluateTests(const PatchMatrix& patches, const std::vector<TestPa
   TestResponses responses(tests.size(), patches.count);
   const size_t words = responses.words();
   const std::vector<uint8_t> lanes = transposeIntoLanes(patches, words);
+  const ResponseKernels k = activeResponseKernels();
 
   const size_t wordBlocks = (words + kWordGroup - 1) / kWordGroup;
   const size_t testBlocks = (tests.size() + kTestBlock - 1) / kTestBlock;
@@ -117,12 +123,8 @@ TestResponses evaluateTests(const PatchMatrix& patches, const std::vector<TestPa
           for (size_t tb = r.cols().begin(); tb != r.cols().end(); ++tb) {
             const size_t d1 = std::min(tests.size(), (tb + 1) * kTestBlock);
             for (size_t d = tb * kTestBlock; d < d1; ++d) {
-              uint64_t* column = responses.column(d);
               const auto [a, b] = pixelPairs[d];
-              for (size_t w = w0; w < w1; ++w) {
-                const uint8_t* block = lanes.data() + w * kPixels * kLanes;
-                column[w] = lessMask(block + a * kLanes, block + b * kLanes);
-              }
+              k.lessMasks(lanes.data(), kPixels * kLanes, a, b, w0, w1, responses.column(d));
             }
             const size_t n = ++done;
             if (progress) progress(n, totalBlocks);
@@ -143,6 +145,7 @@ std::vector<uint32_t> countDisagreements(const PatchMatrix& reference, const Pat
   const std::vector<uint8_t> b = transposeIntoLanes(counterparts, words);
 
   std::vector<uint32_t> flips(tests.size(), 0);
+  const ResponseKernels k = activeResponseKernels();
   const size_t testBlocks = (tests.size() + kTestBlock - 1) / kTestBlock;
   std::atomic<size_t> done{0};
   // Parallel over tests only: each count is then summed by one thread, in word order.
@@ -152,14 +155,7 @@ std::vector<uint32_t> countDisagreements(const PatchMatrix& reference, const Pat
       const size_t w1 = std::min(words, w0 + kWordGroup);
       for (size_t d = d0; d < d1; ++d) {
         const auto [p1, p2] = pixelPairs[d];
-        uint32_t n = 0;
-        for (size_t w = w0; w < w1; ++w) {
-          const uint8_t* ba = a.data() + w * kPixels * kLanes;
-          const uint8_t* bb = b.data() + w * kPixels * kLanes;
-          n += static_cast<uint32_t>(__builtin_popcountll(lessMask(ba + p1 * kLanes, ba + p2 * kLanes) ^
-                                                          lessMask(bb + p1 * kLanes, bb + p2 * kLanes)));
-        }
-        flips[d] += n;
+        flips[d] += k.flips(a.data(), b.data(), kPixels * kLanes, p1, p2, w0, w1);
       }
     }
     const size_t n = ++done;

@@ -21,7 +21,7 @@ struct PatchMatrix {
 
 class TestResponses {
  public:
-  TestResponses() = default;
+  TestResponses() : TestResponses(0, 0) {}
   TestResponses(size_t tests, size_t patches);
 
   size_t tests() const { return tests_; }
@@ -38,6 +38,9 @@ class TestResponses {
  private:
   size_t tests_ = 0, patches_ = 0, words_ = 0;
   std::vector<uint64_t> bits_;
+  // Population counts of the SIMD level active at construction (test_response_kernels.hpp).
+  size_t (*popcount_)(const uint64_t*, size_t) = nullptr;
+  size_t (*popcountXor_)(const uint64_t*, const uint64_t*, size_t) = nullptr;
 };
 
 // Evaluates all tests on all patches in parallel (TBB). progress(done, total), if set, is called

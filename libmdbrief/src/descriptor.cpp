@@ -10,21 +10,15 @@
 
 #include <tbb/parallel_for.h>
 
-#ifdef __AVX2__
-#include <immintrin.h>
-#endif
-
+#include "descriptor_kernels.hpp"
 #include "mdbrief/patterns.hpp"
+#include "mdbrief/simd_level.hpp"
 #include "mdbrief/tangent_plane.hpp"
 
 namespace mdbrief {
 namespace {
 
-// Sample positions are quantised to 1/32 pixel (cv::remap's INTER_BITS) and interpolated with
-// integer weights: every form that computes the same position within 1e-9 px gets the same
-// bits, which makes dBRIEF with a distortion-free pinhole equal BRIEF bit for bit.
-constexpr int kSubBits = 5;
-constexpr int kSub = 1 << kSubBits;
+using namespace descriptor_kernels;
 
 // Quantised sample positions of one placement, structure of arrays so placement, bounds check
 // and sampling vectorise: with n tests, element d is the first point of test d, element n + d
@@ -33,8 +27,6 @@ struct Positions {
   int* x;
   int* y;
 };
-
-inline int toFixed(double v) { return static_cast<int>(std::floor(v * kSub + 0.5)); }
 
 // Level coordinates beyond +-2^20 px are outside any image; refusing them keeps the
 // fixed-point conversion far from int overflow.
@@ -48,13 +40,6 @@ bool allInside(const Positions& p, int count, int width, int height) {
     minY = std::min(minY, p.y[i]), maxY = std::max(maxY, p.y[i]);
   }
   return minX >= 0 && minY >= 0 && maxX < (width - 1) * kSub && maxY < (height - 1) * kSub;
-}
-
-inline int sampleBilinear(const uchar* data, size_t step, int px, int py) {
-  const int fx = px & (kSub - 1), fy = py & (kSub - 1);
-  const uchar* r0 = data + (py >> kSubBits) * step + (px >> kSubBits);
-  const uchar* r1 = r0 + step;
-  return (r0[0] * (kSub - fx) + r0[1] * fx) * (kSub - fy) + (r1[0] * (kSub - fx) + r1[1] * fx) * fy;
 }
 
 inline int sampleNearest(const uchar* data, size_t step, int px, int py) {
@@ -84,34 +69,22 @@ struct Offsets {
   std::vector<double> x, y;
 };
 
-// out[i] = toFixed(c + a * qa[i] + b * qb[i]). GCC 12 does not vectorise the double -> int
-// conversion, so the AVX2 path is written out; both paths round identically.
 void affineCoordinate(double c, double a, double b, const double* qa, const double* qb, int* out, int n) {
-  int i = 0;
-#ifdef __AVX2__
-  const __m256d vc = _mm256_set1_pd(c), va = _mm256_set1_pd(a), vb = _mm256_set1_pd(b);
-  const __m256d scale = _mm256_set1_pd(kSub), half = _mm256_set1_pd(0.5);
-  for (; i + 4 <= n; i += 4) {
-    const __m256d v = _mm256_add_pd(_mm256_add_pd(vc, _mm256_mul_pd(va, _mm256_loadu_pd(qa + i))),
-                                    _mm256_mul_pd(vb, _mm256_loadu_pd(qb + i)));
-    const __m256d f = _mm256_floor_pd(_mm256_add_pd(_mm256_mul_pd(v, scale), half));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), _mm256_cvttpd_epi32(f));
-  }
-#endif
-  for (; i < n; ++i) out[i] = toFixed(c + a * qa[i] + b * qb[i]);
+  for (int i = 0; i < n; ++i) out[i] = toFixed(c + a * qa[i] + b * qb[i]);
 }
 
 // Fills p with quantised level coordinates. False if a point cannot be projected or lies
 // absurdly far outside any image.
-bool placeTests(const Placement& pl, const Camera* camera, const Offsets& q, Positions p) {
+bool placeTests(const Placement& pl, const Camera* camera, const Offsets& q, const SamplingKernels& kernels,
+                Positions p) {
   const int n = static_cast<int>(q.x.size());
   const auto& m = pl.map;
   if (pl.affine) {
     const double reach = (std::abs(m(0, 0)) + std::abs(m(0, 1)) + std::abs(m(1, 0)) + std::abs(m(1, 1))) * kPatchHalf;
     if (!(std::abs(pl.centre.x) + reach < kCoordinateLimit && std::abs(pl.centre.y) + reach < kCoordinateLimit))
       return false;
-    affineCoordinate(pl.centre.x, m(0, 0), m(0, 1), q.x.data(), q.y.data(), p.x, n);
-    affineCoordinate(pl.centre.y, m(1, 0), m(1, 1), q.x.data(), q.y.data(), p.y, n);
+    kernels.affineCoordinate(pl.centre.x, m(0, 0), m(0, 1), q.x.data(), q.y.data(), p.x, n);
+    kernels.affineCoordinate(pl.centre.y, m(1, 0), m(1, 1), q.x.data(), q.y.data(), p.y, n);
     return true;
   }
   for (int i = 0; i < n; ++i) {
@@ -146,64 +119,48 @@ bool cornersValid(const Placement& pl, const Camera& camera) {
   return true;
 }
 
-template <int (*Sample)(const uchar*, size_t, int, int)>
-void packBits(const cv::Mat& img, const Positions& p, int nTests, uchar* out) {
-  const uchar* data = img.data;
-  const size_t step = img.step[0];
+template <int (*Sample)(const uint8_t*, size_t, int, int)>
+void packBits(const uint8_t* data, size_t step, const int* x, const int* y, int nTests, uint8_t* out) {
   for (int byte = 0; byte < nTests / 8; ++byte) {
     unsigned v = 0;
     for (int b = 0; b < 8; ++b) {
       const int d = byte * 8 + b;
-      v |= static_cast<unsigned>(Sample(data, step, p.x[d], p.y[d]) <
-                                 Sample(data, step, p.x[nTests + d], p.y[nTests + d]))
+      v |= static_cast<unsigned>(Sample(data, step, x[d], y[d]) < Sample(data, step, x[nTests + d], y[nTests + d]))
            << b;
     }
-    out[byte] = static_cast<uchar>(v);
+    out[byte] = static_cast<uint8_t>(v);
   }
 }
 
-#ifdef __AVX2__
-// Eight bilinear samples at once with 32-bit gathers, staying inside the image buffer:
-// the top row is read at x0 (pixels x0, x0 + 1 in the low bytes; the two bytes past them are
-// at worst the start of row y0 + 1, which exists since allInside() keeps y0 + 1 <= height - 1);
-// the bottom row, possibly the last one, is read at x0 - 2 (pixels in the high bytes; x0 - 2
-// is at worst the end of row y0 >= 0).
-inline __m256i bilinear8(const uchar* data, __m256i step, const int* px, const int* py) {
-  const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(px));
-  const __m256i y = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(py));
-  const __m256i mask = _mm256_set1_epi32(kSub - 1), one = _mm256_set1_epi32(kSub), lo = _mm256_set1_epi32(0xff);
-  const __m256i fx = _mm256_and_si256(x, mask), fy = _mm256_and_si256(y, mask);
-  const __m256i idx = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_srai_epi32(y, kSubBits), step),
-                                       _mm256_srai_epi32(x, kSubBits));
-  const __m256i w0 = _mm256_i32gather_epi32(reinterpret_cast<const int*>(data), idx, 1);
-  const __m256i w1 = _mm256_i32gather_epi32(reinterpret_cast<const int*>(data),
-                                            _mm256_add_epi32(idx, _mm256_sub_epi32(step, _mm256_set1_epi32(2))), 1);
-  const __m256i gx = _mm256_sub_epi32(one, fx);
-  const __m256i top = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_and_si256(w0, lo), gx),
-                                       _mm256_mullo_epi32(_mm256_and_si256(_mm256_srli_epi32(w0, 8), lo), fx));
-  const __m256i bottom = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_and_si256(_mm256_srli_epi32(w1, 16), lo), gx),
-                                          _mm256_mullo_epi32(_mm256_srli_epi32(w1, 24), fx));
-  return _mm256_add_epi32(_mm256_mullo_epi32(top, _mm256_sub_epi32(one, fy)), _mm256_mullo_epi32(bottom, fy));
-}
-
-// Same bits as packBits<sampleBilinear>: v1 < v2 per lane, lane d -> bit d of the byte.
-void packBitsBilinearAvx2(const cv::Mat& img, const Positions& p, int nTests, uchar* out) {
-  const __m256i step = _mm256_set1_epi32(static_cast<int>(img.step[0]));
-  for (int d = 0; d < nTests; d += 8) {
-    const __m256i v1 = bilinear8(img.data, step, p.x + d, p.y + d);
-    const __m256i v2 = bilinear8(img.data, step, p.x + nTests + d, p.y + nTests + d);
-    out[d / 8] = static_cast<uchar>(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(v2, v1))));
+void centroidMoments(const uint8_t* data, size_t step, const int* x, const int* y, const int* u, const int* v,
+                     int n, long long& m10, long long& m01) {
+  m10 = m01 = 0;
+  for (int i = 0; i < n; ++i) {
+    const long long val = sampleBilinear(data, step, x[i], y[i]);
+    m10 += val * u[i];
+    m01 += val * v[i];
   }
 }
-#endif
 
-void sampleDescriptor(const cv::Mat& img, const Positions& p, int nTests, Sampling sampling, uchar* out) {
-  if (sampling == Sampling::Nearest) return packBits<sampleNearest>(img, p, nTests, out);
-#ifdef __AVX2__
-  packBitsBilinearAvx2(img, p, nTests, out);
-#else
-  packBits<sampleBilinear>(img, p, nTests, out);
+}  // namespace
+
+SamplingKernels descriptor_kernels::portableSamplingKernels() {
+  return {affineCoordinate, packBits<sampleBilinear>, centroidMoments};
+}
+
+namespace {
+
+SamplingKernels activeSamplingKernels() {
+#if defined(MDBRIEF_X86_KERNELS)
+  if (activeSimdLevel() >= SimdLevel::Avx2) return avx2SamplingKernels();
 #endif
+  return portableSamplingKernels();
+}
+
+void sampleDescriptor(const cv::Mat& img, const Positions& p, int nTests, Sampling sampling,
+                      const SamplingKernels& kernels, uchar* out) {
+  if (sampling == Sampling::Nearest) return packBits<sampleNearest>(img.data, img.step[0], p.x, p.y, nTests, out);
+  kernels.packBitsBilinear(img.data, img.step[0], p.x, p.y, nTests, out);
 }
 
 Offsets offsetsOf(const TestSet& tests) {
@@ -278,32 +235,13 @@ Disc discOf(int radius, int step) {
 // Intensity-centroid angle (degrees, in the offset frame) of the disc mapped by `map` around
 // `centre` (level coordinates). Empty if the disc leaves the image.
 std::optional<double> centroidAngle(const cv::Mat& img, const cv::Point2d& centre, const cv::Matx22d& map,
-                                    const Disc& disc, int* xs, int* ys) {
+                                    const Disc& disc, const SamplingKernels& kernels, int* xs, int* ys) {
   const int n = static_cast<int>(disc.u.size());
-  affineCoordinate(centre.x, map(0, 0), map(0, 1), disc.offsets.x.data(), disc.offsets.y.data(), xs, n);
-  affineCoordinate(centre.y, map(1, 0), map(1, 1), disc.offsets.x.data(), disc.offsets.y.data(), ys, n);
+  kernels.affineCoordinate(centre.x, map(0, 0), map(0, 1), disc.offsets.x.data(), disc.offsets.y.data(), xs, n);
+  kernels.affineCoordinate(centre.y, map(1, 0), map(1, 1), disc.offsets.x.data(), disc.offsets.y.data(), ys, n);
   if (!allInside(Positions{xs, ys}, n, img.cols, img.rows)) return std::nullopt;
-  long long m10 = 0, m01 = 0;
-  int i = 0;
-#ifdef __AVX2__
-  // Per lane at most 89 samples (radius 15, step 1) of 255 * 32^2 * 15: far inside int32.
-  const __m256i step = _mm256_set1_epi32(static_cast<int>(img.step[0]));
-  __m256i a10 = _mm256_setzero_si256(), a01 = _mm256_setzero_si256();
-  for (; i + 8 <= n; i += 8) {
-    const __m256i val = bilinear8(img.data, step, xs + i, ys + i);
-    a10 = _mm256_add_epi32(a10, _mm256_mullo_epi32(val, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&disc.u[i]))));
-    a01 = _mm256_add_epi32(a01, _mm256_mullo_epi32(val, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&disc.v[i]))));
-  }
-  alignas(32) int l10[8], l01[8];
-  _mm256_store_si256(reinterpret_cast<__m256i*>(l10), a10);
-  _mm256_store_si256(reinterpret_cast<__m256i*>(l01), a01);
-  for (int k = 0; k < 8; ++k) m10 += l10[k], m01 += l01[k];
-#endif
-  for (; i < n; ++i) {
-    const long long val = sampleBilinear(img.data, img.step[0], xs[i], ys[i]);
-    m10 += val * disc.u[i];
-    m01 += val * disc.v[i];
-  }
+  long long m10, m01;
+  kernels.centroidMoments(img.data, img.step[0], xs, ys, disc.u.data(), disc.v.data(), n, m10, m01);
   if (m10 == 0 && m01 == 0) return 0.0;
   return std::atan2(static_cast<double>(m01), static_cast<double>(m10)) * 180.0 / CV_PI;
 }
@@ -349,6 +287,7 @@ std::vector<double> pyramidScales(const ImagePyramid& pyramid) {
 // use the keypoint's angle (testPositions has no image).
 struct OrientationInput {
   const cv::Mat* image = nullptr;
+  const SamplingKernels* kernels = nullptr;
   const Disc* disc = nullptr;
   int* xs = nullptr;
   int* ys = nullptr;
@@ -389,7 +328,7 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
                             fraction;
   double planeAngle = 0.0;
   if (o.useOrientation && o.orientation == OrientationSource::TangentPlane && measure.image) {
-    const auto a = centroidAngle(*measure.image, centre, shape, *measure.disc, measure.xs, measure.ys);
+    const auto a = centroidAngle(*measure.image, centre, shape, *measure.disc, *measure.kernels, measure.xs, measure.ys);
     if (!a) return 0;
     planeAngle = *a;
     const double rad = planeAngle * CV_PI / 180.0;
@@ -445,6 +384,7 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
   const Offsets offsets = offsetsOf(tests_);
   const bool measure = measuresOrientation();
   const Disc disc = measure ? discOf(options_.orientationRadius, kDiscStep) : Disc{};
+  const SamplingKernels kernels = activeSamplingKernels();
 
   tbb::parallel_for(tbb::blocked_range<int>(0, n, 16), [&](const tbb::blocked_range<int>& range) {
     std::vector<int> xs(3 * 2 * nTests), ys(3 * 2 * nTests), discX(disc.u.size()), discY(disc.u.size());
@@ -456,19 +396,19 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
       const Support& support = supports[i];
       if (support.level < 0) continue;  // no usable size
       const cv::Mat& img = pyramid.smoothed(support.level);
-      const OrientationInput in{measure ? &img : nullptr, &disc, discX.data(), discY.data()};
+      const OrientationInput in{measure ? &img : nullptr, &kernels, &disc, discX.data(), discY.data()};
       const int count = placementsFor(options_, camera, kp, pyramid.scale(support.level), support.fraction, in, frame,
                                       placements, angles[i]);
       bool good = count > 0;
       for (int r = 0; good && r < count; ++r) {
         const Positions p{&xs[2 * nTests * r], &ys[2 * nTests * r]};
-        good = placeTests(placements[r], camera, offsets, p) && allInside(p, 2 * nTests, img.cols, img.rows) &&
+        good = placeTests(placements[r], camera, offsets, kernels, p) && allInside(p, 2 * nTests, img.cols, img.rows) &&
                (!camera || cornersValid(placements[r], *camera));
       }
       if (!good) continue;
       for (int r = 0; r < count; ++r)
         sampleDescriptor(img, Positions{&xs[2 * nTests * r], &ys[2 * nTests * r]}, nTests, options_.sampling,
-                         bits[r].data());
+                         kernels, bits[r].data());
       std::copy_n(bits[0].data(), bytes, desc.ptr<uchar>(i));
       if (wantMasks) {
         uchar* m = mask.ptr<uchar>(i);
@@ -524,7 +464,9 @@ std::vector<std::pair<cv::Point2f, cv::Point2f>> DescriptorExtractor::testPositi
     return {};
   const int nTests = options_.bits;
   std::vector<int> xs(2 * nTests), ys(2 * nTests);
-  if (!placeTests(placements[0], camera_.get(), offsetsOf(tests_), Positions{xs.data(), ys.data()})) return {};
+  if (!placeTests(placements[0], camera_.get(), offsetsOf(tests_), activeSamplingKernels(),
+                  Positions{xs.data(), ys.data()}))
+    return {};
   std::vector<std::pair<cv::Point2f, cv::Point2f>> out(nTests);
   const float f = static_cast<float>(scale) / kSub;
   for (int d = 0; d < nTests; ++d)

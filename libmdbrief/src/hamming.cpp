@@ -1,6 +1,9 @@
 #include "mdbrief/hamming.hpp"
 
+#include <cstring>
 #include <stdexcept>
+
+#include "popcount.hpp"
 
 namespace mdbrief {
 
@@ -15,6 +18,24 @@ void validateDescriptorMatrix(const cv::Mat& m, const std::string& name) {
     throw std::invalid_argument(name + ": descriptor width must be a multiple of 4 in [4, 64] "
                                        "bytes, got " + std::to_string(m.cols));
   }
+}
+
+int hammingDistance(const uint8_t* a, const uint8_t* b, int bytes) noexcept {
+  int distance = 0;
+  int i = 0;
+  for (; i + 8 <= bytes; i += 8) {
+    uint64_t x, y;  // memcpy: rows need not be 8-byte aligned
+    std::memcpy(&x, a + i, 8);
+    std::memcpy(&y, b + i, 8);
+    distance += popcount64(x ^ y);
+  }
+  if (i < bytes) {  // widths like 36 bytes end with one 32-bit word
+    uint32_t x, y;
+    std::memcpy(&x, a + i, 4);
+    std::memcpy(&y, b + i, 4);
+    distance += popcount64(x ^ y);
+  }
+  return distance;
 }
 
 namespace {

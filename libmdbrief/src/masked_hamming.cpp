@@ -5,6 +5,7 @@
 #include <string>
 
 #include "mdbrief/hamming.hpp"
+#include "popcount.hpp"
 
 namespace mdbrief {
 

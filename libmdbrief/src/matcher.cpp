@@ -11,13 +11,11 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#if defined(__AVX512F__) && defined(__AVX512VPOPCNTDQ__)
-#define MDBRIEF_MATCH_AVX512 1
-#include <immintrin.h>
-#endif
-
+#include "matcher_kernels.hpp"
 #include "mdbrief/hamming.hpp"
 #include "mdbrief/masked_hamming.hpp"
+#include "mdbrief/simd_level.hpp"
+#include "popcount.hpp"
 
 namespace mdbrief {
 
@@ -34,17 +32,7 @@ void validate(const MatchOptions& options) {
 
 namespace {
 
-constexpr int kLanes = 16;  // train descriptors compared per step (one 512-bit register)
-constexpr int kMaxWords = kMaxDescriptorBytes / 4;
-constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();  // above any distance
-
-// The two nearest train descriptors of one query; distances are plain Hamming or the masked
-// fixed-point form (masked_hamming.hpp), both exact integers.
-struct Nearest {
-  uint32_t best = kNone;
-  uint32_t second = kNone;
-  int index = -1;
-};
+using namespace matcher_kernels;
 
 // Reads 32-bit word k of a row (rows need not be aligned).
 inline uint32_t word(const uint8_t* row, int k) {
@@ -64,13 +52,6 @@ uint32_t maskWords(const uint8_t* mask, int nwords, uint32_t* out) {
   return maskWeight(ones, nwords * 32);
 }
 
-// One query row with its effective mask and weight, ready for the kernels.
-struct QueryRow {
-  uint32_t d[kMaxWords];
-  uint32_t l[kMaxWords];
-  uint32_t w = 0;
-};
-
 QueryRow loadRow(const cv::Mat& desc, const cv::Mat* masks, int row, int nwords) {
   QueryRow q;
   const uint8_t* p = desc.ptr<uint8_t>(row);
@@ -79,194 +60,64 @@ QueryRow loadRow(const cv::Mat& desc, const cv::Mat* masks, int row, int nwords)
   return q;
 }
 
-// The train side packed once per call (contiguous 32-bit words, effective masks, weights) in
-// the layout of the compiled kernel; slot() gives the index of word k of descriptor j.
-// AVX-512: one load gives word k of 16 consecutive descriptors, element (block b, word k,
-// lane l) at [(b * nwords + k) * kLanes + l]; padding lanes of the last block hold zeros and
-// are excluded by `count`. Portable: row-major, so a row is read as 64-bit words.
-struct TrainSet {
-  int count = 0;
-  int nwords = 0;
-  int blocks = 0;
-  std::vector<uint32_t> desc, mask, weight;  // mask/weight only when masked
-
-  size_t slot(int j, int k) const {
-#ifdef MDBRIEF_MATCH_AVX512
-    return (static_cast<size_t>(j / kLanes) * nwords + k) * kLanes + j % kLanes;
-#else
-    return static_cast<size_t>(j) * nwords + k;
-#endif
-  }
+// The kernel of the active SIMD level and the train layout it reads; resolved once per call.
+struct Kernel {
+  Nearest (*nearestTwo)(const QueryRow&, const TrainView&) = nearestTwoPortable;
+  int lanes = 1;
 };
 
-TrainSet pack(const cv::Mat& desc, const cv::Mat* masks) {
+Kernel activeKernel() {
+#if defined(MDBRIEF_X86_KERNELS)
+  switch (activeSimdLevel()) {
+    case SimdLevel::Avx512: return {nearestTwoAvx512, kAvx512Lanes};
+    case SimdLevel::Avx2: return {nearestTwoAvx2, 1};
+    case SimdLevel::Portable: break;
+  }
+#endif
+  return {};
+}
+
+// The train side packed once per call (contiguous 32-bit words, effective masks, weights) in
+// the layout of the kernel (matcher_kernels.hpp).
+struct TrainSet {
+  std::vector<uint32_t> desc, mask, weight;  // mask/weight only when masked
+  TrainView view;
+};
+
+TrainSet pack(const cv::Mat& desc, const cv::Mat* masks, int lanes) {
   TrainSet t;
-  t.count = desc.rows;
-  t.nwords = desc.cols / 4;
-  t.blocks = (t.count + kLanes - 1) / kLanes;
-  const size_t padded = static_cast<size_t>(t.blocks) * kLanes;
-  t.desc.assign(padded * t.nwords, 0);
+  const int count = desc.rows, nwords = desc.cols / 4;
+  const size_t padded = static_cast<size_t>((count + lanes - 1) / lanes) * lanes;
+  // Word k of descriptor j.
+  auto slot = [&](int j, int k) {
+    return (static_cast<size_t>(j / lanes) * nwords + k) * lanes + j % lanes;
+  };
+  t.desc.assign(padded * nwords, 0);
   if (masks) {
-    t.mask.assign(padded * t.nwords, 0);
+    t.mask.assign(padded * nwords, 0);
     t.weight.assign(padded, 0);
   }
   uint32_t l[kMaxWords];
-  for (int j = 0; j < t.count; ++j) {
+  for (int j = 0; j < count; ++j) {
     const uint8_t* p = desc.ptr<uint8_t>(j);
-    for (int k = 0; k < t.nwords; ++k) t.desc[t.slot(j, k)] = word(p, k);
+    for (int k = 0; k < nwords; ++k) t.desc[slot(j, k)] = word(p, k);
     if (masks) {
-      t.weight[j] = maskWords(masks->ptr<uint8_t>(j), t.nwords, l);
-      for (int k = 0; k < t.nwords; ++k) t.mask[t.slot(j, k)] = l[k];
+      t.weight[j] = maskWords(masks->ptr<uint8_t>(j), nwords, l);
+      for (int k = 0; k < nwords; ++k) t.mask[slot(j, k)] = l[k];
     }
   }
+  t.view = {t.desc.data(), masks ? t.mask.data() : nullptr, masks ? t.weight.data() : nullptr,
+            count, nwords, lanes};
   return t;
 }
 
-#ifdef MDBRIEF_MATCH_AVX512
-
-// Lane l of the kernels sees trains l, l + 16, l + 32, ... in increasing order and keeps its
-// own two nearest (strict < keeps the lowest index among ties). Merging the lanes afterwards
-// gives the same result as one scan in index order.
-Nearest mergeLanes(const uint32_t* best1, const uint32_t* best2, const int32_t* index1) {
-  int win = -1;
-  for (int l = 0; l < kLanes; ++l) {
-    if (index1[l] < 0) continue;
-    if (win < 0 || best1[l] < best1[win] || (best1[l] == best1[win] && index1[l] < index1[win])) {
-      win = l;
-    }
-  }
-  Nearest r;
-  if (win < 0) return r;
-  r.best = best1[win];
-  r.index = index1[win];
-  r.second = best2[win];
-  for (int l = 0; l < kLanes; ++l) {
-    if (l != win) r.second = std::min(r.second, best1[l]);
-  }
-  return r;
-}
-
-// AVX-512 VPOPCNTDQ: 16 train descriptors per step, query words broadcast, the per-lane two
-// nearest kept in registers.
-template <bool Masked>
-Nearest nearestTwo(const QueryRow& q, const TrainSet& t) {
-  const int nwords = t.nwords;
-  __m512i best1 = _mm512_set1_epi32(-1);
-  __m512i best2 = _mm512_set1_epi32(-1);
-  __m512i index1 = _mm512_set1_epi32(-1);
-  __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-  const __m512i step = _mm512_set1_epi32(kLanes);
-  const __m512i none = _mm512_set1_epi32(-1);
-  const __m512i qw = _mm512_set1_epi32(static_cast<int>(q.w));
-  const int tail = t.count - (t.blocks - 1) * kLanes;
-  const __mmask16 tailValid = static_cast<__mmask16>((1u << tail) - 1);
-  const uint32_t* D = t.desc.data();
-  const uint32_t* L = t.mask.data();
-  for (int b = 0; b < t.blocks; ++b) {
-    __m512i d;
-    if constexpr (!Masked) {
-      __m512i acc = _mm512_setzero_si512();
-      for (int k = 0; k < nwords; ++k) {
-        const __m512i x = _mm512_xor_si512(_mm512_loadu_si512(D + k * kLanes),
-                                           _mm512_set1_epi32(static_cast<int>(q.d[k])));
-        acc = _mm512_add_epi32(acc, _mm512_popcnt_epi32(x));
-      }
-      d = acc;
-    } else {
-      __m512i a = _mm512_setzero_si512();
-      __m512i c = _mm512_setzero_si512();
-      for (int k = 0; k < nwords; ++k) {
-        const __m512i x = _mm512_xor_si512(_mm512_loadu_si512(D + k * kLanes),
-                                           _mm512_set1_epi32(static_cast<int>(q.d[k])));
-        a = _mm512_add_epi32(a, _mm512_popcnt_epi32(
-                                    _mm512_and_si512(x, _mm512_set1_epi32(static_cast<int>(q.l[k])))));
-        c = _mm512_add_epi32(c, _mm512_popcnt_epi32(
-                                    _mm512_and_si512(x, _mm512_loadu_si512(L + k * kLanes))));
-      }
-      const __m512i tw = _mm512_loadu_si512(t.weight.data() + static_cast<size_t>(b) * kLanes);
-      d = _mm512_add_epi32(_mm512_mullo_epi32(a, qw), _mm512_mullo_epi32(c, tw));
-      L += nwords * kLanes;
-    }
-    D += nwords * kLanes;
-    if (b == t.blocks - 1) d = _mm512_mask_mov_epi32(none, tailValid, d);
-    // Masked moves rather than _mm512_min_epu32, which trips GCC 12's -Wmaybe-uninitialized.
-    const __mmask16 closer = _mm512_cmplt_epu32_mask(d, best1);
-    const __mmask16 closerThanSecond = _mm512_cmplt_epu32_mask(d, best2);
-    best2 = _mm512_mask_mov_epi32(_mm512_mask_mov_epi32(best2, closerThanSecond, d), closer, best1);
-    best1 = _mm512_mask_mov_epi32(best1, closer, d);
-    index1 = _mm512_mask_mov_epi32(index1, closer, lane);
-    lane = _mm512_add_epi32(lane, step);
-  }
-  alignas(64) uint32_t b1[kLanes], b2[kLanes];
-  alignas(64) int32_t i1[kLanes];
-  _mm512_store_si512(b1, best1);
-  _mm512_store_si512(b2, best2);
-  _mm512_store_si512(i1, index1);
-  return mergeLanes(b1, b2, i1);
-}
-
-#else
-
-// Portable kernel: one train row at a time in index order, 64-bit popcounts plus a 32-bit
-// tail word for odd word counts.
-template <bool Masked>
-Nearest nearestTwo(const QueryRow& q, const TrainSet& t) {
-  const int nwords = t.nwords;
-  const int nlong = nwords / 2;
-  uint64_t qd[kMaxWords / 2], ql[kMaxWords / 2];
-  std::memcpy(qd, q.d, sizeof(uint64_t) * nlong);
-  if constexpr (Masked) std::memcpy(ql, q.l, sizeof(uint64_t) * nlong);
-  auto long_ = [](const uint32_t* p, int k) {
-    uint64_t v;
-    std::memcpy(&v, p + 2 * k, 8);
-    return v;
-  };
-  Nearest n;
-  for (int j = 0; j < t.count; ++j) {
-    const uint32_t* row = t.desc.data() + t.slot(j, 0);
-    uint32_t d;
-    if constexpr (!Masked) {
-      d = 0;
-      for (int k = 0; k < nlong; ++k) d += popcount64(long_(row, k) ^ qd[k]);
-      if (nwords & 1) d += popcount64(row[nwords - 1] ^ q.d[nwords - 1]);
-    } else {
-      const uint32_t* mask = t.mask.data() + t.slot(j, 0);
-      uint32_t a = 0, c = 0;
-      for (int k = 0; k < nlong; ++k) {
-        const uint64_t x = long_(row, k) ^ qd[k];
-        a += popcount64(x & ql[k]);
-        c += popcount64(x & long_(mask, k));
-      }
-      if (nwords & 1) {
-        const uint32_t x = row[nwords - 1] ^ q.d[nwords - 1];
-        a += popcount64(x & q.l[nwords - 1]);
-        c += popcount64(x & mask[nwords - 1]);
-      }
-      d = a * q.w + c * t.weight[j];
-    }
-    if (d < n.best) {  // strict: ties keep the lowest index
-      n.second = n.best;
-      n.best = d;
-      n.index = j;
-    } else {
-      n.second = std::min(n.second, d);
-    }
-  }
-  return n;
-}
-
-#endif
-
 // For every row of `rows`, its two nearest in `set`.
 std::vector<Nearest> nearestAll(const cv::Mat& rows, const cv::Mat* rowMasks, const TrainSet& set,
-                                bool parallel) {
+                                const Kernel& kernel, bool parallel) {
   std::vector<Nearest> out(rows.rows);
   const int nwords = rows.cols / 4;
   auto run = [&](int begin, int end) {
-    for (int i = begin; i < end; ++i) {
-      const QueryRow q = loadRow(rows, rowMasks, i, nwords);
-      out[i] = rowMasks ? nearestTwo<true>(q, set) : nearestTwo<false>(q, set);
-    }
+    for (int i = begin; i < end; ++i) out[i] = kernel.nearestTwo(loadRow(rows, rowMasks, i, nwords), set.view);
   };
   if (parallel) {
     // Each query is computed by exactly one task, so the split does not affect the results.
@@ -305,11 +156,12 @@ std::vector<cv::DMatch> match(const cv::Mat& query, const cv::Mat* queryMasks,
   if (trainMasks) checkMasks(*trainMasks, train, "trainMasks", "train");
   if (query.empty() || train.empty()) return {};
 
+  const Kernel kernel = activeKernel();
   const std::vector<Nearest> forward =
-      nearestAll(query, queryMasks, pack(train, trainMasks), options.parallel);
+      nearestAll(query, queryMasks, pack(train, trainMasks, kernel.lanes), kernel, options.parallel);
   std::vector<Nearest> backward;
   if (options.crossCheck) {
-    backward = nearestAll(train, trainMasks, pack(query, queryMasks), options.parallel);
+    backward = nearestAll(train, trainMasks, pack(query, queryMasks, kernel.lanes), kernel, options.parallel);
   }
 
   const bool masked = queryMasks != nullptr;

@@ -1,0 +1,46 @@
+#pragma once
+// Sampling kernels of the descriptor (descriptor.cpp). The portable forms live here and in
+// descriptor.cpp; descriptor_kernel_avx2.cpp holds the AVX2 forms, compiled with -mavx2 and
+// chosen at run time (simd_level.hpp). Both give the same bits. Only plain data crosses the
+// boundary, and the inline helpers below have internal linkage, so no copy compiled with AVX2
+// flags can stand in for a baseline one at link time.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+namespace mdbrief::descriptor_kernels {
+
+// Sample positions are quantised to 1/32 pixel (cv::remap's INTER_BITS) and interpolated with
+// integer weights: every form that computes the same position within 1e-9 px gets the same
+// bits, which makes dBRIEF with a distortion-free pinhole equal BRIEF bit for bit.
+constexpr int kSubBits = 5;
+constexpr int kSub = 1 << kSubBits;
+
+// The kernels of one SIMD level, resolved once per call.
+struct SamplingKernels {
+  // out[i] = toFixed(c + a * qa[i] + b * qb[i]).
+  void (*affineCoordinate)(double c, double a, double b, const double* qa, const double* qb, int* out, int n);
+  // Bit d of out (d < nTests, a multiple of 8) = bilinear sample (x[d], y[d]) < sample
+  // (x[nTests + d], y[nTests + d]). Every position inside the image (descriptor.cpp allInside).
+  void (*packBitsBilinear)(const uint8_t* data, size_t step, const int* x, const int* y, int nTests, uint8_t* out);
+  // Intensity moments sum(value * u), sum(value * v) of n bilinear samples (n a multiple of 8).
+  void (*centroidMoments)(const uint8_t* data, size_t step, const int* x, const int* y, const int* u,
+                          const int* v, int n, long long& m10, long long& m01);
+};
+
+SamplingKernels portableSamplingKernels();
+SamplingKernels avx2SamplingKernels();
+
+namespace {
+
+inline int toFixed(double v) { return static_cast<int>(std::floor(v * kSub + 0.5)); }
+
+inline int sampleBilinear(const uint8_t* data, size_t step, int px, int py) {
+  const int fx = px & (kSub - 1), fy = py & (kSub - 1);
+  const uint8_t* r0 = data + (py >> kSubBits) * step + (px >> kSubBits);
+  const uint8_t* r1 = r0 + step;
+  return (r0[0] * (kSub - fx) + r0[1] * fx) * (kSub - fy) + (r1[0] * (kSub - fx) + r1[1] * fx) * fy;
+}
+
+}  // namespace
+}  // namespace mdbrief::descriptor_kernels

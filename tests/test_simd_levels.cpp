@@ -1,0 +1,132 @@
+// Every SIMD level (simd_level.hpp) gives the same descriptors, masks, angles and matches as
+// the portable kernels. On this machine's CPU all levels it supports are compared; a build
+// with MDBRIEF_PORTABLE_KERNELS has only the portable one (and the comparison is trivial).
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "mdbrief/camera_io.hpp"
+#include "mdbrief/descriptor.hpp"
+#include "mdbrief/detector.hpp"
+#include "mdbrief/matcher.hpp"
+#include "mdbrief/simd_level.hpp"
+#include "test_data.hpp"
+
+namespace {
+
+using mdbrief::SimdLevel;
+
+// Restores the full level when a test ends, whatever it capped.
+struct LevelCap {
+  explicit LevelCap(SimdLevel level) { mdbrief::limitSimdLevel(level); }
+  ~LevelCap() { mdbrief::limitSimdLevel(SimdLevel::Avx512); }
+};
+
+std::vector<SimdLevel> supportedLevels() {
+  std::vector<SimdLevel> levels;
+  for (SimdLevel l : {SimdLevel::Portable, SimdLevel::Avx2, SimdLevel::Avx512})
+    if (l <= mdbrief::supportedSimdLevel()) levels.push_back(l);
+  return levels;
+}
+
+// Blurred noise: texture at every scale, so that every test of every keypoint matters.
+cv::Mat texturedImage(int width, int height) {
+  cv::Mat noise(height, width, CV_8U), img;
+  cv::randu(noise, 0, 256);
+  cv::GaussianBlur(noise, img, cv::Size(), 2.0);
+  cv::normalize(img, img, 0, 255, cv::NORM_MINMAX);
+  return img;
+}
+
+TEST(SimdLevel, CapLowersTheActiveLevel) {
+  const SimdLevel supported = mdbrief::supportedSimdLevel();
+  EXPECT_EQ(mdbrief::activeSimdLevel(), supported);
+  {
+    LevelCap cap(SimdLevel::Portable);
+    EXPECT_EQ(mdbrief::activeSimdLevel(), SimdLevel::Portable);
+  }
+  EXPECT_EQ(mdbrief::activeSimdLevel(), supported);
+  EXPECT_EQ(mdbrief::toString(SimdLevel::Portable), "portable");
+  EXPECT_EQ(mdbrief::toString(SimdLevel::Avx2), "avx2");
+  EXPECT_EQ(mdbrief::toString(SimdLevel::Avx512), "avx512");
+#if !defined(__x86_64__)
+  EXPECT_EQ(supported, SimdLevel::Portable);
+#endif
+}
+
+TEST(SimdLevel, DescriptorsAreIdenticalAtEveryLevel) {
+  const auto camera = mdbrief::loadCamera((mdbrief::testing::sourceDir() / "configs/cameras/lafida_fisheye0.yaml").string());
+  const cv::Mat image = texturedImage(camera->imageSize().width, camera->imageSize().height);
+  const std::vector<cv::KeyPoint> detected = mdbrief::Detector({}, camera).detect(image);
+  ASSERT_GT(detected.size(), 200u);
+  for (const auto kind : {mdbrief::DescriptorKind::Brief, mdbrief::DescriptorKind::DBrief,
+                          mdbrief::DescriptorKind::MdBrief, mdbrief::DescriptorKind::MaskedBrief}) {
+    for (const int bits : {32, 256, 512}) {
+      mdbrief::DescriptorOptions o;
+      o.kind = kind;
+      o.bits = bits;
+      const mdbrief::DescriptorExtractor extractor(camera, o);
+      std::vector<cv::KeyPoint> refKeypoints;
+      cv::Mat refDesc, refMasks;
+      for (const SimdLevel level : supportedLevels()) {
+        LevelCap cap(level);
+        std::vector<cv::KeyPoint> keypoints = detected;
+        cv::Mat desc, masks;
+        extractor.compute(image, keypoints, desc, &masks);
+        if (level == SimdLevel::Portable) {
+          refKeypoints = keypoints, refDesc = desc, refMasks = masks;
+          ASSERT_GT(desc.rows, 100);
+          continue;
+        }
+        const std::string what = mdbrief::toString(level) + ", kind " + std::to_string(static_cast<int>(kind)) +
+                                 ", " + std::to_string(bits) + " bits";
+        ASSERT_EQ(keypoints.size(), refKeypoints.size()) << what;
+        for (size_t i = 0; i < keypoints.size(); ++i) ASSERT_EQ(keypoints[i].angle, refKeypoints[i].angle) << what;
+        EXPECT_EQ(cv::norm(desc, refDesc, cv::NORM_HAMMING), 0.0) << what;
+        EXPECT_EQ(masks.size(), refMasks.size()) << what;
+        if (!masks.empty()) {
+          EXPECT_EQ(cv::norm(masks, refMasks, cv::NORM_HAMMING), 0.0) << what;
+        }
+      }
+    }
+  }
+}
+
+TEST(SimdLevel, MatchesAreIdenticalAtEveryLevel) {
+  std::mt19937 rng(7);
+  for (const int bytes : {4, 12, 32, 36, 64}) {
+    // Few distinct byte values give many distance ties, which every kernel must break alike.
+    cv::Mat query(150, bytes, CV_8U), train(333, bytes, CV_8U), qMasks(150, bytes, CV_8U), tMasks(333, bytes, CV_8U);
+    for (cv::Mat* m : {&query, &train}) m->forEach<uint8_t>([&](uint8_t& v, const int*) { v = (rng() % 4) * 85; });
+    for (cv::Mat* m : {&qMasks, &tMasks}) m->forEach<uint8_t>([&](uint8_t& v, const int*) { v = rng() % 3 ? 0xff : rng(); });
+    tMasks.row(5).setTo(0);  // an all-zero mask counts as all ones
+    mdbrief::MatchOptions options;
+    options.crossCheck = true;
+    options.ratio = 0.95f;
+    std::vector<cv::DMatch> refPlain, refMasked;
+    for (const SimdLevel level : supportedLevels()) {
+      LevelCap cap(level);
+      const auto plain = mdbrief::matchBruteForce(query, train, options);
+      const auto masked = mdbrief::matchBruteForceMasked(query, qMasks, train, tMasks, options);
+      if (level == SimdLevel::Portable) {
+        refPlain = plain, refMasked = masked;
+        ASSERT_FALSE(plain.empty());
+        ASSERT_FALSE(masked.empty());
+        continue;
+      }
+      for (const auto& [got, ref] : {std::pair{&plain, &refPlain}, std::pair{&masked, &refMasked}}) {
+        ASSERT_EQ(got->size(), ref->size()) << mdbrief::toString(level) << ", " << bytes << " bytes";
+        for (size_t i = 0; i < got->size(); ++i) {
+          EXPECT_EQ((*got)[i].queryIdx, (*ref)[i].queryIdx);
+          EXPECT_EQ((*got)[i].trainIdx, (*ref)[i].trainIdx);
+          EXPECT_EQ((*got)[i].distance, (*ref)[i].distance);
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
