@@ -32,16 +32,6 @@ struct Positions {
 // fixed-point conversion far from int overflow.
 constexpr double kCoordinateLimit = 1 << 20;
 
-// Bilinear reads pixel x0 + 1, which must be <= width - 1; nearest reads a subset of those.
-bool allInside(const Positions& p, int count, int width, int height) {
-  int minX = p.x[0], minY = p.y[0], maxX = p.x[0], maxY = p.y[0];
-  for (int i = 1; i < count; ++i) {
-    minX = std::min(minX, p.x[i]), maxX = std::max(maxX, p.x[i]);
-    minY = std::min(minY, p.y[i]), maxY = std::max(maxY, p.y[i]);
-  }
-  return minX >= 0 && minY >= 0 && maxX < (width - 1) * kSub && maxY < (height - 1) * kSub;
-}
-
 inline int sampleNearest(const uchar* data, size_t step, int px, int py) {
   return data[((py + kSub / 2) >> kSubBits) * step + ((px + kSub / 2) >> kSubBits)];
 }
@@ -145,7 +135,7 @@ void centroidMoments(const uint8_t* data, size_t step, const int* x, const int* 
 }  // namespace
 
 SamplingKernels descriptor_kernels::portableSamplingKernels() {
-  return {affineCoordinate, packBits<sampleBilinear>, centroidMoments};
+  return {affineCoordinate, packBits<sampleBilinear>, allInsideImage, centroidMoments};
 }
 
 namespace {
@@ -239,7 +229,7 @@ std::optional<double> centroidAngle(const cv::Mat& img, const cv::Point2d& centr
   const int n = static_cast<int>(disc.u.size());
   kernels.affineCoordinate(centre.x, map(0, 0), map(0, 1), disc.offsets.x.data(), disc.offsets.y.data(), xs, n);
   kernels.affineCoordinate(centre.y, map(1, 0), map(1, 1), disc.offsets.x.data(), disc.offsets.y.data(), ys, n);
-  if (!allInside(Positions{xs, ys}, n, img.cols, img.rows)) return std::nullopt;
+  if (!kernels.allInside(xs, ys, n, img.cols, img.rows)) return std::nullopt;
   long long m10, m01;
   kernels.centroidMoments(img.data, img.step[0], xs, ys, disc.u.data(), disc.v.data(), n, m10, m01);
   if (m10 == 0 && m01 == 0) return 0.0;
@@ -402,7 +392,8 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
       bool good = count > 0;
       for (int r = 0; good && r < count; ++r) {
         const Positions p{&xs[2 * nTests * r], &ys[2 * nTests * r]};
-        good = placeTests(placements[r], camera, offsets, kernels, p) && allInside(p, 2 * nTests, img.cols, img.rows) &&
+        good = placeTests(placements[r], camera, offsets, kernels, p) &&
+               kernels.allInside(p.x, p.y, 2 * nTests, img.cols, img.rows) &&
                (!camera || cornersValid(placements[r], *camera));
       }
       if (!good) continue;

@@ -23,6 +23,9 @@ struct SamplingKernels {
   // Bit d of out (d < nTests, a multiple of 8) = bilinear sample (x[d], y[d]) < sample
   // (x[nTests + d], y[nTests + d]). Every position inside the image (descriptor.cpp allInside).
   void (*packBitsBilinear)(const uint8_t* data, size_t step, const int* x, const int* y, int nTests, uint8_t* out);
+  // Whether every position can be sampled bilinearly in a width x height image (x0 + 1 <=
+  // width - 1, y0 + 1 <= height - 1); nearest sampling reads a subset of those pixels.
+  bool (*allInside)(const int* x, const int* y, int n, int width, int height);
   // Intensity moments sum(value * u), sum(value * v) of n bilinear samples (n a multiple of 8).
   void (*centroidMoments)(const uint8_t* data, size_t step, const int* x, const int* y, const int* u,
                           const int* v, int n, long long& m10, long long& m01);
@@ -40,6 +43,16 @@ inline int sampleBilinear(const uint8_t* data, size_t step, int px, int py) {
   const uint8_t* r0 = data + (py >> kSubBits) * step + (px >> kSubBits);
   const uint8_t* r1 = r0 + step;
   return (r0[0] * (kSub - fx) + r0[1] * fx) * (kSub - fy) + (r1[0] * (kSub - fx) + r1[1] * fx) * fy;
+}
+
+// Min/max in one pass; vectorised by the compiler (at AVX2, with 8-lane integer min/max).
+inline bool allInsideImage(const int* x, const int* y, int n, int width, int height) {
+  int minX = x[0], minY = y[0], maxX = x[0], maxY = y[0];
+  for (int i = 1; i < n; ++i) {
+    minX = x[i] < minX ? x[i] : minX, maxX = x[i] > maxX ? x[i] : maxX;
+    minY = y[i] < minY ? y[i] : minY, maxY = y[i] > maxY ? y[i] : maxY;
+  }
+  return minX >= 0 && minY >= 0 && maxX < (width - 1) * kSub && maxY < (height - 1) * kSub;
 }
 
 }  // namespace

@@ -73,6 +73,8 @@ void centroidMoments(const uint8_t* data, size_t step, const int* x, const int* 
 
 }  // namespace
 
-SamplingKernels avx2SamplingKernels() { return {affineCoordinate, packBitsBilinear, centroidMoments}; }
+SamplingKernels avx2SamplingKernels() {
+  return {affineCoordinate, packBitsBilinear, allInsideImage, centroidMoments};
+}
 
 }  // namespace mdbrief::descriptor_kernels
