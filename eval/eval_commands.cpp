@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <memory>
 
-
 #include "eval_datasets.hpp"
 #include "held_out.hpp"
 #include "mdbrief/camera_io.hpp"
@@ -35,8 +34,8 @@ std::string sharedData() {
 void addOpencvDocFlag(CLI::App* cmd, std::string& dir) {
   dir = kDebianOpencvDocData;
   cmd->add_option("--opencv-doc-dir", dir,
-                  "Folder of the opencv-doc sample photos the default textures come from (environment "
-                  "MDBRIEF_OPENCV_DOC; default: Debian's)")
+                  "Folder of the opencv-doc sample photos the default textures come from (default: where "
+                  "Debian's opencv-doc package installs them)")
       ->envname("MDBRIEF_OPENCV_DOC")
       ->capture_default_str();
 }
