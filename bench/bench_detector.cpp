@@ -8,11 +8,11 @@
 
 #include <benchmark/benchmark.h>
 #include <opencv2/features2d.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "mdbrief/detector.hpp"
-#include "test_data.hpp"
+#include "toolkit/data_folders.hpp"
+#include "toolkit/image_file.hpp"
 
 namespace {
 
@@ -20,18 +20,17 @@ constexpr int kFeatures = 1000;
 
 const cv::Mat& grafImage() {
   static const cv::Mat image = [] {
-    const auto dir = mdbrief::testing::opencvDocDataDir();
-    return dir ? cv::imread((*dir / "graf1.png").string(), cv::IMREAD_GRAYSCALE) : cv::Mat();
+    const auto dir = mdbrief::opencvDocFolder();
+    return dir ? mdbrief::decodeGreyImage(*dir / "graf1.png") : cv::Mat();
   }();
   return image;
 }
 
 const cv::Mat& vgaImage() {
   static const cv::Mat image = [] {
-    const auto data = mdbrief::testing::sharedDataDir();
+    const auto data = mdbrief::sharedDataFolder(MDBRIEF_SOURCE_DIR "/../shared/data");
     const cv::Mat fisheye =
-        data ? cv::imread((*data / "fisheye/calib-adapter/kalibr/image.png").string(), cv::IMREAD_GRAYSCALE)
-             : cv::Mat();
+        data ? mdbrief::decodeGreyImage(*data / "fisheye/calib-adapter/kalibr/image.png") : cv::Mat();
     if (!fisheye.empty() && fisheye.size() == cv::Size(752, 480)) return fisheye;
     cv::Mat resized;
     if (!grafImage().empty()) cv::resize(grafImage(), resized, cv::Size(752, 480), 0, 0, cv::INTER_AREA);

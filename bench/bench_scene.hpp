@@ -3,10 +3,10 @@
 // OCamCalib camera (configs/cameras/lafida_fisheye0.yaml), 754x480.
 #include <benchmark/benchmark.h>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "mdbrief/camera_io.hpp"
-#include "mdbrief/plane_renderer.hpp"
+#include "toolkit/data_folders.hpp"
+#include "toolkit/image_file.hpp"
+#include "toolkit/plane_renderer.hpp"
 
 namespace mdbrief::bench {
 
@@ -19,7 +19,7 @@ inline const FisheyeScene& fisheyeScene() {
   static const FisheyeScene scene = [] {
     FisheyeScene s;
     s.camera = loadCamera(MDBRIEF_SOURCE_DIR "/configs/cameras/lafida_fisheye0.yaml");
-    s.plane.texture = cv::imread("/usr/share/doc/opencv-doc/examples/data/graf1.png", cv::IMREAD_GRAYSCALE);
+    if (const auto doc = opencvDocFolder()) s.plane.texture = decodeGreyImage(*doc / "graf1.png");
     s.plane.texelSize = 0.004;  // the plane is about 1 unit away: texture fills most of the view
     return s;
   }();

@@ -1,7 +1,7 @@
 // `mdbrief eval`: the precision-recall evaluation, forwarded to the evaluation library
-// (bench/eval, the same command as `mdbrief-eval eval`).
+// (eval/, the same command as `mdbrief-eval eval`).
 #include "cli/commands.hpp"
-#include "eval_commands.hpp"
+#include "eval/eval_commands.hpp"
 
 namespace mdbrief::cli {
 

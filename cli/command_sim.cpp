@@ -1,7 +1,7 @@
-// `mdbrief sim`: the paper's simulation, forwarded to the evaluation library (bench/eval,
+// `mdbrief sim`: the paper's simulation, forwarded to the evaluation library (eval/,
 // the same command as `mdbrief-eval sim`).
 #include "cli/commands.hpp"
-#include "eval_commands.hpp"
+#include "eval/eval_commands.hpp"
 
 namespace mdbrief::cli {
 

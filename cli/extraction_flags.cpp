@@ -9,12 +9,13 @@
 #include "cli/commands.hpp"
 #include "cli/storage_io.hpp"
 #include "mdbrief/camera_io.hpp"
-#include "patchextract/image_file.hpp"
+#include "mdbrief/internal/size_text.hpp"
+#include "toolkit/image_file.hpp"
 
 namespace mdbrief::cli {
 namespace {
 
-std::string sizeText(cv::Size s) { return std::to_string(s.width) + "x" + std::to_string(s.height); }
+using internal::sizeText;
 
 void requireReadableFile(const std::string& path) {
   std::error_code ec;
@@ -79,16 +80,11 @@ CameraPtr loadCalibration(const ExtractionFlags& flags) {
 
 cv::Mat loadImage(const std::string& path, bool strict) {
   requireReadableFile(path);
-  if (const std::string problem = train::truncationProblem(path); !problem.empty()) {
+  if (const std::string problem = truncationProblem(path); !problem.empty()) {
     if (strict) throw InputError(path + ": " + problem + " (--strict)");
     std::cerr << "warning: " << path << ": " << problem << "; describing the decodable part\n";
   }
-  cv::Mat image;
-  try {
-    image = cv::imread(path, cv::IMREAD_GRAYSCALE);
-  } catch (const cv::Exception&) {
-    image.release();
-  }
+  const cv::Mat image = decodeGreyImage(path);
   if (image.empty()) throw InputError(path + ": cannot decode the image (unsupported format or truncated file)");
   return image;
 }

@@ -8,13 +8,11 @@
 #include <utility>
 #include <vector>
 
-#include <unistd.h>
-
 #include <opencv2/imgcodecs.hpp>
 #include <yaml-cpp/yaml.h>
 
 #include "cli/commands.hpp"
-#include "mdbrief/pattern_io.hpp"
+#include "mdbrief/internal/atomic_file.hpp"
 
 namespace mdbrief::cli {
 namespace {
@@ -109,26 +107,20 @@ void checkImageOutput(const fs::path& path) {
 
 void writeStorageAtomically(const fs::path& path, const std::function<void(cv::FileStorage&)>& write) {
   checkStorageOutput(path);
-  const std::string ext = storageExtension(path);
-  const std::string name = path.filename().string();
-  // The temporary keeps the extension: FileStorage picks the format (and compression) from it.
-  const fs::path temp = path.parent_path() / ("." + name.substr(0, name.size() - ext.size()) + ".tmp" +
-                                              std::to_string(::getpid()) + ext);
   try {
-    cv::FileStorage storage(temp.string(), cv::FileStorage::WRITE);
-    if (!storage.isOpened()) throw InputError(path.string() + ": cannot create the output file");
-    write(storage);
-    storage.release();
+    // The temporary keeps the extensions: FileStorage picks the format (and compression) from them.
+    internal::writeAtomically(path, [&](const fs::path& temp) {
+      cv::FileStorage storage(temp.string(), cv::FileStorage::WRITE);
+      if (!storage.isOpened()) throw InputError(path.string() + ": cannot create the output file");
+      write(storage);
+      storage.release();
+    });
   } catch (const cv::Exception& e) {
-    std::error_code ec;
-    fs::remove(temp, ec);
     throw InputError(path.string() + ": writing failed: " + e.err);
-  }
-  std::error_code ec;
-  fs::rename(temp, path, ec);
-  if (ec) {
-    fs::remove(temp, ec);
-    throw InputError(path.string() + ": cannot rename the temporary output into place");
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw InputError(e.what());
   }
 }
 
@@ -138,7 +130,7 @@ void writeImageAtomically(const fs::path& path, const cv::Mat& image) {
   if (!cv::imencode(path.extension().string(), image, bytes))
     throw InputError(path.string() + ": encoding the image failed");
   try {
-    writeFileAtomically(path, std::string(bytes.begin(), bytes.end()));
+    internal::writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
   } catch (const std::exception& e) {
     throw InputError(e.what());
   }

@@ -5,7 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <opencv2/imgcodecs.hpp>
+#include "toolkit/image_file.hpp"
 
 namespace mdbrief::train {
 
@@ -31,7 +31,7 @@ std::string imageDigest(const cv::Mat& grey) {
 }
 
 std::string imageFileDigest(const std::filesystem::path& path) {
-  const cv::Mat grey = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
+  const cv::Mat grey = decodeGreyImage(path);
   return grey.empty() ? std::string() : imageDigest(grey);
 }
 

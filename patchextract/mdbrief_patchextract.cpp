@@ -9,7 +9,7 @@
 
 #include "patchextract/patch_extraction.hpp"
 #include "patchextract/view_change_flags.hpp"
-#include "trainer/progress_reporter.hpp"
+#include "toolkit/progress_reporter.hpp"
 
 int main(int argc, char** argv) {
   using namespace mdbrief::train;
@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-  ProgressReporter progress(std::cout, isatty(fileno(stdout)) != 0);
+  mdbrief::ProgressReporter progress(std::cout, isatty(fileno(stdout)) != 0);
   try {
     o.detector = parseDetector(detector);
     for (const auto& d : dirs) o.imageDirs.emplace_back(d);

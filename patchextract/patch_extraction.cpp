@@ -8,15 +8,15 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <opencv2/imgcodecs.hpp>
 #include <tbb/parallel_for.h>
 
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/image_pyramid.hpp"
-#include "mdbrief/plane_renderer.hpp"
+#include "mdbrief/internal/size_text.hpp"
 #include "mdbrief/test_set.hpp"
-#include "patchextract/image_file.hpp"
 #include "patchextract/patch_sampler.hpp"
+#include "toolkit/image_file.hpp"
+#include "toolkit/plane_renderer.hpp"
 
 namespace mdbrief::train {
 
@@ -32,7 +32,7 @@ bool isImageFile(const fs::path& p) {
   return false;
 }
 
-std::string sizeText(cv::Size s) { return std::to_string(s.width) + "x" + std::to_string(s.height); }
+using internal::sizeText;
 
 // The camera for an image: the calibration itself, or the same lens resampled to the image's
 // size when the aspect ratio agrees. Null with a reason otherwise.
@@ -71,8 +71,6 @@ struct ImageKeypoints {
   bool heldOut = false;
   std::string skipReason;
 };
-
-cv::Mat loadGrey(const fs::path& path) { return cv::imread(path.string(), cv::IMREAD_GRAYSCALE); }
 
 cv::Mat renderThrough(const Camera& camera, const cv::Mat& photo, double halfFovDeg) {
   PlaneScene scene{photo, std::tan(halfFovDeg * CV_PI / 180.0) / (photo.cols / 2.0)};
@@ -135,7 +133,7 @@ int findCounterpart(const ViewChange& change, const cv::KeyPoint& kp, const std:
 ImageKeypoints usableKeypoints(const fs::path& path, size_t index, const ExtractionOptions& o,
                                const CameraPtr& camera) {
   ImageKeypoints out;
-  cv::Mat grey = loadGrey(path);
+  cv::Mat grey = decodeGreyImage(path);
   if (grey.empty()) {
     out.skipReason = "unreadable";
     return out;
@@ -317,7 +315,7 @@ PatchSet extractPatches(const ExtractionOptions& o, ExtractionReport& report,
   done = 0;
   tbb::parallel_for(size_t(0), images.size(), [&](size_t i) {
     if (take[i] > 0) {
-      const cv::Mat grey = o.renderThroughCamera ? pools[i].rendered : loadGrey(images[i]);
+      const cv::Mat grey = o.renderThroughCamera ? pools[i].rendered : decodeGreyImage(images[i]);
       const ImagePyramid pyramid(grey.empty() ? cv::Mat(1, 1, CV_8UC1) : grey, PyramidOptions{});
       pyramid.prepareSmoothed(-1);
       std::vector<ImagePyramid> views;

@@ -5,7 +5,8 @@
 #include <system_error>
 
 #include <hdf5.h>
-#include <unistd.h>
+
+#include "mdbrief/internal/atomic_file.hpp"
 
 namespace mdbrief::train {
 
@@ -167,16 +168,11 @@ std::vector<std::string> PatchSet::usedImageDigests() const {
 void writePatchSet(const PatchSet& s, const fs::path& path) {
   static const QuietHdf5 quiet;
   const std::string p = path.string();
-  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    throw std::runtime_error(p + ": output folder " + dir.string() + " does not exist");
   if (s.pixels.size() != s.count() * 1024)
     throw std::runtime_error(p + ": patch pixels do not match the record count");
   if (s.counterpartPixels.size() != s.counterpartCount() * 1024)
     throw std::runtime_error(p + ": counterpart pixels do not match their count");
-  const fs::path tmp = dir / ("." + path.filename().string() + ".tmp" + std::to_string(::getpid()));
-  try {
+  internal::writeAtomically(path, [&](const fs::path& tmp) {
     Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
     Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, fcpl.get(), H5P_DEFAULT), H5Fclose);
     if (!file.ok()) throw std::runtime_error(p + ": cannot create " + tmp.string());
@@ -205,16 +201,7 @@ void writePatchSet(const PatchSet& s, const fs::path& path) {
     writeStringAttribute(file.get(), "detectors", kDetectorNames, p);
     for (const auto& [k, v] : s.attributes) writeStringAttribute(file.get(), k, v, p);
     if (H5Fflush(file.get(), H5F_SCOPE_GLOBAL) < 0) throw std::runtime_error(p + ": flush failed");
-  } catch (...) {
-    fs::remove(tmp, ec);
-    throw;
-  }
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw std::runtime_error(p + ": cannot replace: " + ec.message());
-  }
+  });
 }
 
 PatchSet readPatchSet(const fs::path& path) {

@@ -11,7 +11,7 @@ if [ ! -f "$BUILD_DIR/CMakeCache.txt" ]; then
   cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release
 fi
 cmake --build "$BUILD_DIR" --target mdbrief-eval -j2
-EVAL="$BUILD_DIR/bench/eval/mdbrief-eval"
+EVAL="$BUILD_DIR/eval/mdbrief-eval"
 OUT=docs/results/pipelines
 mkdir -p "$OUT"
 "$EVAL" pipelines --out "$OUT"

@@ -14,7 +14,7 @@ if [ ! -f "$BUILD_DIR/CMakeCache.txt" ]; then
   cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release
 fi
 cmake --build "$BUILD_DIR" --target mdbrief-eval -j2
-EVAL="$BUILD_DIR/bench/eval/mdbrief-eval"
+EVAL="$BUILD_DIR/eval/mdbrief-eval"
 mkdir -p "$RESULTS" docs/figures
 start=$(date +%s)
 echo "== simulation"

@@ -16,6 +16,6 @@ args=()
 for s in "$@"; do args+=(--test-set "$s"); done
 textures=()
 for f in $(ls "$DATA"/natural/bsds500/val_*.jpg | head -12); do textures+=(--texture "$f"); done
-"$BUILD_DIR"/bench/eval/mdbrief-eval eval --no-perspective --fisheye-camera configs/cameras/pinhole_example.yaml \
+"$BUILD_DIR"/eval/mdbrief-eval eval --no-perspective --fisheye-camera configs/cameras/pinhole_example.yaml \
   --fisheye-camera configs/cameras/lafida_fisheye0.yaml "${textures[@]}" "${args[@]}" --out "$OUT" >&2
 grep ',ALL,' "$OUT/eval_summary.csv" | cut -d, -f3,4

@@ -16,7 +16,7 @@
 #include "cli/commands.hpp"
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/feature2d.hpp"
-#include "mdbrief/plane_renderer.hpp"
+#include "toolkit/plane_renderer.hpp"
 #include "test_data.hpp"
 
 namespace mdbrief {

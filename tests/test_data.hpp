@@ -3,32 +3,23 @@
 // sharedDataDir() and GTEST_SKIP() with a one-line reason when it is absent.
 #include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <optional>
 #include <sstream>
 #include <string>
 
+#include "toolkit/data_folders.hpp"
+
 namespace mdbrief::testing {
 
 // MDBRIEF_DATA (env) or <source>/../shared/data.
 inline std::optional<std::filesystem::path> sharedDataDir() {
-  if (const char* env = std::getenv("MDBRIEF_DATA"); env && *env) {
-    if (std::filesystem::is_directory(env)) return std::filesystem::path(env);
-    return std::nullopt;
-  }
-  const auto p = std::filesystem::path(MDBRIEF_SOURCE_DIR) / ".." / "shared" / "data";
-  if (std::filesystem::is_directory(p)) return std::filesystem::weakly_canonical(p);
-  return std::nullopt;
+  return sharedDataFolder(std::filesystem::path(MDBRIEF_SOURCE_DIR) / ".." / "shared" / "data");
 }
 
-// Debian's opencv-doc sample photos (installed by scripts/setup-deps.sh).
-inline std::optional<std::filesystem::path> opencvDocDataDir() {
-  const std::filesystem::path p = "/usr/share/doc/opencv-doc/examples/data";
-  if (std::filesystem::is_directory(p)) return p;
-  return std::nullopt;
-}
+// Debian's opencv-doc sample photos (installed by scripts/setup-deps.sh; MDBRIEF_OPENCV_DOC).
+inline std::optional<std::filesystem::path> opencvDocDataDir() { return opencvDocFolder(); }
 
 inline std::filesystem::path sourceDir() { return MDBRIEF_SOURCE_DIR; }
 

@@ -1,11 +1,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <memory>
 #include <numeric>
-#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -18,6 +16,8 @@
 #include "mdbrief/descriptor.hpp"
 #include "mdbrief/detector.hpp"
 #include "test_data.hpp"
+#include "toolkit/homography_file.hpp"
+#include "toolkit/image_file.hpp"
 
 namespace {
 
@@ -34,9 +34,7 @@ std::string messageOf(const std::function<void()>& f) {
   return "<no std::invalid_argument>";
 }
 
-cv::Mat loadGrey(const fs::path& path) {
-  return cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
-}
+cv::Mat loadGrey(const fs::path& path) { return mdbrief::decodeGreyImage(path); }
 
 // graf1.png from opencv-doc: a textured 800x640 photograph.
 cv::Mat textured() {
@@ -511,14 +509,6 @@ TEST(Detector, AnglesTurnWithTheImage) {
 
 // --- repeatability under a known homography ---
 
-std::optional<cv::Matx33d> readHomographyText(const fs::path& path) {
-  std::ifstream in(path);
-  cv::Matx33d h;
-  for (int i = 0; i < 9; ++i)
-    if (!(in >> h.val[i])) return std::nullopt;
-  return h;
-}
-
 // Fraction of keypoints of image 1 that, mapped by h into image 2 and landing inside it,
 // have a keypoint of image 2 within 3 pixels.
 double repeatability(const std::vector<cv::KeyPoint>& first, const std::vector<cv::KeyPoint>& second,
@@ -591,9 +581,8 @@ TEST(DetectorRepeatability, OxfordGraf1To2AtLeastAsOrb) {
   MDBRIEF_REQUIRE_SHARED_DATA(data);
   const fs::path dir = data / "oxford-affine" / "graf";
   if (!fs::exists(dir / "img2.png") || !fs::exists(dir / "H1to2p")) GTEST_SKIP() << "Oxford graf not found";
-  const auto h = readHomographyText(dir / "H1to2p");
-  ASSERT_TRUE(h) << "unreadable " << dir / "H1to2p";
-  expectAtLeastOrbRepeatability({"Oxford graf 1->2", loadGrey(dir / "img1.png"), loadGrey(dir / "img2.png"), *h});
+  const cv::Matx33d h = mdbrief::readHomography(dir / "H1to2p");
+  expectAtLeastOrbRepeatability({"Oxford graf 1->2", loadGrey(dir / "img1.png"), loadGrey(dir / "img2.png"), h});
 }
 
 }  // namespace

@@ -9,11 +9,11 @@
 
 #include <gtest/gtest.h>
 
-#include "eval_datasets.hpp"
-#include "held_out.hpp"
+#include "eval/eval_datasets.hpp"
+#include "eval/held_out.hpp"
 #include "mdbrief/patterns.hpp"
 #include "patchextract/image_digest.hpp"
-#include "pr_experiment.hpp"
+#include "eval/pr_experiment.hpp"
 #include "test_data.hpp"
 
 namespace fs = std::filesystem;

@@ -1,4 +1,4 @@
-// The precision-recall protocol of bench/eval (precision_recall.hpp, eval_datasets.hpp) on
+// The precision-recall protocol of eval/ (precision_recall.hpp, eval_datasets.hpp) on
 // constructed inputs whose curves are known by hand.
 #include <gtest/gtest.h>
 
@@ -10,13 +10,13 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "eval_datasets.hpp"
+#include "eval/eval_datasets.hpp"
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/detector.hpp"
-#include "mdbrief/plane_renderer.hpp"
-#include "pipeline_experiment.hpp"
-#include "plane_geometry.hpp"
-#include "precision_recall.hpp"
+#include "toolkit/plane_renderer.hpp"
+#include "eval/pipeline_experiment.hpp"
+#include "eval/plane_geometry.hpp"
+#include "eval/precision_recall.hpp"
 #include "test_data.hpp"
 
 namespace mdbrief::eval {

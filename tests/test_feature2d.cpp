@@ -14,7 +14,7 @@
 #include "mdbrief/camera_pinhole.hpp"
 #include "mdbrief/feature2d.hpp"
 #include "mdbrief/patterns.hpp"
-#include "mdbrief/plane_renderer.hpp"
+#include "toolkit/plane_renderer.hpp"
 #include "test_data.hpp"
 
 namespace mdbrief {

@@ -14,7 +14,7 @@
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/descriptor.hpp"
 #include "mdbrief/masked_hamming.hpp"
-#include "mdbrief/plane_renderer.hpp"
+#include "toolkit/plane_renderer.hpp"
 #include "test_data.hpp"
 
 namespace mdbrief {

@@ -15,7 +15,7 @@
 #include "mdbrief/camera_pinhole.hpp"
 #include "mdbrief/descriptor.hpp"
 #include "mdbrief/patterns.hpp"
-#include "mdbrief/plane_renderer.hpp"
+#include "toolkit/plane_renderer.hpp"
 #include "patchextract/patch_extraction.hpp"
 #include "patchextract/patch_sampler.hpp"
 #include "patchextract/patch_set.hpp"

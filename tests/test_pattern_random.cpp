@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include "mdbrief/pattern_io.hpp"
+#include "toolkit/pattern_writer.hpp"
 #include "mdbrief/patterns.hpp"
 #include "test_data.hpp"
 #include "trainer/random_pattern.hpp"

@@ -1,4 +1,4 @@
-// Reduced version of the paper's simulation (bench/eval/simulation.hpp) for CI: graf1 as a
+// Reduced version of the paper's simulation (eval/simulation.hpp) for CI: graf1 as a
 // plane seen by the paper's fisheye camera along a short translation, 50 projected ORB
 // keypoints, 4 views. Distortion-aware tests must keep corresponding descriptors closer than
 // BRIEF's, and the masks must bring mdBRIEF closer still.
@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 #include "mdbrief/camera_io.hpp"
-#include "simulation.hpp"
+#include "eval/simulation.hpp"
 #include "test_data.hpp"
 
 namespace mdbrief::eval {

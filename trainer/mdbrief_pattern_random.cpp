@@ -6,7 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "mdbrief/pattern_io.hpp"
+#include "toolkit/pattern_writer.hpp"
 #include "trainer/random_pattern.hpp"
 
 int main(int argc, char** argv) {

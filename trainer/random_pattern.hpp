@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "mdbrief/pattern_io.hpp"
+#include "toolkit/pattern_writer.hpp"
 #include "mdbrief/test_set.hpp"
 
 namespace mdbrief::train {

@@ -11,11 +11,11 @@
 #include <CLI/CLI.hpp>
 #include <sys/resource.h>
 
-#include "mdbrief/pattern_io.hpp"
+#include "toolkit/pattern_writer.hpp"
 #include "patchextract/patch_extraction.hpp"
 #include "patchextract/view_change_flags.hpp"
 #include "trainer/candidate_tests.hpp"
-#include "trainer/progress_reporter.hpp"
+#include "toolkit/progress_reporter.hpp"
 #include "trainer/trainer.hpp"
 
 namespace mdbrief::train {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "mdbrief/pattern_io.hpp"
+#include "toolkit/pattern_writer.hpp"
 #include "mdbrief/test_set.hpp"
 #include "trainer/greedy_selection.hpp"
 #include "trainer/test_responses.hpp"

@@ -20,6 +20,7 @@
 #include "mdbrief/camera_radial.hpp"
 #include "mdbrief/camera_radtan.hpp"
 #include "mdbrief/camera_unified.hpp"
+#include "mdbrief/internal/atomic_file.hpp"
 
 namespace mdbrief {
 namespace {
@@ -465,26 +466,7 @@ std::string cameraToYaml(const Camera& camera) {
 }
 
 void saveCamera(const Camera& camera, const std::string& path) {
-  const std::string yaml = cameraToYaml(camera);
-  // Same directory as the target so that the rename is atomic.
-  const std::string tmp = path + "." + std::to_string(::getpid()) + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << yaml;
-    out.close();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(tmp, ignored);
-      throw std::runtime_error(path + ": cannot write camera file");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw std::runtime_error(path + ": cannot write camera file (" + ec.message() + ")");
-  }
+  internal::writeFileAtomically(path, cameraToYaml(camera));
 }
 
 }  // namespace mdbrief

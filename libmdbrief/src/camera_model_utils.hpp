@@ -8,6 +8,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "mdbrief/internal/size_text.hpp"
+
 namespace mdbrief::detail {
 
 // Throws std::invalid_argument "<model>: <name> <what> (got <value>)".
@@ -71,8 +73,7 @@ double firstNonIncreasing(const Derivative& derivative, double lo, double hi, in
 // Scale factors of a cv::resize-style resample; throws for a non-positive size.
 inline cv::Vec2d resizeScale(const cv::Size& from, const cv::Size& to, const std::string& model) {
   if (to.width <= 0 || to.height <= 0)
-    throw std::invalid_argument(model + ": resized() needs a positive size, got " +
-                                std::to_string(to.width) + "x" + std::to_string(to.height));
+    throw std::invalid_argument(model + ": resized() needs a positive size, got " + internal::sizeText(to));
   return {static_cast<double>(to.width) / from.width, static_cast<double>(to.height) / from.height};
 }
 

@@ -17,14 +17,13 @@
 #include "detector_hessian.hpp"
 #include "detector_orientation.hpp"
 #include "detector_quadtree.hpp"
+#include "mdbrief/internal/size_text.hpp"
 
 namespace mdbrief {
 
 namespace {
 
-std::string sizeText(cv::Size size) {
-  return std::to_string(size.width) + "x" + std::to_string(size.height);
-}
+using internal::sizeText;
 
 void requireRange(const char* name, double value, double low, double high) {
   if (!(value >= low && value <= high))

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "mdbrief/image_pyramid.hpp"
+#include "mdbrief/internal/size_text.hpp"
 
 namespace mdbrief {
 namespace {
@@ -141,9 +142,8 @@ void MdBrief::detectAndComputeWithMasks(cv::InputArray image, cv::InputArray mas
   const cv::Mat img = image.getMat();
   if (img.empty()) throw std::invalid_argument("MdBrief: the image is empty");
   if (camera_ && img.size() != camera_->imageSize())
-    throw std::invalid_argument("MdBrief: image size " + std::to_string(img.cols) + "x" + std::to_string(img.rows) +
-                                " differs from the camera's " + std::to_string(camera_->imageSize().width) + "x" +
-                                std::to_string(camera_->imageSize().height) + " (use Camera::resized)");
+    throw std::invalid_argument("MdBrief: image size " + internal::sizeText(img.size()) + " differs from the camera's " +
+                                internal::sizeText(camera_->imageSize()) + " (use Camera::resized)");
   const bool describe = descriptors.needed() || masks.needed();
   if (useProvidedKeypoints && !describe) return;
 

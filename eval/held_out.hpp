@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "descriptor_method.hpp"
+#include "eval_datasets.hpp"
 
 namespace mdbrief::eval {
 
@@ -16,8 +17,9 @@ struct EvaluationImage {
 };
 
 // Every image the default sim, eval, timing and export-user-sample commands read (those
-// present on this machine): the Oxford sequences under oxfordDir and the opencv-doc photos.
-std::vector<EvaluationImage> defaultEvaluationImages(const std::string& oxfordDir);
+// present on this machine): the Oxford sequences under oxfordDir and the photos of opencvDocDir.
+std::vector<EvaluationImage> defaultEvaluationImages(const std::string& oxfordDir,
+                                                     const std::string& opencvDocDir = kDebianOpencvDocData);
 
 // The held-out list text ("<digest> <label>" per image, sorted by label, header comments).
 // Images that cannot be decoded are left out.

@@ -6,7 +6,7 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/camera.hpp"
-#include "mdbrief/plane_renderer.hpp"
+#include "toolkit/plane_renderer.hpp"
 
 namespace mdbrief::eval {
 

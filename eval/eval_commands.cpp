@@ -6,29 +6,38 @@
 #include <filesystem>
 #include <memory>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "eval_datasets.hpp"
 #include "held_out.hpp"
-#include "patchextract/image_file.hpp"
 #include "mdbrief/camera_io.hpp"
-#include "mdbrief/pattern_io.hpp"
+#include "mdbrief/internal/atomic_file.hpp"
 #include "pipeline_experiment.hpp"
 #include "pr_experiment.hpp"
 #include "simulation.hpp"
 #include "timing_table.hpp"
+#include "toolkit/data_folders.hpp"
 
 namespace mdbrief::eval {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string sourcePath(const std::string& rel) { return (fs::path(MDBRIEF_SOURCE_DIR) / rel).string(); }
+// The defaults below are relative to the working directory: the scripts run from the repository
+// root, where configs/cameras and ../shared/data are; an installed program is given paths.
 
-// MDBRIEF_DATA or <source>/../shared/data.
+// MDBRIEF_DATA or ../shared/data.
 std::string sharedData() {
   if (const char* env = std::getenv("MDBRIEF_DATA"); env && *env) return env;
-  return (fs::path(MDBRIEF_SOURCE_DIR) / ".." / "shared" / "data").lexically_normal().string();
+  return "../shared/data";
+}
+
+// --opencv-doc-dir: Debian's opencv-doc sample photos, which the default textures come from.
+void addOpencvDocFlag(CLI::App* cmd, std::string& dir) {
+  dir = kDebianOpencvDocData;
+  cmd->add_option("--opencv-doc-dir", dir,
+                  "Folder of the opencv-doc sample photos the default textures come from (default: where "
+                  "Debian's opencv-doc package installs them)")
+      ->envname("MDBRIEF_OPENCV_DOC")
+      ->capture_default_str();
 }
 
 CameraPtr loadCameraOrThrow(const std::string& path) {
@@ -40,13 +49,11 @@ CameraPtr loadCameraOrThrow(const std::string& path) {
 }
 
 cv::Mat loadGreyOrThrow(const std::string& path) {
-  if (!fs::is_regular_file(path)) throw InputError(path + ": no such file");
-  // An evaluation on a partly decoded image would be wrong without saying so.
-  if (const std::string problem = train::truncationProblem(path); !problem.empty())
-    throw InputError(path + ": " + problem);
-  cv::Mat m = cv::imread(path, cv::IMREAD_GRAYSCALE);
-  if (m.empty()) throw InputError(path + ": cannot read the image");
-  return m;
+  try {
+    return loadEvaluationImage(path);
+  } catch (const std::runtime_error& e) {
+    throw InputError(e.what());
+  }
 }
 
 // "name=path" pairs of the --camera flags; a name ending in "_rim" takes the camera's own
@@ -87,19 +94,18 @@ void addSimCommand(CLI::App& app) {
                                         "fisheye cameras (projected and detected keypoints)");
   auto o = std::make_shared<SimOptions>();
   auto cams = std::make_shared<std::vector<std::string>>(std::vector<std::string>{
-      "pinhole=" + sourcePath("configs/cameras/pinhole_example.yaml"),
-      "radial=" + sourcePath("configs/cameras/radial_example.yaml"),
-      "fisheye=" + sourcePath("configs/cameras/lafida_fisheye0.yaml"),
-      "fisheye_rim=" + sourcePath("configs/cameras/lafida_fisheye0.yaml"),
-      "double_sphere=" + sourcePath("configs/cameras/double_sphere_example.yaml")});
-  o->texturePath = kDocData + "/graf1.png";
-  o->outDir = sourcePath("docs/results");
+      "pinhole=configs/cameras/pinhole_example.yaml", "radial=configs/cameras/radial_example.yaml",
+      "fisheye=configs/cameras/lafida_fisheye0.yaml", "fisheye_rim=configs/cameras/lafida_fisheye0.yaml",
+      "double_sphere=configs/cameras/double_sphere_example.yaml"});
+  auto docDir = std::make_shared<std::string>();
   auto noProjected = std::make_shared<bool>(false), noDetected = std::make_shared<bool>(false);
-  cmd->add_option("--texture", o->texturePath, "Plane texture (default: opencv-doc graf1.png)");
+  addOpencvDocFlag(cmd, *docDir);
+  cmd->add_option("--texture", o->texturePath, "Plane texture (default: graf1.png of --opencv-doc-dir)");
   cmd->add_option("--camera", *cams, "name=calibration.yaml, repeatable (default: pinhole, radial, fisheye "
-                                     "(lafida_fisheye0), fisheye_rim, double_sphere); all share the pinhole's "
-                                     "path, a name ending in _rim runs to the rim of its lens");
-  cmd->add_option("--out", o->outDir, "Output folder for the CSVs and view images")->capture_default_str();
+                                     "(lafida_fisheye0), fisheye_rim, double_sphere of configs/cameras in the "
+                                     "working directory); all share the pinhole's path, a name ending in _rim "
+                                     "runs to the rim of its lens");
+  cmd->add_option("--out", o->outDir, "Output folder for the CSVs and view images")->required();
   cmd->add_option("--views", o->views, "Positions of the distance-evolution path")->check(CLI::Range(2, 1000))->capture_default_str();
   cmd->add_option("--recognition-views", o->recognitionViews, "Views of the recognition sequence")->check(CLI::Range(2, 1000))->capture_default_str();
   cmd->add_option("--keypoints", o->keypoints, "ORB keypoints on the texture")->check(CLI::Range(2, 100000))->capture_default_str();
@@ -110,7 +116,8 @@ void addSimCommand(CLI::App& app) {
   cmd->add_option("--mask-angles", o->maskAngles, "Mask angles compared in the detected experiment")->check(CLI::Range(0.1, 89.0));
   cmd->add_flag("--no-projected", *noProjected, "Skip the projected-keypoint experiment");
   cmd->add_flag("--no-detected", *noDetected, "Skip the detected-keypoint experiment");
-  cmd->callback([o, cams, noProjected, noDetected] {
+  cmd->callback([o, cams, docDir, noProjected, noDetected] {
+    if (o->texturePath.empty()) o->texturePath = *docDir + "/graf1.png";
     if (o->bits % 32) throw InputError("--bits " + std::to_string(o->bits) + ": must be a multiple of 32");
     o->runProjected = !*noProjected;
     o->runDetected = !*noDetected;
@@ -129,10 +136,11 @@ struct DatasetFlags {
   std::string oxfordDir = sharedData() + "/oxford-affine";
   std::vector<std::string> sequences = kOxfordSequences;
   // The three fisheye models of configs/cameras (OCamCalib, double sphere, Kannala-Brandt).
-  std::vector<std::string> fisheyeCameras{sourcePath("configs/cameras/lafida_fisheye0.yaml"),
-                                          sourcePath("configs/cameras/double_sphere_example.yaml"),
-                                          sourcePath("configs/cameras/kannala_brandt_example.yaml")};
+  std::vector<std::string> fisheyeCameras{"configs/cameras/lafida_fisheye0.yaml",
+                                          "configs/cameras/double_sphere_example.yaml",
+                                          "configs/cameras/kannala_brandt_example.yaml"};
   std::vector<std::string> textures;
+  std::string opencvDocDir;
   int poses = 6;
   std::vector<std::string> userImages, userHomographies;
   std::string userCamera;
@@ -140,11 +148,17 @@ struct DatasetFlags {
 };
 
 void addDatasetFlags(CLI::App* cmd, DatasetFlags& d) {
-  cmd->add_option("--oxford-dir", d.oxfordDir, "Folder of the Oxford affine sequences")->capture_default_str();
+  cmd->add_option("--oxford-dir", d.oxfordDir, "Folder of the Oxford affine sequences (default relative to the "
+                                                 "working directory, or $MDBRIEF_DATA/oxford-affine)")
+      ->capture_default_str();
   cmd->add_option("--sequences", d.sequences, "Oxford sequences to use")->capture_default_str();
-  cmd->add_option("--fisheye-camera", d.fisheyeCameras, "Calibrations to render the fisheye sequences with");
+  cmd->add_option("--fisheye-camera", d.fisheyeCameras,
+                  "Calibrations to render the fisheye sequences with (default: three fisheye models of "
+                  "configs/cameras in the working directory)")
+      ->capture_default_str();
   cmd->add_option("--texture", d.textures, "Photos rendered as planes (default: img1 of every Oxford sequence "
-                                           "found and six opencv-doc photos)");
+                                           "found and six photos of --opencv-doc-dir)");
+  addOpencvDocFlag(cmd, d.opencvDocDir);
   cmd->add_option("--poses", d.poses, "Rendered poses per fisheye sequence")->check(CLI::Range(2, 50))->capture_default_str();
   cmd->add_option("--user-images", d.userImages, "User sequence: reference image first");
   cmd->add_option("--user-camera", d.userCamera, "User sequence: camera calibration");
@@ -182,7 +196,7 @@ std::vector<EvalGroup> loadGroups(const DatasetFlags& d, std::vector<std::string
         if (fs::exists(p)) textures.push_back(p);
       }
       // Textured photos of opencv-doc (present on every machine the setup script prepared).
-      for (const auto& p : kDocFisheyeTextures) textures.push_back(kDocData + "/" + p);
+      for (const auto& p : kDocFisheyeTextures) textures.push_back(d.opencvDocDir + "/" + p);
     }
     imagePaths.insert(imagePaths.end(), textures.begin(), textures.end());
     EvalGroup g{"fisheye", {}};
@@ -215,11 +229,10 @@ void addEvalCommand(CLI::App& app) {
     std::vector<double> supportScales;
   };
   auto a = std::make_shared<Args>();
-  a->pr.outDir = sourcePath("docs/results");
   addDatasetFlags(cmd, a->data);
   cmd->add_option("--keypoints", a->pr.keypoints, "Strongest keypoints per image")->check(CLI::Range(10, 100000))->capture_default_str();
   cmd->add_option("--radius", a->pr.radiusPx, "Ground-truth radius in pixels")->check(CLI::Range(0.1, 100.0))->capture_default_str();
-  cmd->add_option("--out", a->pr.outDir, "Output folder for the CSVs")->capture_default_str();
+  cmd->add_option("--out", a->pr.outDir, "Output folder for the CSVs")->required();
   cmd->add_flag("--quick", a->quick, "Only the paper's main comparison (no length / test-set study)");
   cmd->add_option("--keypoints-from", a->keypointsFrom,
                   "Keypoints every method but AKAZE describes: modorb (the library's detector) | orb | akaze | "
@@ -256,7 +269,6 @@ void addPipelinesCommand(CLI::App& app) {
     std::vector<std::string> only;
   };
   auto a = std::make_shared<Args>();
-  a->options.outDir = sourcePath("docs/results");
   addDatasetFlags(cmd, a->data);
   cmd->add_option("--budgets", a->options.budgets, "Keypoint budgets per image")
       ->check(CLI::Range(10, 100000))
@@ -264,7 +276,7 @@ void addPipelinesCommand(CLI::App& app) {
   cmd->add_option("--radius", a->options.radiusPx, "Repeatability and ground-truth radius in pixels")
       ->check(CLI::Range(0.1, 100.0))
       ->capture_default_str();
-  cmd->add_option("--out", a->options.outDir, "Output folder for pipelines_summary.csv")->capture_default_str();
+  cmd->add_option("--out", a->options.outDir, "Output folder for pipelines_summary.csv")->required();
   cmd->add_option("--hessian-sigma", a->options.library.hessianSigma, "DetectorOptions::hessianSigma")
       ->check(CLI::Range(0.5, 8.0))
       ->capture_default_str();
@@ -304,17 +316,20 @@ void addPipelinesCommand(CLI::App& app) {
 void addTimingCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("timing", "The paper's timing table (detection, description, matching)");
   auto o = std::make_shared<TimingOptions>();
-  o->outDir = sourcePath("docs/results");
-  auto camPath = std::make_shared<std::string>(sourcePath("configs/cameras/lafida_fisheye0.yaml"));
-  auto texture = std::make_shared<std::string>(kDocData + "/graf1.png");
-  cmd->add_option("--camera", *camPath, "Camera of the timed images")->capture_default_str();
-  cmd->add_option("--texture", *texture, "Photo rendered through the camera at 4 poses")->capture_default_str();
+  auto camPath = std::make_shared<std::string>("configs/cameras/lafida_fisheye0.yaml");
+  auto texture = std::make_shared<std::string>();
+  auto docDir = std::make_shared<std::string>();
+  cmd->add_option("--camera", *camPath, "Camera of the timed images (default relative to the working directory)")
+      ->capture_default_str();
+  cmd->add_option("--texture", *texture, "Photo rendered through the camera at 4 poses (default: graf1.png of "
+                                         "--opencv-doc-dir)");
+  addOpencvDocFlag(cmd, *docDir);
   cmd->add_option("--repeats", o->repeats, "Repeats (median reported)")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--keypoints", o->keypoints, "Detector budget")->check(CLI::Range(10, 100000))->capture_default_str();
-  cmd->add_option("--out", o->outDir, "Output folder")->capture_default_str();
-  cmd->callback([o, camPath, texture] {
+  cmd->add_option("--out", o->outDir, "Output folder")->required();
+  cmd->callback([o, camPath, texture, docDir] {
     const CameraPtr cam = loadCameraOrThrow(*camPath);
-    const cv::Mat tex = loadGreyOrThrow(*texture);
+    const cv::Mat tex = loadGreyOrThrow(texture->empty() ? *docDir + "/graf1.png" : *texture);
     asInputErrors([&] {
       const auto seq = renderedFisheyeSequence("timing", tex, cam, 4);
       const auto rows = measureTimingTable(seq.images, cam, *o);
@@ -332,19 +347,21 @@ void addExportUserSampleCommand(CLI::App& app) {
                                  "Write a rendered sequence as user data (images, camera.yaml, bearing homographies "
                                  "H1toK) for `eval --user-images --user-camera --user-homographies`");
   struct Args {
-    std::string camera = sourcePath("configs/cameras/lafida_fisheye0.yaml");
-    std::string texture = kDocData + "/graf3.png";
+    std::string camera = "configs/cameras/lafida_fisheye0.yaml";
+    std::string texture, opencvDocDir;
     std::string out;
     int poses = 6;
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("--camera", a->camera, "Calibration to render with")->capture_default_str();
-  cmd->add_option("--texture", a->texture, "Photo rendered as the plane")->capture_default_str();
+  cmd->add_option("--camera", a->camera, "Calibration to render with (default relative to the working directory)")
+      ->capture_default_str();
+  cmd->add_option("--texture", a->texture, "Photo rendered as the plane (default: graf3.png of --opencv-doc-dir)");
+  addOpencvDocFlag(cmd, a->opencvDocDir);
   cmd->add_option("--poses", a->poses, "Images (the poses of the fisheye sequences)")->check(CLI::Range(2, 50))->capture_default_str();
   cmd->add_option("--out", a->out, "Output folder")->required();
   cmd->callback([a] {
     const CameraPtr cam = loadCameraOrThrow(a->camera);
-    const cv::Mat tex = loadGreyOrThrow(a->texture);
+    const cv::Mat tex = loadGreyOrThrow(a->texture.empty() ? a->opencvDocDir + "/graf3.png" : a->texture);
     asInputErrors([&] {
       const auto files = exportUserSequence(a->out, tex, cam, a->poses);
       std::printf("%s: %zu images, camera.yaml, %zu homographies\n", a->out.c_str(), files.images.size(),
@@ -382,22 +399,26 @@ void addHeldOutImagesCommand(CLI::App& app) {
                                  "Write the digests of every image the default evaluations read (the training's "
                                  "held-out list, configs/held-out-images.txt)");
   auto oxfordDir = std::make_shared<std::string>(sharedData() + "/oxford-affine");
+  auto docDir = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>();
   auto only = std::make_shared<std::vector<std::string>>();
-  cmd->add_option("--oxford-dir", *oxfordDir, "Folder of the Oxford affine sequences")->capture_default_str();
+  cmd->add_option("--oxford-dir", *oxfordDir, "Folder of the Oxford affine sequences (default relative to the "
+                                              "working directory, or $MDBRIEF_DATA/oxford-affine)")
+      ->capture_default_str();
+  addOpencvDocFlag(cmd, *docDir);
   cmd->add_option("--only", *only,
                   "List these images instead (e.g. a validation set used for tuning), labelled by their "
                   "folder and file name");
   cmd->add_option("--out", *out, "Output file")->required();
-  cmd->callback([oxfordDir, out, only] {
+  cmd->callback([oxfordDir, docDir, out, only] {
     std::vector<EvaluationImage> images;
     for (const auto& p : *only) {
       loadGreyOrThrow(p);
       images.push_back({p, (fs::path(p).parent_path().filename() / fs::path(p).filename()).string()});
     }
-    if (only->empty()) images = defaultEvaluationImages(*oxfordDir);
+    if (only->empty()) images = defaultEvaluationImages(*oxfordDir, *docDir);
     if (images.empty()) throw InputError("no evaluation image found (opencv-doc and " + *oxfordDir + " missing)");
-    asInputErrors([&] { writeFileAtomically(*out, heldOutListText(images)); });
+    asInputErrors([&] { internal::writeFileAtomically(*out, heldOutListText(images)); });
     std::printf("%s: %zu images\n", out->c_str(), images.size());
   });
 }

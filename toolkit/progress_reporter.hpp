@@ -7,7 +7,7 @@
 #include <mutex>
 #include <string>
 
-namespace mdbrief::train {
+namespace mdbrief {
 
 class ProgressReporter {
  public:
@@ -28,4 +28,4 @@ class ProgressReporter {
   bool open_ = false;
 };
 
-}  // namespace mdbrief::train
+}  // namespace mdbrief

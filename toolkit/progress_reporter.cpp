@@ -1,10 +1,10 @@
-#include "trainer/progress_reporter.hpp"
+#include "toolkit/progress_reporter.hpp"
 
 #include <algorithm>
 #include <cstdio>
 #include <ostream>
 
-namespace mdbrief::train {
+namespace mdbrief {
 
 void ProgressReporter::update(const std::string& stage, size_t done, size_t total) {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -50,4 +50,4 @@ void ProgressReporter::finish() {
   stage_.clear();
 }
 
-}  // namespace mdbrief::train
+}  // namespace mdbrief

@@ -2,26 +2,19 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
-
-#include <opencv2/imgcodecs.hpp>
 
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/camera_pinhole.hpp"
-#include "mdbrief/plane_renderer.hpp"
+#include "mdbrief/internal/size_text.hpp"
 #include "patchextract/view_change.hpp"
 #include "plane_geometry.hpp"
+#include "toolkit/homography_file.hpp"
+#include "toolkit/image_file.hpp"
+#include "toolkit/plane_renderer.hpp"
 
 namespace mdbrief::eval {
 namespace {
-
-cv::Mat readGrey(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(path + ": no such file");
-  cv::Mat img = cv::imread(path, cv::IMREAD_GRAYSCALE);
-  if (img.empty()) throw std::runtime_error(path + ": cannot read the image");
-  return img;
-}
 
 GroundTruthMap homographyMap(const cv::Matx33d& h, cv::Size target) {
   return [h, target](const cv::Point2d& p) -> std::optional<cv::Point2d> {
@@ -38,14 +31,14 @@ PlaneScene renderedScene(const cv::Mat& texture) { return {texture, 3.2 / textur
 
 }  // namespace
 
-cv::Matx33d readHomography(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open the homography file");
-  cv::Matx33d h;
-  for (int i = 0; i < 9; ++i)
-    if (!(in >> h.val[i]) || !std::isfinite(h.val[i]))
-      throw std::runtime_error(path + ": expected nine numbers (a 3x3 homography)");
-  return h;
+cv::Mat loadEvaluationImage(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(path + ": no such file");
+  // An evaluation on a partly decoded image would be wrong without saying so.
+  if (const std::string problem = truncationProblem(path); !problem.empty())
+    throw std::runtime_error(path + ": " + problem);
+  cv::Mat image = decodeGreyImage(path);
+  if (image.empty()) throw std::runtime_error(path + ": cannot read the image");
+  return image;
 }
 
 std::optional<EvalSequence> loadOxfordSequence(const std::string& dir, const std::string& name) {
@@ -57,7 +50,7 @@ std::optional<EvalSequence> loadOxfordSequence(const std::string& dir, const std
     fs::path img = fs::path(dir) / ("img" + std::to_string(k) + ".png");
     if (!fs::exists(img)) img = fs::path(dir) / ("img" + std::to_string(k) + ".ppm");
     if (!fs::exists(img)) return std::nullopt;
-    s.images.push_back(readGrey(img.string()));
+    s.images.push_back(loadEvaluationImage(img.string()));
   }
   for (int k = 2; k <= 6; ++k) {
     const fs::path h = fs::path(dir) / ("H1to" + std::to_string(k) + "p");
@@ -95,27 +88,14 @@ UserSequenceFiles writeUserSequence(const std::string& dir, const std::vector<cv
                                     const std::vector<cv::Matx33d>& homographies, const Camera& camera) {
   namespace fs = std::filesystem;
   fs::create_directories(dir);
-  const auto atomically = [](const fs::path& target, const auto& write) {
-    const fs::path tmp = target.string() + ".tmp" + target.extension().string();
-    write(tmp.string());
-    fs::rename(tmp, target);
-    return target.string();
-  };
   UserSequenceFiles files;
   for (size_t k = 0; k < images.size(); ++k) {
-    const fs::path img = fs::path(dir) / ("img" + std::to_string(k + 1) + ".png");
-    files.images.push_back(atomically(img, [&](const std::string& tmp) {
-      if (!cv::imwrite(tmp, images[k])) throw std::runtime_error(tmp + ": cannot write");
-    }));
+    files.images.push_back((fs::path(dir) / ("img" + std::to_string(k + 1) + ".png")).string());
+    writeImageAtomically(files.images.back(), images[k]);
   }
   for (size_t k = 0; k < homographies.size(); ++k) {
-    const fs::path h = fs::path(dir) / ("H1to" + std::to_string(k + 2));
-    files.homographies.push_back(atomically(h, [&](const std::string& tmp) {
-      std::ofstream out(tmp);
-      out.precision(17);
-      for (int i = 0; i < 9; ++i) out << homographies[k].val[i] << (i % 3 == 2 ? "\n" : " ");
-      if (!out) throw std::runtime_error(tmp + ": cannot write");
-    }));
+    files.homographies.push_back((fs::path(dir) / ("H1to" + std::to_string(k + 2))).string());
+    writeHomography(files.homographies.back(), homographies[k]);
   }
   files.camera = (fs::path(dir) / "camera.yaml").string();
   saveCamera(camera, files.camera);  // atomic itself
@@ -140,9 +120,8 @@ UserSequenceFiles exportUserSequence(const std::string& dir, const cv::Mat& text
 UserSequenceFiles exportRotatedViews(const std::string& dir, const cv::Mat& photo, const CameraPtr& camera,
                                      int views) {
   if (photo.size() != camera->imageSize())
-    throw std::runtime_error("the photo is " + std::to_string(photo.cols) + "x" + std::to_string(photo.rows) +
-                             " but the calibration " + std::to_string(camera->imageSize().width) + "x" +
-                             std::to_string(camera->imageSize().height));
+    throw std::runtime_error("the photo is " + internal::sizeText(photo.size()) + " but the calibration " +
+                             internal::sizeText(camera->imageSize()));
   std::vector<cv::Mat> images{photo};
   std::vector<cv::Matx33d> homographies;
   for (int k = 1; k < views; ++k) {
@@ -187,7 +166,7 @@ EvalSequence loadUserSequence(const std::string& name, const std::vector<std::st
   s.camera = loadCamera(cameraPath);
   s.cameraIsModel = true;
   for (const auto& p : images) {
-    s.images.push_back(readGrey(p));
+    s.images.push_back(loadEvaluationImage(p));
     if (s.images.back().size() != s.camera->imageSize())
       throw std::runtime_error(p + ": image size differs from the camera's calibration size");
   }

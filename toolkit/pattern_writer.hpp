@@ -3,8 +3,9 @@
 // (loadable with loadTestSetJson) and patterns/registry.hpp. One emitter shared by the trainer
 // and the random-set generator, so every shipped header has the same form.
 //
-// Outputs are deterministic (no timestamps) and written atomically: a temporary file in the
-// target folder renamed over the old one, so an interrupted run leaves the previous file intact.
+// Outputs are deterministic (no timestamps) and written atomically
+// (mdbrief/internal/atomic_file.hpp), so an interrupted run leaves the previous file intact.
+// A tool module, not installed: the runtime only reads test sets (mdbrief/patterns.hpp).
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -38,10 +39,6 @@ std::string patternHeaderText(const PatternDocument& document);
 std::string patternJsonText(const PatternDocument& document);
 // names: the pattern headers to list (sorted here); defaultName must be one of them.
 std::string registryHeaderText(std::vector<std::string> names, const std::string& defaultName);
-
-// Writes content to path through a temporary file in the same folder and a rename. Throws
-// std::runtime_error naming the path if the folder does not exist or writing fails.
-void writeFileAtomically(const std::filesystem::path& path, const std::string& content);
 
 // Names of the pattern headers in dir (every *.hpp except registry.hpp), sorted.
 std::vector<std::string> patternHeaderNames(const std::filesystem::path& dir);

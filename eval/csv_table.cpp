@@ -2,8 +2,9 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
+
+#include "mdbrief/internal/atomic_file.hpp"
 
 namespace mdbrief::eval {
 
@@ -36,26 +37,9 @@ void CsvTable::write(const std::string& path) const {
   };
   line(header_);
   for (const auto& r : rows_) line(r);
-  writeFileAtomically(path, text);
-}
-
-void writeFileAtomically(const std::string& path, const std::string& text) {
   const std::filesystem::path target(path);
   if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path + ": cannot open for writing");
-    out << text;
-    out.flush();
-    if (!out) throw std::runtime_error(path + ": write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, target, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error(path + ": cannot rename the temporary file into place");
-  }
+  internal::writeFileAtomically(target, text);
 }
 
 }  // namespace mdbrief::eval

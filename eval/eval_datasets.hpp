@@ -12,13 +12,15 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/camera.hpp"
-#include "mdbrief/plane_renderer.hpp"
 #include "precision_recall.hpp"
+#include "toolkit/data_folders.hpp"
+#include "toolkit/homography_file.hpp"
+#include "toolkit/plane_renderer.hpp"
 
 namespace mdbrief::eval {
 
-// Where the default evaluations read their images (held_out.hpp lists them for the training).
-inline const std::string kDocData = "/usr/share/doc/opencv-doc/examples/data";
+// Where the default evaluations read their images (held_out.hpp lists them for the training):
+// the opencv-doc sample photos (the commands' --opencv-doc-dir) and the Oxford sequences.
 inline const std::vector<std::string> kOxfordSequences{"bikes", "boat", "graf", "leuven", "trees", "ubc"};
 // opencv-doc photos rendered as fisheye sequences (besides img1 of every Oxford sequence).
 inline const std::vector<std::string> kDocFisheyeTextures{"building.jpg", "home.jpg",   "aero1.jpg",
@@ -83,7 +85,8 @@ UserSequenceFiles exportRotatedViews(const std::string& dir, const cv::Mat& phot
 EvalSequence loadUserSequence(const std::string& name, const std::vector<std::string>& images,
                               const std::string& cameraPath, const std::vector<std::string>& homographyFiles);
 
-// Nine whitespace-separated numbers. Throws std::runtime_error naming the file.
-cv::Matx33d readHomography(const std::string& path);
+// An image the evaluation reads, as 8-bit grey. Throws std::runtime_error naming the file when it
+// is missing, truncated (toolkit/image_file.hpp) or cannot be decoded.
+cv::Mat loadEvaluationImage(const std::string& path);
 
 }  // namespace mdbrief::eval

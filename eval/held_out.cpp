@@ -14,7 +14,7 @@ namespace mdbrief::eval {
 
 namespace fs = std::filesystem;
 
-std::vector<EvaluationImage> defaultEvaluationImages(const std::string& oxfordDir) {
+std::vector<EvaluationImage> defaultEvaluationImages(const std::string& oxfordDir, const std::string& opencvDocDir) {
   std::vector<EvaluationImage> out;
   for (const auto& seq : kOxfordSequences)
     for (int k = 1; k <= 6; ++k) {
@@ -22,7 +22,8 @@ std::vector<EvaluationImage> defaultEvaluationImages(const std::string& oxfordDi
       if (fs::exists(fs::path(oxfordDir) / name)) out.push_back({(fs::path(oxfordDir) / name).string(), "oxford-affine/" + name});
     }
   for (const auto& name : kDocEvaluationPhotos)
-    if (fs::exists(fs::path(kDocData) / name)) out.push_back({(fs::path(kDocData) / name).string(), "opencv-doc/" + name});
+    if (fs::exists(fs::path(opencvDocDir) / name))
+      out.push_back({(fs::path(opencvDocDir) / name).string(), "opencv-doc/" + name});
   return out;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-// A small CSV table written atomically (temporary file in the same folder, then rename), so an
-// interrupted run never leaves a half-written result that the plot script would read.
+// A small CSV table written atomically (mdbrief/internal/atomic_file.hpp), so an interrupted run
+// never leaves a half-written result that the plot script would read.
 #include <string>
 #include <vector>
 
@@ -16,15 +16,13 @@ class CsvTable {
   CsvTable& add(double value);  // %.6g
   CsvTable& add(int value);
 
-  // Throws std::runtime_error naming the path if it cannot be written.
+  // Creates path's folder if missing. Throws std::runtime_error naming the path if it cannot be
+  // written.
   void write(const std::string& path) const;
 
  private:
   std::vector<std::string> header_;
   std::vector<std::vector<std::string>> rows_;
 };
-
-// Writes text to path atomically. Throws std::runtime_error naming the path on failure.
-void writeFileAtomically(const std::string& path, const std::string& text);
 
 }  // namespace mdbrief::eval

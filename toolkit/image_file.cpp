@@ -1,12 +1,18 @@
-#include "patchextract/image_file.hpp"
+#include "toolkit/image_file.hpp"
 
 #include <algorithm>
 #include <array>
 #include <fstream>
 #include <iterator>
+#include <stdexcept>
+#include <string_view>
 #include <vector>
 
-namespace mdbrief::train {
+#include <opencv2/imgcodecs.hpp>
+
+#include "mdbrief/internal/atomic_file.hpp"
+
+namespace mdbrief {
 
 std::string truncationProblem(const std::filesystem::path& path) {
   std::ifstream f(path, std::ios::binary);
@@ -31,4 +37,23 @@ std::string truncationProblem(const std::filesystem::path& path) {
   return "";
 }
 
-}  // namespace mdbrief::train
+cv::Mat decodeGreyImage(const std::filesystem::path& path) {
+  try {
+    return cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
+  } catch (const cv::Exception&) {
+    return {};  // some decoders throw on damaged files instead of returning nothing
+  }
+}
+
+void writeImageAtomically(const std::filesystem::path& path, const cv::Mat& image) {
+  std::vector<uchar> bytes;
+  bool encoded = false;
+  try {
+    encoded = cv::imencode(path.extension().string(), image, bytes);
+  } catch (const cv::Exception&) {
+  }
+  if (!encoded) throw std::runtime_error(path.string() + ": cannot encode the image in this format");
+  internal::writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+
+}  // namespace mdbrief

@@ -9,14 +9,15 @@
 #include <stdexcept>
 
 #include <opencv2/features2d.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "csv_table.hpp"
 #include "descriptor_method.hpp"
+#include "eval_datasets.hpp"
 #include "mdbrief/detector.hpp"
 #include "mdbrief/patterns.hpp"
 #include "plane_geometry.hpp"
+#include "toolkit/image_file.hpp"
 
 namespace mdbrief::eval {
 namespace {
@@ -26,14 +27,9 @@ constexpr double kSmallTexel = 0.001;    // projected experiment: graf1 spans 0.
 constexpr double kLargeTexel = 0.004;    // detected experiment: 3.2 x 2.56 units, fills the view
 constexpr int kMarginPx = 24;            // the descriptor patch must fit (detector's border margin)
 
-cv::Mat loadTexture(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(path + ": no such file");
-  cv::Mat t = cv::imread(path, cv::IMREAD_GRAYSCALE);
-  if (t.empty()) throw std::runtime_error(path + ": cannot read the texture image");
-  return t;
-}
-
+// An output file in o.outDir, which is created if missing.
 std::string path(const SimOptions& o, const std::string& file) {
+  std::filesystem::create_directories(o.outDir);
   return (std::filesystem::path(o.outDir) / file).string();
 }
 
@@ -84,14 +80,6 @@ std::map<int, int> rowsById(const Features& f) {
 void histogramAdd(std::vector<double>& h, double d) {
   const int b = std::clamp(static_cast<int>(std::floor(d)), 0, static_cast<int>(h.size()) - 1);
   h[b] += 1.0;
-}
-
-void writeImage(const std::string& file, const cv::Mat& img) {
-  const std::filesystem::path target(file);
-  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
-  const std::string tmp = file + ".tmp.png";
-  if (!cv::imwrite(tmp, img)) throw std::runtime_error(file + ": cannot write image");
-  std::filesystem::rename(tmp, file);
 }
 
 // The pairs 1-1, 1-4, 1-7, 1-10 of a 10-view sequence, scaled to other lengths.
@@ -173,7 +161,7 @@ double maxRadialDisplacement(const Camera& radial, const Camera& pinhole) {
 }
 
 SimSummary runProjectedSimulation(const SimCamera& sc, double xEnd, const SimOptions& o) {
-  PlaneScene scene{loadTexture(o.texturePath), kSmallTexel};
+  PlaneScene scene{loadEvaluationImage(o.texturePath), kSmallTexel};
   std::vector<cv::KeyPoint> corners;
   cv::ORB::create(o.keypoints)->detect(scene.texture, corners);
   std::vector<cv::Point2d> planePoints;
@@ -202,7 +190,7 @@ SimSummary runProjectedSimulation(const SimCamera& sc, double xEnd, const SimOpt
   }
   cv::Mat strip;
   cv::hconcat(shown, strip);
-  writeImage(path(o, "sim_" + sc.name + "_views.png"), strip);
+  writeImageAtomically(path(o, "sim_" + sc.name + "_views.png"), strip);
   const std::vector<int> ids = commonIds(evo);
   if (ids.empty()) throw std::runtime_error("simulation " + sc.name + ": no keypoint is visible in every view");
   // The patch nearest the texture centre: it travels from the image centre to the edge.
@@ -289,7 +277,7 @@ namespace {
 
 void runDetectedVariant(const SimCamera& sc, const SimOptions& o, const std::string& variant, double rollDeg,
                         bool oriented) {
-  PlaneScene scene{loadTexture(o.texturePath), kLargeTexel};
+  PlaneScene scene{loadEvaluationImage(o.texturePath), kLargeTexel};
   const double defaultMask = DescriptorOptions{}.maskRotationDeg;
   std::vector<MethodSpec> methods{
       briefFamilyMethod("BRIEF", MethodFamily::Brief, o.bits, oriented),
@@ -359,7 +347,7 @@ void runDetectedVariant(const SimCamera& sc, const SimOptions& o, const std::str
   cv::Mat strip;
   cv::hconcat(shown, strip);
   const std::string stem = "sim_detected_" + sc.name + "_" + variant;
-  writeImage(path(o, stem + "_views.png"), strip);
+  writeImageAtomically(path(o, stem + "_views.png"), strip);
 
   CsvTable perView({"view", "method", "ground_truth", "recognition_rate", "mean_match_distance"});
   // Averages over the views with enough true matches; "last" = the last such view.
@@ -448,7 +436,7 @@ void runDetectedSimulation(const SimCamera& sc, const SimOptions& o) {
 void runSimulation(const std::vector<SimCamera>& cameras, const SimOptions& o) {
   std::filesystem::create_directories(o.outDir);
   CsvTable info({"camera", "key", "value"});
-  const PlaneScene scene{loadTexture(o.texturePath), kSmallTexel};
+  const PlaneScene scene{loadEvaluationImage(o.texturePath), kSmallTexel};
   double shared = -1.0;
   for (const auto& c : cameras)
     if (c.name == o.sharedPathCamera) shared = pathLength(*c.camera, scene);

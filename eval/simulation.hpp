@@ -18,7 +18,7 @@
 
 #include "mdbrief/camera.hpp"
 #include "mdbrief/descriptor.hpp"
-#include "mdbrief/plane_renderer.hpp"
+#include "toolkit/plane_renderer.hpp"
 
 namespace mdbrief::eval {
 

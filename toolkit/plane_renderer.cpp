@@ -1,4 +1,4 @@
-#include "mdbrief/plane_renderer.hpp"
+#include "toolkit/plane_renderer.hpp"
 
 #include <stdexcept>
 

@@ -1,0 +1,26 @@
+#pragma once
+// Reading image files for the tools: the grey decoding every tool uses, and the check OpenCV's
+// decoders do not make: a truncated JPEG or PNG decodes "successfully" with its missing part
+// filled in, which would silently corrupt training patches, evaluations and extracted features.
+#include <filesystem>
+#include <string>
+
+#include <opencv2/core/mat.hpp>
+
+namespace mdbrief {
+
+// "" when the file looks complete, else why not: a JPEG (FF D8 ...) must end with its EOI marker
+// FF D9 (trailing zero padding allowed), a PNG with its IEND chunk. Other formats are not
+// checked (""). An unreadable file gives "cannot read the file".
+std::string truncationProblem(const std::filesystem::path& path);
+
+// The file decoded as 8-bit grey (cv::IMREAD_GRAYSCALE), or an empty Mat when it is missing or
+// no decoder reads it (decoder exceptions included). Check truncationProblem first where a
+// partly decoded image matters.
+cv::Mat decodeGreyImage(const std::filesystem::path& path);
+
+// Writes image atomically (mdbrief/internal/atomic_file.hpp) in the format of path's extension.
+// Throws std::runtime_error naming path when there is no encoder for it or writing fails.
+void writeImageAtomically(const std::filesystem::path& path, const cv::Mat& image);
+
+}  // namespace mdbrief
