@@ -63,20 +63,21 @@ struct DescriptorOptions {
   // chosen by held-out measurement (docs/RESULTS.md "Learned vs random test sets").
   std::string pattern;
   bool useOrientation = true;       // rotate the tests by the keypoint angle
-  // TangentPlane: recognition of dBRIEF-Affine 74.6 % vs 67.7 % with the detector's angle (mean
-  // over the oriented detected-keypoint simulations of four lenses); fisheye precision-recall
-  // AUC 0.586 vs 0.428, where BRIEF has 0.473 (docs/RESULTS.md).
+  // TangentPlane: higher recognition and precision-recall than the detector's angle (the -kp
+  // rows of docs/RESULTS.md, sections "Precision-recall" and
+  // "Detected keypoints, tilted and rolled poses (decides the defaults)").
   OrientationSource orientation = OrientationSource::TangentPlane;
   // TangentPlane: disc radius, 4..15, in test-offset units (level pixels without distortion;
   // cv::ORB's 15). At most 15 so the disc stays inside the 32x32 footprint that is checked.
   int orientationRadius = 15;
-  // Affine: 69.8 % vs Paper 58.8 % mean recognition on fisheye views with detected keypoints
-  // (docs/RESULTS.md "Simulation"), and about 35x faster.
+  // Affine: higher recognition than Paper with detected keypoints and an order of magnitude
+  // faster (docs/RESULTS.md, sections "Description speed (issue 2)" and
+  // "Detected keypoints, tilted and rolled poses (decides the defaults)").
   DistortionForm form = DistortionForm::Affine;
   Sampling sampling = Sampling::Bilinear;
-  // mdBRIEF: the two extra rotations are +/- this angle. 20 degrees: on fisheye views with
-  // detected keypoints, recognition rose from 5 to 20 degrees (68.2, 70.1, 71.6, 72.1 %;
-  // docs/RESULTS.md "Simulation"): the mask must cover the orientation error of the detector.
+  // mdBRIEF: the two extra rotations are +/- this angle, which must cover the orientation error
+  // of the detector. 20 degrees: the best of the angles compared in docs/RESULTS.md, section
+  // "Detected keypoints, tilted and rolled poses (decides the defaults)".
   double maskRotationDeg = 20.0;
   // dBRIEF/mdBRIEF: keypoints whose ray is further than this from the optical axis are dropped;
   // Pi_lambda degenerates towards 90 degrees (the test footprint stretches without bound).

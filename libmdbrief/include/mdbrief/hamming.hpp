@@ -23,7 +23,7 @@ void validateDescriptorMatrix(const cv::Mat& m, const std::string& name);
 
 // With the POPCNT instruction compiled in, the builtin is one instruction. Without it (e.g.
 // -DMDBRIEF_NATIVE_ARCH=OFF: x86-64 baseline) GCC turns the builtin into a libgcc call, which
-// we measured 4-5x slower in the matcher than this inline bit-parallel count.
+// is slower in the matcher than this inline bit-parallel count (docs/matching.md).
 inline int popcount64(uint64_t v) noexcept {
 #if defined(__POPCNT__) || !defined(__x86_64__)
   return __builtin_popcountll(v);
