@@ -346,7 +346,7 @@ std::vector<double> pyramidScales(const ImagePyramid& pyramid) {
 }
 
 // What placementsFor needs to re-measure the orientation on the tangent plane; null image =
-// use the keypoint's angle (testPositions has no image).
+// use the keypoint's angle.
 struct OrientationInput {
   const cv::Mat* image = nullptr;
   const Disc* disc = nullptr;
@@ -417,6 +417,34 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
   return count;
 }
 
+// Per-thread buffers of placeChecked.
+struct PlacementScratch {
+  PlacementScratch(int nTests, size_t discSamples)
+      : xs(3 * 2 * nTests), ys(3 * 2 * nTests), discX(discSamples), discY(discSamples) {}
+  std::vector<int> xs, ys, discX, discY;  // rotation r at 2 * nTests * r
+  TangentPlaneFrame frame;
+  std::array<Placement, 3> placements;
+};
+
+// The one check of compute() and testPositions(): places every rotation of the tests of `kp`
+// on `img` (the smoothed level of `support`) into s.xs / s.ys and returns the number of
+// placements, 0 when the keypoint cannot be described (a test point that cannot be projected,
+// leaves the level or, with a camera, the valid area). disc: null unless the angle is re-measured.
+int placeChecked(const DescriptorOptions& o, const Camera* camera, const Offsets& offsets, const Disc* disc,
+                 const cv::KeyPoint& kp, const cv::Mat& img, double scale, const Support& support,
+                 PlacementScratch& s, float& imageAngle) {
+  const int nTests = o.bits;
+  const OrientationInput in{disc ? &img : nullptr, disc, s.discX.data(), s.discY.data()};
+  const int count = placementsFor(o, camera, kp, scale, support.fraction, in, s.frame, s.placements, imageAngle);
+  for (int r = 0; r < count; ++r) {
+    const Positions p{&s.xs[2 * nTests * r], &s.ys[2 * nTests * r]};
+    if (!placeTests(s.placements[r], camera, offsets, p) || !allInside(p, 2 * nTests, img.cols, img.rows) ||
+        (camera && !cornersValid(s.placements[r], *camera)))
+      return 0;
+  }
+  return count;
+}
+
 }  // namespace
 
 bool DescriptorExtractor::measuresOrientation() const {
@@ -447,28 +475,18 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
   const Disc disc = measure ? discOf(options_.orientationRadius, kDiscStep) : Disc{};
 
   tbb::parallel_for(tbb::blocked_range<int>(0, n, 16), [&](const tbb::blocked_range<int>& range) {
-    std::vector<int> xs(3 * 2 * nTests), ys(3 * 2 * nTests), discX(disc.u.size()), discY(disc.u.size());
+    PlacementScratch scratch(nTests, disc.u.size());
     std::array<uchar, 64> bits[3];
-    TangentPlaneFrame frame;
-    std::array<Placement, 3> placements;
     for (int i = range.begin(); i != range.end(); ++i) {
-      const cv::KeyPoint& kp = keypoints[i];
       const Support& support = supports[i];
       if (support.level < 0) continue;  // no usable size
       const cv::Mat& img = pyramid.smoothed(support.level);
-      const OrientationInput in{measure ? &img : nullptr, &disc, discX.data(), discY.data()};
-      const int count = placementsFor(options_, camera, kp, pyramid.scale(support.level), support.fraction, in, frame,
-                                      placements, angles[i]);
-      bool good = count > 0;
-      for (int r = 0; good && r < count; ++r) {
-        const Positions p{&xs[2 * nTests * r], &ys[2 * nTests * r]};
-        good = placeTests(placements[r], camera, offsets, p) && allInside(p, 2 * nTests, img.cols, img.rows) &&
-               (!camera || cornersValid(placements[r], *camera));
-      }
-      if (!good) continue;
+      const int count = placeChecked(options_, camera, offsets, measure ? &disc : nullptr, keypoints[i], img,
+                                     pyramid.scale(support.level), support, scratch, angles[i]);
+      if (count == 0) continue;
       for (int r = 0; r < count; ++r)
-        sampleDescriptor(img, Positions{&xs[2 * nTests * r], &ys[2 * nTests * r]}, nTests, options_.sampling,
-                         bits[r].data());
+        sampleDescriptor(img, Positions{&scratch.xs[2 * nTests * r], &scratch.ys[2 * nTests * r]}, nTests,
+                         options_.sampling, bits[r].data());
       std::copy_n(bits[0].data(), bytes, desc.ptr<uchar>(i));
       if (wantMasks) {
         uchar* m = mask.ptr<uchar>(i);
@@ -511,24 +529,23 @@ void DescriptorExtractor::compute(const cv::Mat& image, std::vector<cv::KeyPoint
 }
 
 std::vector<std::pair<cv::Point2f, cv::Point2f>> DescriptorExtractor::testPositions(
-    const cv::KeyPoint& keypoint) const {
-  const std::vector<double> scales = pyramidScales(options_.pyramid);
-  const Support support = supportOf(keypoint.size, options_.supportScale, scales);
+    const ImagePyramid& pyramid, const cv::KeyPoint& keypoint) const {
+  const Support support = supportOf(keypoint.size, options_.supportScale, pyramidScales(pyramid));
   if (support.level < 0) return {};
-  const double scale = scales[support.level];
-  TangentPlaneFrame frame;
-  std::array<Placement, 3> placements;
-  float imageAngle;
-  if (placementsFor(options_, camera_.get(), keypoint, scale, support.fraction, OrientationInput{}, frame, placements,
-                    imageAngle) == 0)
-    return {};
+  const bool measure = measuresOrientation();
+  const Disc disc = measure ? discOf(options_.orientationRadius, kDiscStep) : Disc{};
+  const double scale = pyramid.scale(support.level);
   const int nTests = options_.bits;
-  std::vector<int> xs(2 * nTests), ys(2 * nTests);
-  if (!placeTests(placements[0], camera_.get(), offsetsOf(tests_), Positions{xs.data(), ys.data()})) return {};
+  PlacementScratch scratch(nTests, disc.u.size());
+  float imageAngle;
+  if (placeChecked(options_, camera_.get(), offsetsOf(tests_), measure ? &disc : nullptr, keypoint,
+                   pyramid.smoothed(support.level), scale, support, scratch, imageAngle) == 0)
+    return {};
   std::vector<std::pair<cv::Point2f, cv::Point2f>> out(nTests);
   const float f = static_cast<float>(scale) / kSub;
   for (int d = 0; d < nTests; ++d)
-    out[d] = {cv::Point2f(xs[d] * f, ys[d] * f), cv::Point2f(xs[nTests + d] * f, ys[nTests + d] * f)};
+    out[d] = {cv::Point2f(scratch.xs[d] * f, scratch.ys[d] * f),
+              cv::Point2f(scratch.xs[nTests + d] * f, scratch.ys[nTests + d] * f)};
   return out;
 }
 

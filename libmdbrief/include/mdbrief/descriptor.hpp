@@ -125,10 +125,12 @@ class DescriptorExtractor {
   const TestSet& testSet() const { return tests_; }
   const CameraPtr& camera() const { return camera_; }
 
-  // The image positions (level-0 pixels) of the test points of one keypoint, for drawing:
-  // element d is (p1, p2) of test d for rotation 0. Empty if the keypoint would be dropped.
-  // Uses keypoint.angle as given: pass keypoints as compute() returned them.
-  std::vector<std::pair<cv::Point2f, cv::Point2f>> testPositions(const cv::KeyPoint& keypoint) const;
+  // The image positions (level-0 pixels) of the test points of one keypoint on `pyramid`, for
+  // drawing: element d is (p1, p2) of test d for rotation 0, placed and checked as compute()
+  // does (the same code), so empty exactly when compute() would drop the keypoint. An angle
+  // that compute() re-measures is re-measured here too; otherwise keypoint.angle is used.
+  std::vector<std::pair<cv::Point2f, cv::Point2f>> testPositions(const ImagePyramid& pyramid,
+                                                                 const cv::KeyPoint& keypoint) const;
 
  private:
   CameraPtr camera_;
