@@ -106,7 +106,7 @@ void describePrebuilt(benchmark::State& state, mdbrief::DescriptorKind kind,
   o.kind = kind;
   o.orientation = source;
   const mdbrief::DescriptorExtractor ex(f.camera, o);
-  const mdbrief::ImagePyramid pyramid(f.image, o.pyramid);
+  const mdbrief::ImagePyramid pyramid(f.image, mdbrief::PyramidOptions{});
   pyramid.prepareSmoothed(pyramid.levels() - 1);
   tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
   size_t n = 0;

@@ -602,7 +602,7 @@ namespace mdbrief {
 namespace {
 
 // firstLevel > 0 adds enlarged levels: keypoints found there are smaller than the patch at the
-// input scale, stay inside the input image, and the descriptor (same pyramid options) can
+// input scale, stay inside the input image, and the descriptor (on the same pyramid) can
 // describe them.
 TEST(Detector, FirstLevelAddsEnlargedLevelsTheDescriptorUnderstands) {
   const auto doc = testing::opencvDocDataDir();
@@ -624,7 +624,6 @@ TEST(Detector, FirstLevelAddsEnlargedLevelsTheDescriptorUnderstands) {
   EXPECT_GT(enlarged, 50);
   DescriptorOptions descriptor;
   descriptor.kind = DescriptorKind::Brief;
-  descriptor.pyramid = options.pyramid;
   std::vector<cv::KeyPoint> described = keypoints;
   cv::Mat descriptors;
   DescriptorExtractor(nullptr, descriptor).compute(pyramid, described, descriptors);

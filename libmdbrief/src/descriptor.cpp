@@ -231,8 +231,6 @@ void validate(const DescriptorOptions& o) {
                                 ": must be 4..15");
   if (!(o.supportScale >= 0.1 && o.supportScale <= 20.0))
     throw std::invalid_argument("descriptor option supportScale must be in [0.1, 20]");
-  if (o.pyramid.levels < 1 || !(o.pyramid.scaleFactor > 1.0))
-    throw std::invalid_argument("descriptor pyramid options: levels >= 1 and scaleFactor > 1 required");
 }
 
 DescriptorExtractor::DescriptorExtractor(CameraPtr camera, DescriptorOptions options)
@@ -519,12 +517,13 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
   }
 }
 
-void DescriptorExtractor::compute(const cv::Mat& image, std::vector<cv::KeyPoint>& keypoints,
-                                  cv::Mat& descriptors, cv::Mat* masks) const {
+void DescriptorExtractor::compute(const cv::Mat& image, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors,
+                                  cv::Mat* masks, const PyramidOptions& pyramidOptions) const {
+  validate(pyramidOptions);  // pyramidScales() needs at least one level
   int levels = 1;
-  const std::vector<double> scales = pyramidScales(options_.pyramid);
+  const std::vector<double> scales = pyramidScales(pyramidOptions);
   for (const auto& kp : keypoints) levels = std::max(levels, supportOf(kp.size, options_.supportScale, scales).level + 1);
-  const ImagePyramid pyramid(image, options_.pyramid, levels);
+  const ImagePyramid pyramid(image, pyramidOptions, levels);
   compute(pyramid, keypoints, descriptors, masks);
 }
 

@@ -43,12 +43,6 @@ const std::vector<std::pair<DetectorMethod, const char*>> kMethodNames = {{Detec
 const std::vector<std::pair<CornerDetector, const char*>> kCornerNames = {{CornerDetector::Fast, "fast"},
                                                                           {CornerDetector::Agast, "agast"}};
 
-bool samePyramid(const PyramidOptions& a, const PyramidOptions& b) {
-  return a.levels == b.levels && a.scaleFactor == b.scaleFactor && a.firstLevel == b.firstLevel &&
-         a.smoothingKernel == b.smoothingKernel &&
-         a.smoothingSigma == b.smoothingSigma;
-}
-
 // FileNode readers: a missing key keeps `value`; a present key of the wrong type throws.
 std::string keyName(const cv::FileNode& node, const char* key) {
   return node.name().empty() ? std::string(key) : node.name() + "." + key;
@@ -115,9 +109,6 @@ DetectorMethod parseDetectorMethod(const std::string& name) { return parseName(n
 void validate(const MdBriefOptions& options) {
   validate(options.detector);
   validate(options.descriptor);
-  if (!samePyramid(options.detector.pyramid, options.descriptor.pyramid))
-    throw std::invalid_argument(
-        "MdBriefOptions: detector.pyramid and descriptor.pyramid differ (use MdBriefOptions::setPyramid)");
 }
 
 cv::Ptr<MdBrief> MdBrief::create(CameraPtr camera, const MdBriefOptions& options) {
@@ -206,13 +197,12 @@ void MdBrief::read(const cv::FileNode& node) {
 
   MdBriefOptions o = options_;
   const cv::FileNode p = node["pyramid"];
-  PyramidOptions pyramid = o.detector.pyramid;
+  PyramidOptions& pyramid = o.detector.pyramid;
   readInt(p, "levels", pyramid.levels);
   readDouble(p, "scaleFactor", pyramid.scaleFactor);
   readInt(p, "firstLevel", pyramid.firstLevel);
   readInt(p, "smoothingKernel", pyramid.smoothingKernel);
   readDouble(p, "smoothingSigma", pyramid.smoothingSigma);
-  o.setPyramid(pyramid);
 
   const cv::FileNode d = node["detector"];
   readEnum(d, "method", o.detector.method, &parseDetectorMethod);

@@ -10,9 +10,7 @@
 
 namespace mdbrief {
 
-namespace {
-
-void validatePyramidOptions(const PyramidOptions& options) {
+void validate(const PyramidOptions& options) {
   if (options.levels < 1)
     throw std::invalid_argument("PyramidOptions::levels must be >= 1, got " +
                                 std::to_string(options.levels));
@@ -30,8 +28,6 @@ void validatePyramidOptions(const PyramidOptions& options) {
     throw std::invalid_argument("PyramidOptions::smoothingSigma must be a finite number > 0, got " +
                                 std::to_string(options.smoothingSigma));
 }
-
-}  // namespace
 
 cv::Mat toGrey(const cv::Mat& image) {
   if (image.empty()) throw std::invalid_argument("toGrey: the image is empty");
@@ -57,7 +53,7 @@ cv::Mat toGrey(const cv::Mat& image) {
 
 ImagePyramid::ImagePyramid(const cv::Mat& image, const PyramidOptions& options, int maxLevels)
     : options_(options) {
-  validatePyramidOptions(options);
+  validate(options);
   const cv::Mat grey = toGrey(image);
   inputSize_ = grey.size();
   const int wanted = maxLevels < 0 ? options.levels : std::min(options.levels, maxLevels);

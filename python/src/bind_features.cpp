@@ -60,14 +60,12 @@ Keyword enumField(const char* name, const char* cppField, Access access, Enum (*
           }};
 }
 
-// The pyramid is one option for detector and descriptor: setPyramid keeps them equal.
+// The pyramid of detector and descriptor (MdBriefOptions::detector.pyramid).
 template <typename T, typename Access>
 Keyword pyramidField(const char* name, const char* cppField, Access access) {
   return {name, cppField, [access](const MdBriefOptions& o) { return py::cast(access(o.detector.pyramid)); },
           [access, name](MdBriefOptions& o, const py::handle& v) {
-            PyramidOptions p = o.detector.pyramid;
-            access(p) = castExactly<T>(v, name);
-            o.setPyramid(p);
+            access(o.detector.pyramid) = castExactly<T>(v, name);
           }};
 }
 

@@ -91,7 +91,6 @@ struct DescriptorOptions {
   // cv::SIFT) want a larger factor: the measured one per detector is in docs/RESULTS.md
   // "Descriptor footprint for other detectors".
   double supportScale = 1.0;
-  PyramidOptions pyramid;           // the levels the footprints are sampled on (the detector's)
 };
 
 // Throws std::invalid_argument with a message naming the option if the options are unusable.
@@ -104,6 +103,7 @@ class DescriptorExtractor {
   // With an explicit test set (options.pattern is ignored); its first options.bits tests are used.
   DescriptorExtractor(CameraPtr camera, DescriptorOptions options, const TestSet& tests);
 
+  // Samples on the levels of `pyramid` (the detector's, when detection and description share it).
   // Keypoints: level-0 pixels, angle in degrees (cv::KeyPoint's convention, -1 = none), size
   // as DescriptorOptions::supportScale describes (octave is not read). Keypoints whose size is
   // not a positive finite number are dropped. Keypoints whose tests cannot all be sampled inside the image and
@@ -113,9 +113,9 @@ class DescriptorExtractor {
   // the re-measured one.
   void compute(const ImagePyramid& pyramid, std::vector<cv::KeyPoint>& keypoints,
                cv::Mat& descriptors, cv::Mat* masks = nullptr) const;
-  // Same, building the pyramid levels the keypoints need.
-  void compute(const cv::Mat& image, std::vector<cv::KeyPoint>& keypoints,
-               cv::Mat& descriptors, cv::Mat* masks = nullptr) const;
+  // Same, building the levels the keypoints need of a pyramid of `image` with `pyramid`'s options.
+  void compute(const cv::Mat& image, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors,
+               cv::Mat* masks = nullptr, const PyramidOptions& pyramid = {}) const;
 
   int descriptorBytes() const { return options_.bits / 8; }
   // True when compute() replaces the keypoints' angles with its own measurement (dBRIEF and

@@ -18,20 +18,13 @@
 namespace mdbrief {
 
 struct MdBriefOptions {
-  // detector.pyramid is the one source of truth for the pyramid: the descriptor's octave ->
-  // scale must be the detector's. descriptor.pyramid must equal it (validate() checks it);
-  // setPyramid() sets both.
+  // detector.pyramid is the pyramid of both steps: the descriptor samples the one built for the
+  // detector.
   DetectorOptions detector;
   DescriptorOptions descriptor;
-
-  void setPyramid(const PyramidOptions& pyramid) {
-    detector.pyramid = pyramid;
-    descriptor.pyramid = pyramid;
-  }
 };
 
-// Throws std::invalid_argument naming the option: the detector's and descriptor's own checks,
-// plus detector.pyramid != descriptor.pyramid.
+// Throws std::invalid_argument naming the option: the detector's and descriptor's own checks.
 void validate(const MdBriefOptions& options);
 
 // Option names as used by FileStorage and the command line ("brief", "dbrief", "mdbrief",

@@ -22,6 +22,9 @@ struct PyramidOptions {
   double smoothingSigma = 2.0;
 };
 
+// Throws std::invalid_argument naming the option if the options are unusable.
+void validate(const PyramidOptions& options);
+
 class ImagePyramid {
  public:
   ImagePyramid() = default;
