@@ -69,7 +69,7 @@ void describe(benchmark::State& state, mdbrief::DescriptorKind kind, mdbrief::Di
   for (auto _ : state) {
     auto kps = f.keypoints;
     cv::Mat desc, masks;
-    ex.compute(f.image, kps, desc, &masks);
+    ex.compute(f.image, kps, desc, masks);
     n = kps.size();
     benchmark::DoNotOptimize(desc.data);
   }
@@ -113,7 +113,7 @@ void describePrebuilt(benchmark::State& state, mdbrief::DescriptorKind kind,
   for (auto _ : state) {
     auto kps = f.keypoints;
     cv::Mat desc, masks;
-    ex.compute(pyramid, kps, desc, &masks);
+    ex.compute(pyramid, kps, desc, masks);
     n = kps.size();
     benchmark::DoNotOptimize(desc.data);
   }

@@ -206,8 +206,8 @@ TEST(MaskedBrief, IsBriefPlusTheAgreementOfThreeRotationsOnARamp) {
   const DescriptorExtractor masked(nullptr, o, tests);
   std::vector<cv::KeyPoint> kb{cv::KeyPoint(128.f, 127.f, 31.f, 40.f, 1.f, 0)}, km = kb;
   cv::Mat db, dm, mb, mm;
-  brief.compute(horizontalRamp(), kb, db, &mb);
-  masked.compute(horizontalRamp(), km, dm, &mm);
+  brief.compute(horizontalRamp(), kb, db, mb);
+  masked.compute(horizontalRamp(), km, dm, mm);
   ASSERT_EQ(dm.rows, 1);
   EXPECT_TRUE(mb.empty());
   EXPECT_EQ(cv::norm(db, dm, cv::NORM_HAMMING), 0.0);

@@ -58,7 +58,7 @@ Features describe(const MethodSpec& m, const cv::Mat& image, const CameraPtr& ca
       Features f;
       f.bits = o.bits;
       f.keypoints = std::move(keypoints);
-      ex.compute(image, f.keypoints, f.descriptors, &f.masks);
+      ex.compute(image, f.keypoints, f.descriptors, f.masks);
       return f;
     }
     case MethodFamily::Orb: {

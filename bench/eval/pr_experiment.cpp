@@ -102,7 +102,7 @@ std::vector<cv::KeyPoint> detectKeypoints(KeypointSource source, const cv::Mat& 
   if (source == KeypointSource::ModOrb || source == KeypointSource::Hessian) {
     o.method = source == KeypointSource::Hessian ? DetectorMethod::Hessian : DetectorMethod::ModOrb;
     o.nfeatures = count;
-    return Detector(o, camera).detect(image);
+    return Detector(camera, o).detect(image);
   }
   cv::Ptr<cv::Feature2D> detector;
   switch (source) {

@@ -316,7 +316,7 @@ void runDetectedVariant(const SimCamera& sc, const SimOptions& o, const std::str
   const size_t nm = methods.size();
   DetectorOptions dopt;
   dopt.nfeatures = o.detectedKeypoints;
-  const Detector detector(dopt, sc.camera);
+  const Detector detector(sc.camera, dopt);
 
   // Reference view faces the plane; the last view is translated, yawed, pitched and rolled so
   // the reference view's centre is seen close to the rim (about 78 degrees off-axis).

@@ -450,7 +450,7 @@ bool DescriptorExtractor::measuresOrientation() const {
 }
 
 void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::KeyPoint>& keypoints,
-                                  cv::Mat& descriptors, cv::Mat* masks) const {
+                                  cv::OutputArray descriptors, cv::OutputArray masks) const {
   const int n = static_cast<int>(keypoints.size());
   const int bytes = descriptorBytes();
   const int nTests = options_.bits;
@@ -508,17 +508,18 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
     ++kept;
   }
   keypoints.resize(kept);
-  descriptors = desc.rowRange(0, kept).clone();
-  if (masks) {
+  if (descriptors.needed()) descriptors.assign(desc.rowRange(0, kept).clone());
+  if (masks.needed()) {
     if (wantMasks)
-      *masks = mask.rowRange(0, kept).clone();
+      masks.assign(mask.rowRange(0, kept).clone());
     else
-      masks->release();
+      masks.release();
   }
 }
 
-void DescriptorExtractor::compute(const cv::Mat& image, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors,
-                                  cv::Mat* masks, const PyramidOptions& pyramidOptions) const {
+void DescriptorExtractor::compute(const cv::Mat& image, std::vector<cv::KeyPoint>& keypoints,
+                                  cv::OutputArray descriptors, cv::OutputArray masks,
+                                  const PyramidOptions& pyramidOptions) const {
   validate(pyramidOptions);  // pyramidScales() needs at least one level
   int levels = 1;
   const std::vector<double> scales = pyramidScales(pyramidOptions);

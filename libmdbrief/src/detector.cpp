@@ -135,7 +135,7 @@ cv::Mat validAreaMask(const Camera& camera, cv::Size size) {
   return mask;
 }
 
-Detector::Detector(DetectorOptions options, CameraPtr camera)
+Detector::Detector(CameraPtr camera, DetectorOptions options)
     : options_(std::move(options)), camera_(std::move(camera)) {
   validate(options_);
   if (!camera_) return;

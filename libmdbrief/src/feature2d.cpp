@@ -118,7 +118,7 @@ cv::Ptr<MdBrief> MdBrief::create(CameraPtr camera, const MdBriefOptions& options
 MdBrief::MdBrief(CameraPtr camera, const MdBriefOptions& options)
     : camera_(std::move(camera)),
       options_((validate(options), options)),
-      detector_(options.detector, camera_),
+      detector_(camera_, options.detector),
       extractor_(camera_, options.descriptor) {}
 
 void MdBrief::detectAndCompute(cv::InputArray image, cv::InputArray mask, std::vector<cv::KeyPoint>& keypoints,
@@ -151,7 +151,7 @@ void MdBrief::detectAndComputeWithMasks(cv::InputArray image, cv::InputArray mas
   if (!describe) return;
 
   cv::Mat desc, msk;
-  extractor_.compute(pyramid, keypoints, desc, &msk);
+  extractor_.compute(pyramid, keypoints, desc, msk);
   if (descriptors.needed()) desc.copyTo(descriptors);
   if (masks.needed()) {
     if (msk.empty())

@@ -99,7 +99,7 @@ void validate(const DescriptorOptions& options);
 class DescriptorExtractor {
  public:
   // camera may be null only for DescriptorKind::Brief and MaskedBrief.
-  DescriptorExtractor(CameraPtr camera, DescriptorOptions options);
+  explicit DescriptorExtractor(CameraPtr camera, DescriptorOptions options = {});
   // With an explicit test set (options.pattern is ignored); its first options.bits tests are used.
   DescriptorExtractor(CameraPtr camera, DescriptorOptions options, const TestSet& tests);
 
@@ -108,14 +108,15 @@ class DescriptorExtractor {
   // as DescriptorOptions::supportScale describes (octave is not read). Keypoints whose size is
   // not a positive finite number are dropped. Keypoints whose tests cannot all be sampled inside the image and
   // the camera's valid area are removed from `keypoints` (as cv::Feature2D::compute does), so
-  // rows stay aligned. masks is filled only for MdBrief and MaskedBrief (otherwise released).
+  // rows stay aligned. descriptors and masks may be cv::noArray(); masks is filled only for
+  // MdBrief and MaskedBrief (otherwise released).
   // With OrientationSource::TangentPlane (dBRIEF/mdBRIEF) the kept keypoints' angle becomes
   // the re-measured one.
-  void compute(const ImagePyramid& pyramid, std::vector<cv::KeyPoint>& keypoints,
-               cv::Mat& descriptors, cv::Mat* masks = nullptr) const;
+  void compute(const ImagePyramid& pyramid, std::vector<cv::KeyPoint>& keypoints, cv::OutputArray descriptors,
+               cv::OutputArray masks = cv::noArray()) const;
   // Same, building the levels the keypoints need of a pyramid of `image` with `pyramid`'s options.
-  void compute(const cv::Mat& image, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors,
-               cv::Mat* masks = nullptr, const PyramidOptions& pyramid = {}) const;
+  void compute(const cv::Mat& image, std::vector<cv::KeyPoint>& keypoints, cv::OutputArray descriptors,
+               cv::OutputArray masks = cv::noArray(), const PyramidOptions& pyramid = {}) const;
 
   int descriptorBytes() const { return options_.bits / 8; }
   // True when compute() replaces the keypoints' angles with its own measurement (dBRIEF and

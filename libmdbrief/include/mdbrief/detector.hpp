@@ -90,7 +90,7 @@ class Detector {
  public:
   // With a camera, keypoints keep borderMargin level pixels away from its invalid area, and
   // images must have the camera's imageSize().
-  explicit Detector(DetectorOptions options = {}, CameraPtr camera = nullptr);
+  explicit Detector(CameraPtr camera = nullptr, DetectorOptions options = {});
 
   // The pyramid must have been built with options().pyramid's levels and scale factor.
   // mask: empty, or CV_8UC1 of the level-0 size, nonzero = allowed. Output sorted by
