@@ -61,9 +61,6 @@ inline int sampleNearest(const uchar* data, size_t step, int px, int py) {
   return data[((py + kSub / 2) >> kSubBits) * step + ((px + kSub / 2) >> kSubBits)];
 }
 
-bool hasMasks(DescriptorKind kind) { return kind == DescriptorKind::MdBrief || kind == DescriptorKind::MaskedBrief; }
-bool usesCamera(DescriptorKind kind) { return kind == DescriptorKind::DBrief || kind == DescriptorKind::MdBrief; }
-
 cv::Matx22d rotation(double deg) {
   const double a = deg * CV_PI / 180.0, c = std::cos(a), s = std::sin(a);
   return {c, -s, s, c};

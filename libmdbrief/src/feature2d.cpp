@@ -9,40 +9,6 @@
 namespace mdbrief {
 namespace {
 
-template <typename Enum>
-std::string nameOf(Enum value, const std::vector<std::pair<Enum, const char*>>& names) {
-  for (const auto& [e, n] : names)
-    if (e == value) return n;
-  throw std::invalid_argument("unknown enum value");
-}
-
-template <typename Enum>
-Enum parseName(const std::string& name, const std::vector<std::pair<Enum, const char*>>& names,
-               const char* what) {
-  std::string known;
-  for (const auto& [e, n] : names) {
-    if (name == n) return e;
-    known += known.empty() ? n : std::string(", ") + n;
-  }
-  throw std::invalid_argument(std::string(what) + " '" + name + "' is not one of: " + known);
-}
-
-const std::vector<std::pair<DescriptorKind, const char*>> kKindNames = {
-    {DescriptorKind::Brief, "brief"},
-    {DescriptorKind::DBrief, "dbrief"},
-    {DescriptorKind::MdBrief, "mdbrief"},
-    {DescriptorKind::MaskedBrief, "mbrief"}};
-const std::vector<std::pair<OrientationSource, const char*>> kOrientationNames = {
-    {OrientationSource::TangentPlane, "tangent-plane"}, {OrientationSource::Keypoint, "keypoint"}};
-const std::vector<std::pair<DistortionForm, const char*>> kFormNames = {{DistortionForm::Affine, "affine"},
-                                                                        {DistortionForm::Paper, "paper"}};
-const std::vector<std::pair<Sampling, const char*>> kSamplingNames = {{Sampling::Bilinear, "bilinear"},
-                                                                      {Sampling::Nearest, "nearest"}};
-const std::vector<std::pair<DetectorMethod, const char*>> kMethodNames = {{DetectorMethod::ModOrb, "modorb"},
-                                                                          {DetectorMethod::Hessian, "hessian"}};
-const std::vector<std::pair<CornerDetector, const char*>> kCornerNames = {{CornerDetector::Fast, "fast"},
-                                                                          {CornerDetector::Agast, "agast"}};
-
 // FileNode readers: a missing key keeps `value`; a present key of the wrong type throws.
 std::string keyName(const cv::FileNode& node, const char* key) {
   return node.name().empty() ? std::string(key) : node.name() + "." + key;
@@ -90,21 +56,6 @@ void readEnum(const cv::FileNode& node, const char* key, Enum& value, Enum (*par
 }
 
 }  // namespace
-
-std::string toString(DescriptorKind kind) { return nameOf(kind, kKindNames); }
-std::string toString(DistortionForm form) { return nameOf(form, kFormNames); }
-std::string toString(Sampling sampling) { return nameOf(sampling, kSamplingNames); }
-std::string toString(OrientationSource source) { return nameOf(source, kOrientationNames); }
-std::string toString(CornerDetector corners) { return nameOf(corners, kCornerNames); }
-std::string toString(DetectorMethod method) { return nameOf(method, kMethodNames); }
-DescriptorKind parseDescriptorKind(const std::string& name) { return parseName(name, kKindNames, "descriptor kind"); }
-DistortionForm parseDistortionForm(const std::string& name) { return parseName(name, kFormNames, "distortion form"); }
-Sampling parseSampling(const std::string& name) { return parseName(name, kSamplingNames, "sampling"); }
-OrientationSource parseOrientationSource(const std::string& name) {
-  return parseName(name, kOrientationNames, "orientation source");
-}
-CornerDetector parseCornerDetector(const std::string& name) { return parseName(name, kCornerNames, "corner detector"); }
-DetectorMethod parseDetectorMethod(const std::string& name) { return parseName(name, kMethodNames, "detector method"); }
 
 void validate(const MdBriefOptions& options) {
   validate(options.detector);

@@ -171,8 +171,7 @@ py::tuple run(MdBrief& feature, const py::handle& image, const py::handle& mask,
     throw py::value_error(e.what());
   }
   const int bytes = feature.descriptorSize();
-  const DescriptorKind kind = feature.options().descriptor.kind;
-  const bool masked = kind == DescriptorKind::MdBrief || kind == DescriptorKind::MaskedBrief;
+  const bool masked = hasMasks(feature.options().descriptor.kind);
   return py::make_tuple(keypointsToPython(keypoints), arrayFromMat(descriptors, bytes),
                         masked ? py::object(arrayFromMat(masks, bytes)) : py::object(py::none()));
 }

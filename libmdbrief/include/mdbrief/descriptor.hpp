@@ -14,6 +14,7 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/camera.hpp"
+#include "mdbrief/enum_names.hpp"
 #include "mdbrief/image_pyramid.hpp"
 #include "mdbrief/test_set.hpp"
 
@@ -27,6 +28,18 @@ enum class DescriptorKind {
   // mdBRIEF it separates what the masks and what the distortion model contribute.
   MaskedBrief,
 };
+// The names users type, one table per enum (enum_names.hpp); parse* throw listing them.
+inline constexpr EnumName<DescriptorKind> kDescriptorKindNames[] = {{DescriptorKind::Brief, "brief"},
+                                                                    {DescriptorKind::DBrief, "dbrief"},
+                                                                    {DescriptorKind::MdBrief, "mdbrief"},
+                                                                    {DescriptorKind::MaskedBrief, "mbrief"}};
+inline std::string toString(DescriptorKind kind) { return nameOf(kind, kDescriptorKindNames); }
+inline DescriptorKind parseDescriptorKind(const std::string& name) {
+  return parseName(name, kDescriptorKindNames, "descriptor kind");
+}
+// Whether the kind learns masks (mdBRIEF, masked BRIEF) and needs a camera model (dBRIEF, mdBRIEF).
+inline bool hasMasks(DescriptorKind kind) { return kind == DescriptorKind::MdBrief || kind == DescriptorKind::MaskedBrief; }
+inline bool usesCamera(DescriptorKind kind) { return kind == DescriptorKind::DBrief || kind == DescriptorKind::MdBrief; }
 
 // Where the tests' orientation comes from when useOrientation is set.
 enum class OrientationSource {
@@ -41,6 +54,12 @@ enum class OrientationSource {
   // Measured on keypoints without an angle too (angle -1).
   TangentPlane,
 };
+inline constexpr EnumName<OrientationSource> kOrientationSourceNames[] = {
+    {OrientationSource::TangentPlane, "tangent-plane"}, {OrientationSource::Keypoint, "keypoint"}};
+inline std::string toString(OrientationSource source) { return nameOf(source, kOrientationSourceNames); }
+inline OrientationSource parseOrientationSource(const std::string& name) {
+  return parseName(name, kOrientationSourceNames, "orientation source");
+}
 
 // How dBRIEF maps the test set into the image.
 enum class DistortionForm {
@@ -53,8 +72,17 @@ enum class DistortionForm {
   // reflects the compressed appearance near the rim, so the paper's form shrinks twice there.
   Affine,
 };
+inline constexpr EnumName<DistortionForm> kDistortionFormNames[] = {{DistortionForm::Affine, "affine"},
+                                                                    {DistortionForm::Paper, "paper"}};
+inline std::string toString(DistortionForm form) { return nameOf(form, kDistortionFormNames); }
+inline DistortionForm parseDistortionForm(const std::string& name) {
+  return parseName(name, kDistortionFormNames, "distortion form");
+}
 
 enum class Sampling { Bilinear, Nearest };
+inline constexpr EnumName<Sampling> kSamplingNames[] = {{Sampling::Bilinear, "bilinear"}, {Sampling::Nearest, "nearest"}};
+inline std::string toString(Sampling sampling) { return nameOf(sampling, kSamplingNames); }
+inline Sampling parseSampling(const std::string& name) { return parseName(name, kSamplingNames, "sampling"); }
 
 struct DescriptorOptions {
   DescriptorKind kind = DescriptorKind::MdBrief;

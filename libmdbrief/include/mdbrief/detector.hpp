@@ -26,6 +26,7 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/camera.hpp"
+#include "mdbrief/enum_names.hpp"
 #include "mdbrief/image_pyramid.hpp"
 
 namespace mdbrief {
@@ -35,7 +36,20 @@ class ConformalView;
 }
 
 enum class CornerDetector { Fast, Agast };
+inline constexpr EnumName<CornerDetector> kCornerDetectorNames[] = {{CornerDetector::Fast, "fast"},
+                                                                    {CornerDetector::Agast, "agast"}};
+inline std::string toString(CornerDetector corners) { return nameOf(corners, kCornerDetectorNames); }
+inline CornerDetector parseCornerDetector(const std::string& name) {
+  return parseName(name, kCornerDetectorNames, "corner detector");
+}
+
 enum class DetectorMethod { ModOrb, Hessian };
+inline constexpr EnumName<DetectorMethod> kDetectorMethodNames[] = {{DetectorMethod::ModOrb, "modorb"},
+                                                                    {DetectorMethod::Hessian, "hessian"}};
+inline std::string toString(DetectorMethod method) { return nameOf(method, kDetectorMethodNames); }
+inline DetectorMethod parseDetectorMethod(const std::string& name) {
+  return parseName(name, kDetectorMethodNames, "detector method");
+}
 
 struct DetectorOptions {
   // ModOrb stays the default: docs/RESULTS.md "Whole pipelines (issue 10)" has the measurement,
