@@ -69,7 +69,7 @@ void describe(benchmark::State& state, mdbrief::DescriptorKind kind, mdbrief::Di
   for (auto _ : state) {
     auto kps = f.keypoints;
     cv::Mat desc, masks;
-    ex.compute(f.image, kps, desc, &masks);
+    ex.compute(f.image, kps, desc, masks);
     n = kps.size();
     benchmark::DoNotOptimize(desc.data);
   }
@@ -106,14 +106,14 @@ void describePrebuilt(benchmark::State& state, mdbrief::DescriptorKind kind,
   o.kind = kind;
   o.orientation = source;
   const mdbrief::DescriptorExtractor ex(f.camera, o);
-  const mdbrief::ImagePyramid pyramid(f.image, o.pyramid);
+  const mdbrief::ImagePyramid pyramid(f.image, mdbrief::PyramidOptions{});
   pyramid.prepareSmoothed(pyramid.levels() - 1);
   tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
   size_t n = 0;
   for (auto _ : state) {
     auto kps = f.keypoints;
     cv::Mat desc, masks;
-    ex.compute(pyramid, kps, desc, &masks);
+    ex.compute(pyramid, kps, desc, masks);
     n = kps.size();
     benchmark::DoNotOptimize(desc.data);
   }

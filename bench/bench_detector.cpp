@@ -51,7 +51,7 @@ void ModOrbDetect(benchmark::State& state, mdbrief::CornerDetector corners) {
   mdbrief::DetectorOptions options;
   options.nfeatures = kFeatures;
   options.corners = corners;
-  const mdbrief::Detector detector(options);
+  const mdbrief::Detector detector(nullptr, options);
   size_t count = 0;
   for (auto _ : state) {
     const std::vector<cv::KeyPoint> keypoints = detector.detect(image);

@@ -125,7 +125,7 @@ void BM_FrameMdBriefStages(benchmark::State& state) {
     } else if (stage == 1) {  // pyramid + smoothing + description of the detected keypoints
       auto kps = ka;
       cv::Mat d, m;
-      md->extractor().compute(v.a, kps, d, &m);
+      md->extractor().compute(v.a, kps, d, m, md->options().detector.pyramid);
       benchmark::DoNotOptimize(d.data);
     } else {  // masked matching
       benchmark::DoNotOptimize(mdbrief::matchBruteForceMasked(da, ma, db, mb, match).data());

@@ -10,6 +10,7 @@
 #include "cli/commands.hpp"
 #include "cli/extraction_flags.hpp"
 #include "cli/storage_io.hpp"
+#include "mdbrief/image_pyramid.hpp"
 
 namespace mdbrief::cli {
 namespace {
@@ -109,7 +110,8 @@ void runDraw(const DrawArgs& args) {
       throw InputError("--keypoint " + std::to_string(k) + ": " + args.image + " has " +
                        std::to_string(f.keypoints.size()) + " described keypoints");
     const auto feature = makeFeature(args.flags, calibration, args.image, image.size());
-    const auto tests = feature->extractor().testPositions(f.keypoints[k]);
+    const ImagePyramid pyramid(image, feature->options().detector.pyramid);
+    const auto tests = feature->extractor().testPositions(pyramid, f.keypoints[k]);
     if (tests.empty()) throw InputError("--keypoint " + std::to_string(k) + ": its tests cannot be placed");
     drawTests(canvas, image, tests, f.keypoints[k]);
   }

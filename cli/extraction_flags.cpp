@@ -29,7 +29,7 @@ void requireReadableFile(const std::string& path) {
 void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
   cmd.add_option("--camera", flags.camera, "Calibration file (configs/cameras/README.md); required for dbrief/mdbrief");
   cmd.add_option("--descriptor", flags.descriptor, "Descriptor kind")
-      ->check(CLI::IsMember({"brief", "dbrief", "mdbrief", "mbrief"}))
+      ->check(CLI::IsMember(namesOf(kDescriptorKindNames)))
       ->capture_default_str();
   cmd.add_option("--bits", flags.bits, "Descriptor length in bits: 32..512, a multiple of 32")
       ->check(CLI::Range(32, 512))
@@ -37,19 +37,19 @@ void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
   cmd.add_flag("--no-orientation", flags.noOrientation, "Do not rotate the tests by the keypoint angle");
   cmd.add_option("--orientation", flags.orientation,
                  "dbrief/mdbrief: measure the angle on the tangent plane, or take the detector's")
-      ->check(CLI::IsMember({"tangent-plane", "keypoint"}))
+      ->check(CLI::IsMember(namesOf(kOrientationSourceNames)))
       ->capture_default_str();
   cmd.add_option("--features", flags.features, "Maximum number of keypoints per image")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
   cmd.add_option("--detector", flags.detector,
                  "Keypoint detector: modorb (FAST corners, ORB's scheme) or hessian (scale-space blobs)")
-      ->check(CLI::IsMember({toString(DetectorMethod::ModOrb), toString(DetectorMethod::Hessian)}))
+      ->check(CLI::IsMember(namesOf(kDetectorMethodNames)))
       ->capture_default_str();
   cmd.add_flag("--conformal", flags.conformal,
                "Detect on the camera's stereographic (conformal) view and map the keypoints back (needs --camera)");
   cmd.add_option("--form", flags.form, "How dBRIEF/mdBRIEF distort the tests: affine (fast) or paper (eq. 8-11)")
-      ->check(CLI::IsMember({"affine", "paper"}))
+      ->check(CLI::IsMember(namesOf(kDistortionFormNames)))
       ->capture_default_str();
   cmd.add_option("--pattern", flags.pattern, "Test set: a built-in name or a JSON file (default: the built-in default)");
   cmd.add_option("--support-scale", flags.supportScale,
@@ -64,7 +64,7 @@ void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
 
 CameraPtr loadCalibration(const ExtractionFlags& flags) {
   if (flags.camera.empty()) {
-    if (flags.descriptor != "brief" && flags.descriptor != "mbrief")
+    if (usesCamera(parseDescriptorKind(flags.descriptor)))
       throw InputError("--camera is required for --descriptor " + flags.descriptor);
     return nullptr;
   }

@@ -13,17 +13,18 @@
 
 namespace mdbrief::cli {
 
+// Defaults and names come from the library's options structs and enum tables.
 struct ExtractionFlags {
   std::string camera;                 // calibration file; required except for --descriptor brief / mbrief
-  std::string descriptor = "mdbrief"; // brief | dbrief | mdbrief | mbrief
-  int bits = 256;
-  bool noOrientation = false;
-  std::string orientation = "tangent-plane";  // tangent-plane | keypoint
-  int features = 1000;
-  std::string detector = toString(DetectorOptions{}.method);  // modorb | hessian
+  std::string descriptor = toString(DescriptorOptions{}.kind);
+  int bits = DescriptorOptions{}.bits;
+  bool noOrientation = !DescriptorOptions{}.useOrientation;
+  std::string orientation = toString(DescriptorOptions{}.orientation);
+  int features = DetectorOptions{}.nfeatures;
+  std::string detector = toString(DetectorOptions{}.method);
   bool conformal = DetectorOptions{}.conformal;  // detect on the stereographic view
-  std::string form = "affine";        // affine | paper
-  std::string pattern;                // registry name or JSON file; empty = default set
+  std::string form = toString(DescriptorOptions{}.form);
+  std::string pattern = DescriptorOptions{}.pattern;  // registry name or JSON file; empty = default set
   double supportScale = DescriptorOptions{}.supportScale;
   bool allowSizeMismatch = false;     // rescale the calibration to the image instead of failing
   bool strict = false;                // a truncated image file is an error, not a warning

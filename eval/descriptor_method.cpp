@@ -37,28 +37,23 @@ Features describeOpenCv(const cv::Ptr<cv::Feature2D>& f2d, const cv::Mat& image,
 
 bool ownsKeypoints(MethodFamily family) { return family == MethodFamily::Akaze; }
 
-bool isMasked(MethodFamily family) {
-  return family == MethodFamily::MdBrief || family == MethodFamily::MaskedBrief;
+bool isMasked(const MethodSpec& method) {
+  return method.family == MethodFamily::Library && hasMasks(method.options.kind);
+}
+
+bool isDistorted(const MethodSpec& method) {
+  return method.family == MethodFamily::Library && usesCamera(method.options.kind);
 }
 
 Features describe(const MethodSpec& m, const cv::Mat& image, const CameraPtr& camera,
                   std::vector<cv::KeyPoint> keypoints, int maxKeypoints, const cv::Mat& validMask) {
   switch (m.family) {
-    case MethodFamily::Brief:
-    case MethodFamily::DBrief:
-    case MethodFamily::MdBrief:
-    case MethodFamily::MaskedBrief: {
-      DescriptorOptions o = m.options;
-      o.kind = m.family == MethodFamily::Brief         ? DescriptorKind::Brief
-               : m.family == MethodFamily::DBrief      ? DescriptorKind::DBrief
-               : m.family == MethodFamily::MaskedBrief ? DescriptorKind::MaskedBrief
-                                                       : DescriptorKind::MdBrief;
-      const bool withCamera = o.kind == DescriptorKind::DBrief || o.kind == DescriptorKind::MdBrief;
-      const DescriptorExtractor ex(withCamera ? camera : nullptr, o);
+    case MethodFamily::Library: {
+      const DescriptorExtractor ex(isDistorted(m) ? camera : nullptr, m.options);
       Features f;
-      f.bits = o.bits;
+      f.bits = m.options.bits;
       f.keypoints = std::move(keypoints);
-      ex.compute(image, f.keypoints, f.descriptors, &f.masks);
+      ex.compute(image, f.keypoints, f.descriptors, f.masks);
       return f;
     }
     case MethodFamily::Orb: {
@@ -128,11 +123,11 @@ std::vector<cv::DMatch> nearestNeighbours(const Features& query, const Features&
   return matchBruteForce(query.descriptors, train.descriptors);
 }
 
-MethodSpec briefFamilyMethod(const std::string& name, MethodFamily family, int bits, bool oriented,
+MethodSpec briefFamilyMethod(const std::string& name, DescriptorKind kind, int bits, bool oriented,
                              DistortionForm form, double maskDeg, const std::string& pattern) {
   MethodSpec m;
   m.name = name;
-  m.family = family;
+  m.options.kind = kind;
   m.options.bits = bits;
   m.options.useOrientation = oriented;
   m.options.form = form;

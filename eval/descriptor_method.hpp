@@ -15,10 +15,7 @@
 namespace mdbrief::eval {
 
 enum class MethodFamily {
-  Brief,        // library BRIEF (tests rotated by the keypoint angle, no camera)
-  DBrief,       // library dBRIEF
-  MdBrief,      // library mdBRIEF (masked distance)
-  MaskedBrief,  // BOLD-like: BRIEF placement, mask from +/- maskRotationDeg (no distortion)
+  Library,      // this library's BRIEF family; MethodSpec::options.kind says which
   Orb,          // cv::ORB descriptor on the given keypoints (256 bits)
   Brisk,        // cv::BRISK descriptor on the given keypoints (512 bits)
   Akaze,        // cv::AKAZE MLDB on its own keypoints (486 bits)
@@ -27,8 +24,8 @@ enum class MethodFamily {
 
 struct MethodSpec {
   std::string name;                 // label in tables and plots
-  MethodFamily family = MethodFamily::Brief;
-  DescriptorOptions options;        // used by the BRIEF family (bits, pattern, orientation...)
+  MethodFamily family = MethodFamily::Library;
+  DescriptorOptions options;        // used by the library's family (kind, bits, pattern...)
 };
 
 // Keypoints and their descriptors; class_id of each keypoint is preserved from the input.
@@ -40,7 +37,8 @@ struct Features {
 };
 
 bool ownsKeypoints(MethodFamily family);  // AKAZE detects its own keypoints
-bool isMasked(MethodFamily family);
+bool isMasked(const MethodSpec& method);      // masked distance (mdBRIEF, masked BRIEF)
+bool isDistorted(const MethodSpec& method);   // through the camera model (dBRIEF, mdBRIEF)
 
 // Describes `keypoints` (level-0 pixels, octave as the library's pyramid) in `image`.
 // Keypoints the method cannot describe are dropped. For AKAZE `keypoints` is ignored and the
@@ -63,7 +61,7 @@ double descriptorDistance(const Features& a, int i, const Features& b, int j);
 std::vector<cv::DMatch> nearestNeighbours(const Features& query, const Features& train);
 
 // The comparison's standard set: name -> spec. bits/orientation/form/mask angle as given.
-MethodSpec briefFamilyMethod(const std::string& name, MethodFamily family, int bits, bool oriented,
+MethodSpec briefFamilyMethod(const std::string& name, DescriptorKind kind, int bits, bool oriented,
                              DistortionForm form = DistortionForm::Affine, double maskDeg = DescriptorOptions{}.maskRotationDeg,
                              const std::string& pattern = "");
 MethodSpec opencvMethod(const std::string& name, MethodFamily family);

@@ -124,7 +124,7 @@ void addSimCommand(CLI::App& app) {
     const auto cameras = parseCameras(*cams);
     loadGreyOrThrow(o->texturePath);
     // The simulation describes the texture with the default test set.
-    requireDisjointTraining({briefFamilyMethod("default", MethodFamily::DBrief, 256, true)}, {o->texturePath});
+    requireDisjointTraining({briefFamilyMethod("default", DescriptorKind::DBrief, 256, true)}, {o->texturePath});
     asInputErrors([&] { runSimulation(cameras, *o); });
   });
 }

@@ -44,9 +44,7 @@ void requireDisjointTraining(const std::vector<MethodSpec>& methods, const std::
     if (const std::string d = train::imageFileDigest(p); !d.empty()) evaluated.emplace(d, p);
   std::set<std::string> checked;
   for (const auto& m : methods) {
-    if (m.family != MethodFamily::Brief && m.family != MethodFamily::DBrief && m.family != MethodFamily::MdBrief &&
-        m.family != MethodFamily::MaskedBrief)
-      continue;
+    if (m.family != MethodFamily::Library) continue;
     const std::string set = m.options.pattern.empty() ? defaultTestSetName() : m.options.pattern;
     if (!checked.insert(set).second) continue;
     for (const auto& d : resolveTestSet(set).trainingImages)

@@ -25,7 +25,7 @@ MethodSpec ownDescriptor(KeypointSource detector) {
 }
 
 MethodSpec mdBriefAt(double supportScale) {
-  MethodSpec m = briefFamilyMethod("mdBRIEF-256", MethodFamily::MdBrief, 256, true);
+  MethodSpec m = briefFamilyMethod("mdBRIEF-256", DescriptorKind::MdBrief, 256, true);
   m.options.supportScale = supportScale;
   return m;
 }
@@ -44,12 +44,12 @@ Features describeKeypoints(const PipelineSpec& p, const cv::Mat& image, const Ca
 std::vector<PipelineSpec> standardPipelines() {
   const auto mod = KeypointSource::ModOrb;
   std::vector<PipelineSpec> p{
-      {"modORB+mdBRIEF-256", mod, briefFamilyMethod("mdBRIEF-256", MethodFamily::MdBrief, 256, true)},
-      {"modORB+dBRIEF-256", mod, briefFamilyMethod("dBRIEF-256", MethodFamily::DBrief, 256, true)},
-      {"modORB+BRIEF-256", mod, briefFamilyMethod("BRIEF-256", MethodFamily::Brief, 256, true)},
-      {"Hessian+mdBRIEF-256", KeypointSource::Hessian, briefFamilyMethod("mdBRIEF-256", MethodFamily::MdBrief, 256, true)},
-      {"Hessian+dBRIEF-256", KeypointSource::Hessian, briefFamilyMethod("dBRIEF-256", MethodFamily::DBrief, 256, true)},
-      {"Hessian+BRIEF-256", KeypointSource::Hessian, briefFamilyMethod("BRIEF-256", MethodFamily::Brief, 256, true)}};
+      {"modORB+mdBRIEF-256", mod, briefFamilyMethod("mdBRIEF-256", DescriptorKind::MdBrief, 256, true)},
+      {"modORB+dBRIEF-256", mod, briefFamilyMethod("dBRIEF-256", DescriptorKind::DBrief, 256, true)},
+      {"modORB+BRIEF-256", mod, briefFamilyMethod("BRIEF-256", DescriptorKind::Brief, 256, true)},
+      {"Hessian+mdBRIEF-256", KeypointSource::Hessian, briefFamilyMethod("mdBRIEF-256", DescriptorKind::MdBrief, 256, true)},
+      {"Hessian+dBRIEF-256", KeypointSource::Hessian, briefFamilyMethod("dBRIEF-256", DescriptorKind::DBrief, 256, true)},
+      {"Hessian+BRIEF-256", KeypointSource::Hessian, briefFamilyMethod("BRIEF-256", DescriptorKind::Brief, 256, true)}};
   for (const auto& [name, source] : {std::pair{"ORB", KeypointSource::Orb}, std::pair{"AKAZE", KeypointSource::Akaze},
                                      std::pair{"BRISK", KeypointSource::Brisk}, std::pair{"SIFT", KeypointSource::Sift}})
     p.push_back({std::string(name) + "+" + ownDescriptor(source).name, source, ownDescriptor(source)});

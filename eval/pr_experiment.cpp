@@ -29,32 +29,32 @@ std::vector<MethodSpec> standardPrMethods(bool withStudies) {
       opencvMethod("BRISK-512", MethodFamily::Brisk),
       opencvMethod("AKAZE-MLDB-486", MethodFamily::Akaze),
       opencvMethod("SIFT", MethodFamily::Sift),
-      briefFamilyMethod("BRIEF-256", MethodFamily::Brief, 256, true),
-      briefFamilyMethod("mBRIEF-256", MethodFamily::MaskedBrief, 256, true, af),
-      briefFamilyMethod("dBRIEF-128", MethodFamily::DBrief, 128, true, af),
-      briefFamilyMethod("dBRIEF-256", MethodFamily::DBrief, 256, true, af),
-      briefFamilyMethod("dBRIEF-512", MethodFamily::DBrief, 512, true, af),
-      briefFamilyMethod("mdBRIEF-128", MethodFamily::MdBrief, 128, true, af),
-      briefFamilyMethod("mdBRIEF-256", MethodFamily::MdBrief, 256, true, af),
-      briefFamilyMethod("mdBRIEF-512", MethodFamily::MdBrief, 512, true, af),
-      briefFamilyMethod("dBRIEF-256-paper", MethodFamily::DBrief, 256, true, DistortionForm::Paper),
-      briefFamilyMethod("mdBRIEF-256-paper", MethodFamily::MdBrief, 256, true, DistortionForm::Paper),
+      briefFamilyMethod("BRIEF-256", DescriptorKind::Brief, 256, true),
+      briefFamilyMethod("mBRIEF-256", DescriptorKind::MaskedBrief, 256, true, af),
+      briefFamilyMethod("dBRIEF-128", DescriptorKind::DBrief, 128, true, af),
+      briefFamilyMethod("dBRIEF-256", DescriptorKind::DBrief, 256, true, af),
+      briefFamilyMethod("dBRIEF-512", DescriptorKind::DBrief, 512, true, af),
+      briefFamilyMethod("mdBRIEF-128", DescriptorKind::MdBrief, 128, true, af),
+      briefFamilyMethod("mdBRIEF-256", DescriptorKind::MdBrief, 256, true, af),
+      briefFamilyMethod("mdBRIEF-512", DescriptorKind::MdBrief, 512, true, af),
+      briefFamilyMethod("dBRIEF-256-paper", DescriptorKind::DBrief, 256, true, DistortionForm::Paper),
+      briefFamilyMethod("mdBRIEF-256-paper", DescriptorKind::MdBrief, 256, true, DistortionForm::Paper),
       // The detector's angle instead of the one re-measured on the tangent plane.
-      withOrientation(briefFamilyMethod("dBRIEF-256-kp", MethodFamily::DBrief, 256, true, af), OrientationSource::Keypoint),
-      withOrientation(briefFamilyMethod("mdBRIEF-256-kp", MethodFamily::MdBrief, 256, true, af), OrientationSource::Keypoint),
+      withOrientation(briefFamilyMethod("dBRIEF-256-kp", DescriptorKind::DBrief, 256, true, af), OrientationSource::Keypoint),
+      withOrientation(briefFamilyMethod("mdBRIEF-256-kp", DescriptorKind::MdBrief, 256, true, af), OrientationSource::Keypoint),
       // Without orientation (the paper's fig. "Ignoring patch orientation").
-      briefFamilyMethod("BRIEF-256-noori", MethodFamily::Brief, 256, false),
-      briefFamilyMethod("mBRIEF-256-noori", MethodFamily::MaskedBrief, 256, false, af),
-      briefFamilyMethod("dBRIEF-128-noori", MethodFamily::DBrief, 128, false, af),
-      briefFamilyMethod("dBRIEF-256-noori", MethodFamily::DBrief, 256, false, af),
-      briefFamilyMethod("dBRIEF-512-noori", MethodFamily::DBrief, 512, false, af),
-      briefFamilyMethod("mdBRIEF-128-noori", MethodFamily::MdBrief, 128, false, af),
-      briefFamilyMethod("mdBRIEF-256-noori", MethodFamily::MdBrief, 256, false, af),
-      briefFamilyMethod("mdBRIEF-512-noori", MethodFamily::MdBrief, 512, false, af)};
+      briefFamilyMethod("BRIEF-256-noori", DescriptorKind::Brief, 256, false),
+      briefFamilyMethod("mBRIEF-256-noori", DescriptorKind::MaskedBrief, 256, false, af),
+      briefFamilyMethod("dBRIEF-128-noori", DescriptorKind::DBrief, 128, false, af),
+      briefFamilyMethod("dBRIEF-256-noori", DescriptorKind::DBrief, 256, false, af),
+      briefFamilyMethod("dBRIEF-512-noori", DescriptorKind::DBrief, 512, false, af),
+      briefFamilyMethod("mdBRIEF-128-noori", DescriptorKind::MdBrief, 128, false, af),
+      briefFamilyMethod("mdBRIEF-256-noori", DescriptorKind::MdBrief, 256, false, af),
+      briefFamilyMethod("mdBRIEF-512-noori", DescriptorKind::MdBrief, 512, false, af)};
   if (!withStudies) return m;
   // Length study with the default set.
   for (int bits : {32, 64})
-    m.push_back(briefFamilyMethod("dBRIEF-" + std::to_string(bits), MethodFamily::DBrief, bits, true, af));
+    m.push_back(briefFamilyMethod("dBRIEF-" + std::to_string(bits), DescriptorKind::DBrief, bits, true, af));
   const auto study = testSetStudyMethods(builtinTestSetNames());
   m.insert(m.end(), study.begin(), study.end());
   return m;
@@ -65,10 +65,10 @@ std::vector<MethodSpec> testSetStudyMethods(const std::vector<std::string>& test
   for (const auto& set : testSets) {
     const int size = static_cast<int>(resolveTestSet(set).tests.size());
     const std::string label = std::filesystem::path(set).extension() == ".json" ? std::filesystem::path(set).stem().string() : set;
-    for (const auto& [prefix, family] : {std::pair{"dBRIEF-", MethodFamily::DBrief}, std::pair{"mdBRIEF-", MethodFamily::MdBrief}})
+    for (const auto& [prefix, kind] : {std::pair{"dBRIEF-", DescriptorKind::DBrief}, std::pair{"mdBRIEF-", DescriptorKind::MdBrief}})
       for (int bits : {128, 256, 512})
         if (bits <= size)
-          m.push_back(briefFamilyMethod(prefix + std::to_string(bits) + "@" + label, family, bits, true,
+          m.push_back(briefFamilyMethod(prefix + std::to_string(bits) + "@" + label, kind, bits, true,
                                         DistortionForm::Affine, DescriptorOptions{}.maskRotationDeg, set));
   }
   return m;
@@ -87,10 +87,10 @@ KeypointSource parseKeypointSource(const std::string& name) {
 std::vector<MethodSpec> supportScaleStudyMethods(const std::vector<double>& scales) {
   std::vector<MethodSpec> m;
   for (double scale : scales)
-    for (const auto& [prefix, family] : {std::pair{"dBRIEF-256-s", MethodFamily::DBrief}, std::pair{"mdBRIEF-256-s", MethodFamily::MdBrief}}) {
+    for (const auto& [prefix, kind] : {std::pair{"dBRIEF-256-s", DescriptorKind::DBrief}, std::pair{"mdBRIEF-256-s", DescriptorKind::MdBrief}}) {
       char label[32];
       std::snprintf(label, sizeof label, "%s%g", prefix, scale);
-      MethodSpec spec = briefFamilyMethod(label, family, 256, true);
+      MethodSpec spec = briefFamilyMethod(label, kind, 256, true);
       spec.options.supportScale = scale;
       m.push_back(spec);
     }
@@ -102,7 +102,7 @@ std::vector<cv::KeyPoint> detectKeypoints(KeypointSource source, const cv::Mat& 
   if (source == KeypointSource::ModOrb || source == KeypointSource::Hessian) {
     o.method = source == KeypointSource::Hessian ? DetectorMethod::Hessian : DetectorMethod::ModOrb;
     o.nfeatures = count;
-    return Detector(o, camera).detect(image);
+    return Detector(camera, o).detect(image);
   }
   cv::Ptr<cv::Feature2D> detector;
   switch (source) {

@@ -90,12 +90,12 @@ std::vector<int> distributionPairs(int views) {
 }
 
 std::vector<MethodSpec> projectedMethods(const SimOptions& o) {
-  return {briefFamilyMethod("BRIEF", MethodFamily::Brief, o.bits, false),
-          briefFamilyMethod("dBRIEF", MethodFamily::DBrief, o.bits, false, DistortionForm::Paper),
-          briefFamilyMethod("dBRIEF-affine", MethodFamily::DBrief, o.bits, false, DistortionForm::Affine),
-          briefFamilyMethod("mBRIEF", MethodFamily::MaskedBrief, o.bits, false, DistortionForm::Affine, o.maskDeg),
-          briefFamilyMethod("mdBRIEF", MethodFamily::MdBrief, o.bits, false, DistortionForm::Paper, o.maskDeg),
-          briefFamilyMethod("mdBRIEF-affine", MethodFamily::MdBrief, o.bits, false, DistortionForm::Affine, o.maskDeg)};
+  return {briefFamilyMethod("BRIEF", DescriptorKind::Brief, o.bits, false),
+          briefFamilyMethod("dBRIEF", DescriptorKind::DBrief, o.bits, false, DistortionForm::Paper),
+          briefFamilyMethod("dBRIEF-affine", DescriptorKind::DBrief, o.bits, false, DistortionForm::Affine),
+          briefFamilyMethod("mBRIEF", DescriptorKind::MaskedBrief, o.bits, false, DistortionForm::Affine, o.maskDeg),
+          briefFamilyMethod("mdBRIEF", DescriptorKind::MdBrief, o.bits, false, DistortionForm::Paper, o.maskDeg),
+          briefFamilyMethod("mdBRIEF-affine", DescriptorKind::MdBrief, o.bits, false, DistortionForm::Affine, o.maskDeg)};
 }
 
 // Descriptors of the projected plane points in one view, per method.
@@ -280,23 +280,22 @@ void runDetectedVariant(const SimCamera& sc, const SimOptions& o, const std::str
   PlaneScene scene{loadEvaluationImage(o.texturePath), kLargeTexel};
   const double defaultMask = DescriptorOptions{}.maskRotationDeg;
   std::vector<MethodSpec> methods{
-      briefFamilyMethod("BRIEF", MethodFamily::Brief, o.bits, oriented),
-      briefFamilyMethod("mBRIEF", MethodFamily::MaskedBrief, o.bits, oriented, DistortionForm::Affine, defaultMask),
-      briefFamilyMethod("dBRIEF-paper", MethodFamily::DBrief, o.bits, oriented, DistortionForm::Paper),
-      briefFamilyMethod("dBRIEF-affine", MethodFamily::DBrief, o.bits, oriented, DistortionForm::Affine)};
-  for (const char* form : {"paper", "affine"})
+      briefFamilyMethod("BRIEF", DescriptorKind::Brief, o.bits, oriented),
+      briefFamilyMethod("mBRIEF", DescriptorKind::MaskedBrief, o.bits, oriented, DistortionForm::Affine, defaultMask),
+      briefFamilyMethod("dBRIEF-paper", DescriptorKind::DBrief, o.bits, oriented, DistortionForm::Paper),
+      briefFamilyMethod("dBRIEF-affine", DescriptorKind::DBrief, o.bits, oriented, DistortionForm::Affine)};
+  for (const DistortionForm form : {DistortionForm::Paper, DistortionForm::Affine})
     for (double a : o.maskAngles) {
       char name[64];
-      std::snprintf(name, sizeof name, "mdBRIEF-%s-%g", form, a);
-      methods.push_back(briefFamilyMethod(name, MethodFamily::MdBrief, o.bits, oriented,
-                                          std::string(form) == "paper" ? DistortionForm::Paper : DistortionForm::Affine, a));
+      std::snprintf(name, sizeof name, "mdBRIEF-%s-%g", toString(form).c_str(), a);
+      methods.push_back(briefFamilyMethod(name, DescriptorKind::MdBrief, o.bits, oriented, form, a));
     }
   if (oriented) {
     // The same descriptors with the detector's angle (measured on a disc of the distorted
     // image) instead of the one re-measured on the tangent plane.
-    for (MethodSpec m : {methods[3], briefFamilyMethod("mdBRIEF-affine", MethodFamily::MdBrief, o.bits, true,
+    for (MethodSpec m : {methods[3], briefFamilyMethod("mdBRIEF-affine", DescriptorKind::MdBrief, o.bits, true,
                                                        DistortionForm::Affine, defaultMask)}) {
-      m.name += m.family == MethodFamily::MdBrief ? "-" + std::to_string(static_cast<int>(defaultMask)) + "-kp" : "-kp";
+      m.name += m.options.kind == DescriptorKind::MdBrief ? "-" + std::to_string(static_cast<int>(defaultMask)) + "-kp" : "-kp";
       m.options.orientation = OrientationSource::Keypoint;
       methods.push_back(m);
     }
@@ -304,7 +303,7 @@ void runDetectedVariant(const SimCamera& sc, const SimOptions& o, const std::str
   const size_t nm = methods.size();
   DetectorOptions dopt;
   dopt.nfeatures = o.detectedKeypoints;
-  const Detector detector(dopt, sc.camera);
+  const Detector detector(sc.camera, dopt);
 
   // Reference view faces the plane; the last view is translated, yawed, pitched and rolled so
   // the reference view's centre is seen close to the rim (about 78 degrees off-axis).
@@ -403,15 +402,16 @@ void runDetectedVariant(const SimCamera& sc, const SimOptions& o, const std::str
       lastView = k + 1, lastRate = rate, lastBc = bhattacharyya(hm, hn), lastMatch = meanMatch;
     }
     const auto& opt = methods[m].options;
-    const bool distorted = methods[m].family == MethodFamily::DBrief || methods[m].family == MethodFamily::MdBrief;
-    const std::string orientation = !oriented                                             ? "none"
-                                    : distorted && opt.orientation == OrientationSource::TangentPlane ? "tangent-plane"
-                                                                                          : "keypoint";
+    // BRIEF and masked BRIEF always use the keypoint's angle (OrientationSource::TangentPlane
+    // applies to the distorted kinds only).
+    const bool distorted = isDistorted(methods[m]);
+    const std::string orientation =
+        !oriented ? "none" : toString(distorted ? opt.orientation : OrientationSource::Keypoint);
     summary.row()
         .add(methods[m].name)
-        .add(std::string(distorted ? (opt.form == DistortionForm::Paper ? "paper" : "affine") : "none"))
+        .add(distorted ? toString(opt.form) : std::string("none"))
         .add(orientation)
-        .add(isMasked(methods[m].family) ? opt.maskRotationDeg : 0.0)
+        .add(isMasked(methods[m]) ? opt.maskRotationDeg : 0.0)
         .add(used)
         .add(used ? sumRate / used : 0.0)
         .add(rimCount ? sumRim / rimCount : 0.0)

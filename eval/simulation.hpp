@@ -37,7 +37,7 @@ struct SimOptions {
   int views = 40;                     // positions of the distance-evolution path
   int recognitionViews = 10;          // views of the recognition / distribution sequence
   int keypoints = 200;                // ORB keypoints on the texture (projected experiment)
-  int bits = 256;
+  int bits = DescriptorOptions{}.bits;
   double maskDeg = DescriptorOptions{}.maskRotationDeg;  // mask angle of the projected experiment
   // Detected experiment.
   int detectedViews = 10;

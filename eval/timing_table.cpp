@@ -42,9 +42,9 @@ std::vector<Pipeline> pipelines(const CameraPtr& camera, int n) {
   auto sift = cv::SIFT::create(n);
   DetectorOptions dopt;
   dopt.nfeatures = n;
-  auto modOrb = std::make_shared<Detector>(dopt, camera);
+  auto modOrb = std::make_shared<Detector>(camera, dopt);
   dopt.method = DetectorMethod::Hessian;
-  auto hessian = std::make_shared<Detector>(dopt, camera);
+  auto hessian = std::make_shared<Detector>(camera, dopt);
   auto extractor = [camera](DescriptorKind kind) {
     DescriptorOptions o;
     o.kind = kind;
@@ -64,7 +64,7 @@ std::vector<Pipeline> pipelines(const CameraPtr& camera, int n) {
     return [f](const cv::Mat& img, std::vector<cv::KeyPoint>& k, cv::Mat& d, cv::Mat&) { f->compute(img, k, d); };
   };
   auto ours = [](std::shared_ptr<DescriptorExtractor> e) {
-    return [e](const cv::Mat& img, std::vector<cv::KeyPoint>& k, cv::Mat& d, cv::Mat& m) { e->compute(img, k, d, &m); };
+    return [e](const cv::Mat& img, std::vector<cv::KeyPoint>& k, cv::Mat& d, cv::Mat& m) { e->compute(img, k, d, m); };
   };
   auto cvMatch = [](int norm) {
     return [norm](const cv::Mat& a, const cv::Mat&, const cv::Mat& b, const cv::Mat&) {

@@ -132,10 +132,12 @@ TEST(Brief, KeypointsFromOutsideAreDescribedBySizeOrDropped) {
 // two sizes fall on; supportScale scales it the same way.
 TEST(Brief, FootprintIsProportionalToTheKeypointSize) {
   const TestSet tests = randomTests(256, 6);
+  const ImagePyramid pyramid(cv::Mat(600, 800, CV_8UC1, cv::Scalar(0)), PyramidOptions{});
   const auto spread = [&](float size, double supportScale) {
     auto o = briefOptions(256);
     o.supportScale = supportScale;
-    const auto pos = DescriptorExtractor(nullptr, o, tests).testPositions(cv::KeyPoint(400, 300, size, 30, 1, 0));
+    const auto pos =
+        DescriptorExtractor(nullptr, o, tests).testPositions(pyramid, cv::KeyPoint(400, 300, size, 30, 1, 0));
     EXPECT_EQ(pos.size(), 256u);
     double sum = 0;
     for (const auto& [p1, p2] : pos) sum += cv::norm(p1 - cv::Point2f(400, 300)) + cv::norm(p2 - cv::Point2f(400, 300));
@@ -148,6 +150,31 @@ TEST(Brief, FootprintIsProportionalToTheKeypointSize) {
   auto bad = briefOptions(256);
   bad.supportScale = 0;
   EXPECT_THROW(DescriptorExtractor(nullptr, bad, tests), std::invalid_argument);
+}
+
+// testPositions() is empty exactly for the keypoints compute() drops: near the border some of
+// the (rotated) tests leave the level although every point can be placed.
+TEST(Brief, TestPositionsAreEmptyExactlyWhenComputeDropsTheKeypoint) {
+  const TestSet tests = randomTests(256, 8);
+  const ImagePyramid pyramid(horizontalRamp(), PyramidOptions{});
+  for (const DescriptorKind kind : {DescriptorKind::Brief, DescriptorKind::MaskedBrief}) {
+    auto o = briefOptions(256);
+    o.kind = kind;
+    const DescriptorExtractor extractor(nullptr, o, tests);
+    int dropped = 0, kept = 0;
+    for (float x = 2.f; x < 40.f; x += 1.f)
+      for (const float angle : {0.f, 45.f}) {
+        std::vector<cv::KeyPoint> one{cv::KeyPoint(x, 128.f, 31.f, angle)};
+        cv::Mat descriptors;
+        extractor.compute(pyramid, one, descriptors);
+        const bool described = one.size() == 1;
+        EXPECT_EQ(extractor.testPositions(pyramid, cv::KeyPoint(x, 128.f, 31.f, angle)).empty(), !described)
+            << "x " << x << " angle " << angle;
+        ++(described ? kept : dropped);
+      }
+    EXPECT_GT(dropped, 0);
+    EXPECT_GT(kept, 0);
+  }
 }
 
 TEST(Brief, InvalidOptionsAreRejected) {
@@ -179,8 +206,8 @@ TEST(MaskedBrief, IsBriefPlusTheAgreementOfThreeRotationsOnARamp) {
   const DescriptorExtractor masked(nullptr, o, tests);
   std::vector<cv::KeyPoint> kb{cv::KeyPoint(128.f, 127.f, 31.f, 40.f, 1.f, 0)}, km = kb;
   cv::Mat db, dm, mb, mm;
-  brief.compute(horizontalRamp(), kb, db, &mb);
-  masked.compute(horizontalRamp(), km, dm, &mm);
+  brief.compute(horizontalRamp(), kb, db, mb);
+  masked.compute(horizontalRamp(), km, dm, mm);
   ASSERT_EQ(dm.rows, 1);
   EXPECT_TRUE(mb.empty());
   EXPECT_EQ(cv::norm(db, dm, cv::NORM_HAMMING), 0.0);

@@ -47,7 +47,7 @@ Described describe(const cv::Mat& img, CameraPtr camera, DescriptorKind kind, Di
   o.form = form;
   o.orientation = source;
   Described d{kps, {}, {}};
-  DescriptorExtractor(std::move(camera), o).compute(img, d.keypoints, d.descriptors, &d.masks);
+  DescriptorExtractor(std::move(camera), o).compute(img, d.keypoints, d.descriptors, d.masks);
   return d;
 }
 
@@ -203,7 +203,7 @@ TEST(MdBriefMask, EqualsTheAgreementOfTheThreeRotationsOnARamp) {
   const DescriptorExtractor ex(std::make_shared<PinholeCamera>(k), o);
   std::vector<cv::KeyPoint> kps{cv::KeyPoint(127.5f, 127.5f, 31.f, 40.f, 1.f, 0)};
   cv::Mat desc, masks;
-  ex.compute(ramp, kps, desc, &masks);
+  ex.compute(ramp, kps, desc, masks);
   ASSERT_EQ(masks.rows, 1);
   const auto dx = [](const TestPair& t, double deg) {
     const double a = deg * CV_PI / 180.0;

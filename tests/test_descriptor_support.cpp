@@ -45,7 +45,7 @@ TEST(DescriptorSupport, OrbAndModOrbKeypointsGiveTheOctaveBasedDescriptorsBitFor
   cv::resize(img, image, cam->imageSize());
   std::vector<cv::KeyPoint> orb;
   cv::ORB::create(1000)->detect(image, orb);
-  const std::vector<cv::KeyPoint> own = Detector(DetectorOptions{}, cam).detect(image);
+  const std::vector<cv::KeyPoint> own = Detector(cam).detect(image);
   // kind, keypoints -> digest of descriptors and masks (brief_random_512, 256 bits)
   const char* expected[3][2] = {{"075eebb2b3b266d2", "395ebc9cc15b61d1"},
                                 {"10b7822bd4d803db", "2b1af383c20dad3f"},
@@ -58,7 +58,7 @@ TEST(DescriptorSupport, OrbAndModOrbKeypointsGiveTheOctaveBasedDescriptorsBitFor
       o.pattern = "brief_random_512";
       auto kps = s == 0 ? orb : own;
       cv::Mat d, m;
-      DescriptorExtractor(cam, o).compute(image, kps, d, &m);
+      DescriptorExtractor(cam, o).compute(image, kps, d, m);
       EXPECT_EQ(kps.size(), 1000u);
       EXPECT_EQ(digest(d, m), expected[k][s]) << "kind " << k << (s == 0 ? " cv::ORB" : " modORB");
     }

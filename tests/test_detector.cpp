@@ -118,7 +118,7 @@ TEST(DetectorOptions, InvalidOptionsAreNamed) {
   const auto problem = [](const std::function<void(DetectorOptions&)>& change) {
     DetectorOptions options;
     change(options);
-    return messageOf([&] { Detector detector(options); });
+    return messageOf([&] { Detector detector(nullptr, options); });
   };
   EXPECT_NE(problem([](auto& o) { o.nfeatures = 0; }).find("nfeatures"), std::string::npos);
   EXPECT_NE(problem([](auto& o) { o.pyramid.levels = 0; }).find("levels"), std::string::npos);
@@ -128,7 +128,7 @@ TEST(DetectorOptions, InvalidOptionsAreNamed) {
   EXPECT_NE(problem([](auto& o) { o.harrisBlockSize = 6; }).find("harrisBlockSize"), std::string::npos);
   EXPECT_NE(problem([](auto& o) { o.harrisK = -1; }).find("harrisK"), std::string::npos);
   EXPECT_NE(problem([](auto& o) { o.borderMargin = 10; }).find("borderMargin"), std::string::npos);
-  EXPECT_NO_THROW(Detector(DetectorOptions{}));
+  EXPECT_NO_THROW(Detector(nullptr, DetectorOptions{}));
 }
 
 TEST(Detector, BadInputIsRejectedWithAReason) {
@@ -146,7 +146,7 @@ TEST(Detector, BadInputIsRejectedWithAReason) {
   other.scaleFactor = 1.5;
   EXPECT_NE(messageOf([&] { detector.detect(mdbrief::ImagePyramid(image, other)); }).find("scaleFactor"),
             std::string::npos);
-  const Detector withCamera({}, std::make_shared<DiscCamera>(cv::Size(200, 100), cv::Point2d(100, 50), 50));
+  const Detector withCamera(std::make_shared<DiscCamera>(cv::Size(200, 100), cv::Point2d(100, 50), 50));
   EXPECT_NE(messageOf([&] { withCamera.detect(image); }).find("camera"), std::string::npos);
 }
 
@@ -165,7 +165,7 @@ TEST(Detector, CountPropertiesAndOrderOnATexturedImage) {
   for (const int nfeatures : {300, 1000}) {
     DetectorOptions options;
     options.nfeatures = nfeatures;
-    const std::vector<cv::KeyPoint> keypoints = Detector(options).detect(image);
+    const std::vector<cv::KeyPoint> keypoints = Detector(nullptr, options).detect(image);
     EXPECT_LE(static_cast<int>(keypoints.size()), nfeatures);
     EXPECT_GT(static_cast<double>(keypoints.size()), 0.8 * nfeatures);
     const mdbrief::ImagePyramid pyramid(image, options.pyramid);
@@ -205,7 +205,7 @@ TEST(Detector, SameInputGivesIdenticalKeypoints) {
       DetectorOptions options;
       options.spread = spread;
       options.corners = corners;
-      const Detector detector(options);
+      const Detector detector(nullptr, options);
       const std::vector<cv::KeyPoint> first = detector.detect(image);
       const std::vector<cv::KeyPoint> second = detector.detect(image.clone());
       ASSERT_FALSE(first.empty());
@@ -228,7 +228,7 @@ TEST(Detector, KeypointsWithoutAnglesAreTheSameKeypoints) {
   for (const auto method : {mdbrief::DetectorMethod::ModOrb, mdbrief::DetectorMethod::Hessian}) {
     DetectorOptions options;
     options.method = method;
-    const Detector detector(options);
+    const Detector detector(nullptr, options);
     const mdbrief::ImagePyramid pyramid(image, options.pyramid);
     const std::vector<cv::KeyPoint> with = detector.detect(pyramid);
     std::vector<cv::KeyPoint> without = detector.detect(pyramid, {}, false);
@@ -249,7 +249,7 @@ TEST(Detector, FallbackThresholdFindsCornersOnLowContrastImages) {
   image.convertTo(faint, CV_8U, 0.2, 100);
   DetectorOptions strict;
   strict.fallbackThreshold = strict.threshold;
-  const size_t withoutFallback = Detector(strict).detect(faint).size();
+  const size_t withoutFallback = Detector(nullptr, strict).detect(faint).size();
   const size_t withFallback = Detector().detect(faint).size();
   std::printf("low contrast: %zu keypoints without fallback, %zu with\n", withoutFallback, withFallback);
   EXPECT_GT(withFallback, withoutFallback + 200);
@@ -267,9 +267,9 @@ TEST(Detector, SpreadingCoversMoreOfTheImage) {
   };
   DetectorOptions options;
   options.nfeatures = 500;
-  const double plain = coverage(Detector(options).detect(image));
+  const double plain = coverage(Detector(nullptr, options).detect(image));
   options.spread = true;
-  const std::vector<cv::KeyPoint> spreadKeypoints = Detector(options).detect(image);
+  const std::vector<cv::KeyPoint> spreadKeypoints = Detector(nullptr, options).detect(image);
   const double spread = coverage(spreadKeypoints);
   std::printf("coverage of 40x40 cells: %.3f strongest, %.3f spread\n", plain, spread);
   EXPECT_GT(spread, plain + 0.05);
@@ -314,7 +314,7 @@ TEST(Detector, KeypointsKeepThePatchInsideTheCameraValidArea) {
   REQUIRE_IMAGE(image);
   const cv::Point2d centre(400, 320);
   const double radius = 300;
-  const Detector detector({}, std::make_shared<DiscCamera>(image.size(), centre, radius));
+  const Detector detector(std::make_shared<DiscCamera>(image.size(), centre, radius));
   const std::vector<cv::KeyPoint> keypoints = detector.detect(image);
   EXPECT_GT(keypoints.size(), 600u);
   double outermost = 0;
@@ -359,7 +359,7 @@ cv::Mat blobImage(const std::vector<SyntheticBlob>& blobs) {
 
 TEST(HessianDetector, FindsBlobsAtTheirSubPixelPositionWithSizesInProportion) {
   const std::vector<SyntheticBlob> blobs{{{120.3, 140.6}, 3.0}, {{330.5, 170.2}, 6.0}, {{250.7, 330.4}, 4.5}};
-  const std::vector<cv::KeyPoint> kps = Detector(hessianOptions(20)).detect(blobImage(blobs));
+  const std::vector<cv::KeyPoint> kps = Detector(nullptr, hessianOptions(20)).detect(blobImage(blobs));
   std::vector<float> sizes;
   for (const auto& b : blobs) {
     const auto nearest = std::min_element(kps.begin(), kps.end(), [&](const cv::KeyPoint& a, const cv::KeyPoint& c) {
@@ -382,7 +382,7 @@ TEST(HessianDetector, ScaleFollowsAZoom) {
   const double zoom = 1.5;
   cv::Mat small;
   cv::resize(image, small, cv::Size(), 1 / zoom, 1 / zoom, cv::INTER_AREA);
-  const Detector detector(hessianOptions(500));
+  const Detector detector(nullptr, hessianOptions(500));
   const auto big = detector.detect(image), little = detector.detect(small);
   std::vector<double> ratios;
   for (const auto& k : little) {
@@ -403,7 +403,7 @@ TEST(HessianDetector, BudgetOrderDeterminismAndTheCameraValidArea) {
   REQUIRE_IMAGE(image);
   const cv::Point2d centre(400, 320);
   const double radius = 300;
-  const Detector detector(hessianOptions(400), std::make_shared<DiscCamera>(image.size(), centre, radius));
+  const Detector detector(std::make_shared<DiscCamera>(image.size(), centre, radius), hessianOptions(400));
   const auto keypoints = detector.detect(image);
   EXPECT_EQ(keypoints.size(), 400u);
   EXPECT_TRUE(identical(keypoints, detector.detect(image)));
@@ -430,9 +430,9 @@ TEST(HessianDetector, SpreadKeepsTheBudgetAndCoversMoreCells) {
   const cv::Mat image = textured();
   REQUIRE_IMAGE(image);
   DetectorOptions o = hessianOptions(300);
-  const auto strongest = Detector(o).detect(image);
+  const auto strongest = Detector(nullptr, o).detect(image);
   o.spread = true;
-  const auto spread = Detector(o).detect(image);
+  const auto spread = Detector(nullptr, o).detect(image);
   EXPECT_LE(spread.size(), 300u);
   EXPECT_GT(spread.size(), 250u);
   const auto cells = [&](const std::vector<cv::KeyPoint>& kps) {
@@ -446,13 +446,13 @@ TEST(HessianDetector, SpreadKeepsTheBudgetAndCoversMoreCells) {
 TEST(HessianDetector, InvalidOptionsAreNamed) {
   DetectorOptions o = hessianOptions(100);
   o.hessianSigma = 0.1;
-  EXPECT_NE(messageOf([&] { Detector d(o); }).find("hessianSigma"), std::string::npos);
+  EXPECT_NE(messageOf([&] { Detector d(nullptr, o); }).find("hessianSigma"), std::string::npos);
   o = hessianOptions(100);
   o.hessianThreshold = -1;
-  EXPECT_NE(messageOf([&] { Detector d(o); }).find("hessianThreshold"), std::string::npos);
+  EXPECT_NE(messageOf([&] { Detector d(nullptr, o); }).find("hessianThreshold"), std::string::npos);
   o = hessianOptions(100);
   o.pyramid.levels = 2;
-  EXPECT_NE(messageOf([&] { Detector d(o); }).find("pyramid.levels must be >= 3"), std::string::npos);
+  EXPECT_NE(messageOf([&] { Detector d(nullptr, o); }).find("pyramid.levels must be >= 3"), std::string::npos);
 }
 
 // --- orientation ---
@@ -470,7 +470,7 @@ TEST(Detector, OrientationPointsAlongTheBisectorOfAWedge) {
     image.at<uchar>(apex) = 255;
     DetectorOptions options;
     options.pyramid.levels = 1;
-    const std::vector<cv::KeyPoint> keypoints = Detector(options).detect(image);
+    const std::vector<cv::KeyPoint> keypoints = Detector(nullptr, options).detect(image);
     const auto nearest = std::min_element(keypoints.begin(), keypoints.end(), [&](auto& a, auto& b) {
       return cv::norm(a.pt - cv::Point2f(apex)) < cv::norm(b.pt - cv::Point2f(apex));
     });
@@ -550,7 +550,7 @@ void expectAtLeastOrbRepeatability(const Pair& pair) {
     for (const auto corners : {mdbrief::CornerDetector::Fast, mdbrief::CornerDetector::Agast}) {
       options.spread = spread;
       options.corners = corners;
-      const Detector detector(options);
+      const Detector detector(nullptr, options);
       const auto ours1 = detector.detect(pair.first), ours2 = detector.detect(pair.second);
       const double ourRate = repeatability(ours1, ours2, pair.h, pair.second.size());
       std::printf("%s repeatability within 3 px: ours (%s, %s) %.3f (%zu/%zu keypoints), cv::ORB %.3f (%zu/%zu)\n",
@@ -591,7 +591,7 @@ namespace mdbrief {
 namespace {
 
 // firstLevel > 0 adds enlarged levels: keypoints found there are smaller than the patch at the
-// input scale, stay inside the input image, and the descriptor (same pyramid options) can
+// input scale, stay inside the input image, and the descriptor (on the same pyramid) can
 // describe them.
 TEST(Detector, FirstLevelAddsEnlargedLevelsTheDescriptorUnderstands) {
   const auto doc = testing::opencvDocDataDir();
@@ -601,7 +601,7 @@ TEST(Detector, FirstLevelAddsEnlargedLevelsTheDescriptorUnderstands) {
   DetectorOptions options;
   options.pyramid.firstLevel = 1;
   const ImagePyramid pyramid(image, options.pyramid);
-  const std::vector<cv::KeyPoint> keypoints = Detector(options).detect(pyramid);
+  const std::vector<cv::KeyPoint> keypoints = Detector(nullptr, options).detect(pyramid);
   int enlarged = 0;
   for (const cv::KeyPoint& kp : keypoints) {
     ASSERT_TRUE(kp.pt.x >= 0 && kp.pt.y >= 0 && kp.pt.x < image.cols && kp.pt.y < image.rows);
@@ -613,7 +613,6 @@ TEST(Detector, FirstLevelAddsEnlargedLevelsTheDescriptorUnderstands) {
   EXPECT_GT(enlarged, 50);
   DescriptorOptions descriptor;
   descriptor.kind = DescriptorKind::Brief;
-  descriptor.pyramid = options.pyramid;
   std::vector<cv::KeyPoint> described = keypoints;
   cv::Mat descriptors;
   DescriptorExtractor(nullptr, descriptor).compute(pyramid, described, descriptors);

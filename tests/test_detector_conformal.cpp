@@ -50,7 +50,7 @@ TEST(ConformalDetection, KeypointsKeepTheBudgetTheValidAreaTheMaskAndRepeat) {
     options.method = method;
     options.nfeatures = 500;
     options.conformal = true;
-    const Detector detector(options, camera);
+    const Detector detector(camera, options);
     const std::vector<cv::KeyPoint> keypoints = detector.detect(image);
     // A quarter more are detected on the view, so losses on the way back do not eat the budget.
     EXPECT_EQ(keypoints.size(), 500u);
@@ -96,9 +96,9 @@ TEST(ConformalDetection, ANarrowPinholeGivesThePlainKeypoints) {
     DetectorOptions options;
     options.method = method;
     options.nfeatures = 300;
-    const std::vector<cv::KeyPoint> plain = Detector(options, camera).detect(image);
+    const std::vector<cv::KeyPoint> plain = Detector(camera, options).detect(image);
     options.conformal = true;
-    const std::vector<cv::KeyPoint> conformal = Detector(options, camera).detect(image);
+    const std::vector<cv::KeyPoint> conformal = Detector(camera, options).detect(image);
     ASSERT_EQ(conformal.size(), plain.size());
     // Resampling the view moves responses a little, so not every keypoint survives; those that
     // do must sit on their plain counterpart with its size.

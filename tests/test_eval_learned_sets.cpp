@@ -82,7 +82,7 @@ TEST(LearnedSets, EvaluationRefusesASetTrainedOnItsImages) {
     for (int i = 0; i < 32; ++i) t += (i ? ", " : "") + std::string("[0, 0, 1, ") + std::to_string(i % 14 + 1) + "]";
     return t;
   }() << R"(], "training_images": [")" << train::imageFileDigest(graf) << R"("]})";
-  const std::vector<MethodSpec> methods{briefFamilyMethod("dBRIEF-32@contaminated", MethodFamily::DBrief, 32, true,
+  const std::vector<MethodSpec> methods{briefFamilyMethod("dBRIEF-32@contaminated", DescriptorKind::DBrief, 32, true,
                                                           DistortionForm::Affine, 20.0, json.string())};
   try {
     requireDisjointTraining(methods, {graf.string()});
@@ -113,9 +113,9 @@ TEST(LearnedSets, DefaultBeatsRandomOnHeldOutOxford) {
   ASSERT_EQ(group.sequences.size(), kOxfordSequences.size());
   const std::string learned = defaultTestSetName(), random = "brief_random_512";
   const std::vector<MethodSpec> methods{
-      briefFamilyMethod("learned-256", MethodFamily::MdBrief, 256, true, DistortionForm::Affine, 20.0, learned),
-      briefFamilyMethod("learned-128", MethodFamily::MdBrief, 128, true, DistortionForm::Affine, 20.0, learned),
-      briefFamilyMethod("random-256", MethodFamily::MdBrief, 256, true, DistortionForm::Affine, 20.0, random)};
+      briefFamilyMethod("learned-256", DescriptorKind::MdBrief, 256, true, DistortionForm::Affine, 20.0, learned),
+      briefFamilyMethod("learned-128", DescriptorKind::MdBrief, 128, true, DistortionForm::Affine, 20.0, learned),
+      briefFamilyMethod("random-256", DescriptorKind::MdBrief, 256, true, DistortionForm::Affine, 20.0, random)};
   ASSERT_NO_THROW(requireDisjointTraining(methods, paths));
   mdbrief::testing::TempDir out("learned");
   PrOptions o;

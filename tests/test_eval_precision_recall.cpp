@@ -157,8 +157,8 @@ TEST(EvalPrecisionRecall, UserSequenceMapsThroughBearingHomographies) {
 
   DetectorOptions dopt;
   dopt.nfeatures = 300;
-  const Detector det(dopt, cam);
-  const MethodSpec brief = briefFamilyMethod("BRIEF", MethodFamily::Brief, 256, true);
+  const Detector det(cam, dopt);
+  const MethodSpec brief = briefFamilyMethod("BRIEF", DescriptorKind::Brief, 256, true);
   const Features fa = describe(brief, seq.images[0], cam, det.detect(seq.images[0]));
   const Features fb = describe(brief, seq.images[1], cam, det.detect(seq.images[1]));
   const PairMatches m = matchPair(fa, fb, seq.pairs[0].map);

@@ -67,8 +67,8 @@ std::map<int, double> distances(const Scene& s, const View& a, const View& b, De
   const DescriptorExtractor ex(s.camera, o);
   auto ka = a.keypoints, kb = b.keypoints;
   cv::Mat da, db, ma, mb;
-  ex.compute(a.image, ka, da, &ma);
-  ex.compute(b.image, kb, db, &mb);
+  ex.compute(a.image, ka, da, ma);
+  ex.compute(b.image, kb, db, mb);
   std::map<int, int> rowOfB;
   for (size_t j = 0; j < kb.size(); ++j) rowOfB[kb[j].class_id] = static_cast<int>(j);
   std::map<int, double> out;

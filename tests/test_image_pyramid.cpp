@@ -1,7 +1,10 @@
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -120,6 +123,36 @@ TEST(ImagePyramid, PrepareSmoothedFillsTheLevelsUpToMaxLevel) {
   pyramid.prepareSmoothed(-1);
   EXPECT_EQ(pyramid.smoothed(2).data, before);  // already prepared: not recomputed
   EXPECT_FALSE(pyramid.smoothed(pyramid.levels() - 1).empty());
+}
+
+// Threads that ask for the same level at once all get the finished blur: none sees a level
+// that another thread is still writing, and the level is blurred once (one buffer).
+TEST(ImagePyramid, SmoothedIsSafeFromSeveralThreads) {
+  const ImagePyramid pyramid(noiseImage({1600, 1200}), PyramidOptions{});
+  std::vector<cv::Mat> expected(pyramid.levels());
+  for (int level = 0; level < pyramid.levels(); ++level)
+    cv::GaussianBlur(pyramid.image(level), expected[level], cv::Size(7, 7), 2.0, 2.0, cv::BORDER_REFLECT_101);
+  constexpr int kThreads = 8;
+  std::atomic<int> ready{0};
+  std::vector<std::vector<const uchar*>> seen(kThreads, std::vector<const uchar*>(pyramid.levels()));
+  std::vector<int> wrong(kThreads, 0);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t)
+    threads.emplace_back([&, t] {
+      ++ready;
+      while (ready < kThreads) std::this_thread::yield();
+      for (int level = 0; level < pyramid.levels(); ++level) {
+        const cv::Mat& smoothed = pyramid.smoothed(level);
+        seen[t][level] = smoothed.data;
+        if (smoothed.size() != expected[level].size() || cv::norm(smoothed, expected[level], cv::NORM_INF) != 0)
+          ++wrong[t];
+      }
+    });
+  for (auto& thread : threads) thread.join();
+  for (int t = 0; t < kThreads; ++t) {
+    EXPECT_EQ(wrong[t], 0) << "thread " << t;
+    EXPECT_EQ(seen[t], seen[0]) << "thread " << t;
+  }
 }
 
 TEST(ImagePyramid, RejectsBadInputAndOptions) {

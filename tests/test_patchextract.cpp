@@ -64,7 +64,7 @@ TEST(PatchSampler, PerspectivePatchesGiveTheRuntimeBriefBits) {
   o.kind = DescriptorKind::Brief;
   o.pattern = "brief_random_512";
   DescriptorExtractor extractor(nullptr, o);
-  const ImagePyramid pyramid(img, o.pyramid);
+  const ImagePyramid pyramid(img, PyramidOptions{});
   pyramid.prepareSmoothed(-1);
   cv::Mat desc;
   extractor.compute(pyramid, kps, desc);
@@ -86,7 +86,7 @@ TEST(PatchSampler, FisheyePatchesGiveTheRuntimePaperFormBits) {
   o.form = DistortionForm::Paper;
   o.pattern = "brief_random_512";
   DescriptorExtractor extractor(camera, o);
-  const ImagePyramid pyramid(img, o.pyramid);
+  const ImagePyramid pyramid(img, PyramidOptions{});
   pyramid.prepareSmoothed(-1);
   cv::Mat desc;
   extractor.compute(pyramid, kps, desc);

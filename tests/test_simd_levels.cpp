@@ -60,7 +60,7 @@ TEST(SimdLevel, CapLowersTheActiveLevel) {
 TEST(SimdLevel, DescriptorsAreIdenticalAtEveryLevel) {
   const auto camera = mdbrief::loadCamera((mdbrief::testing::sourceDir() / "configs/cameras/lafida_fisheye0.yaml").string());
   const cv::Mat image = texturedImage(camera->imageSize().width, camera->imageSize().height);
-  const std::vector<cv::KeyPoint> detected = mdbrief::Detector({}, camera).detect(image);
+  const std::vector<cv::KeyPoint> detected = mdbrief::Detector(camera).detect(image);
   ASSERT_GT(detected.size(), 200u);
   for (const auto kind : {mdbrief::DescriptorKind::Brief, mdbrief::DescriptorKind::DBrief,
                           mdbrief::DescriptorKind::MdBrief, mdbrief::DescriptorKind::MaskedBrief}) {
@@ -75,7 +75,7 @@ TEST(SimdLevel, DescriptorsAreIdenticalAtEveryLevel) {
         LevelCap cap(level);
         std::vector<cv::KeyPoint> keypoints = detected;
         cv::Mat desc, masks;
-        extractor.compute(image, keypoints, desc, &masks);
+        extractor.compute(image, keypoints, desc, masks);
         if (level == SimdLevel::Portable) {
           refKeypoints = keypoints, refDesc = desc, refMasks = masks;
           ASSERT_GT(desc.rows, 100);

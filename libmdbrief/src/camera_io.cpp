@@ -174,77 +174,172 @@ CameraIntrinsics readIntrinsics(const YamlReader& r, int width, int height) {
   return {width, height, r.number("fx"), r.number("fy"), r.number("cx"), r.number("cy")};
 }
 
+// Writers get the camera as the model's class (a model name another class claims is unsupported).
+template <class CameraType>
+const CameraType& as(const Camera& camera) {
+  if (const auto* c = dynamic_cast<const CameraType*>(&camera)) return *c;
+  throw std::invalid_argument("cameraToYaml: unsupported camera model '" + camera.modelName() + "'");
+}
+
+void emitIntrinsics(YAML::Emitter& out, const CameraIntrinsics& k) {
+  out << YAML::Key << "fx" << YAML::Value << k.fx << YAML::Key << "fy" << YAML::Value << k.fy
+      << YAML::Key << "cx" << YAML::Value << k.cx << YAML::Key << "cy" << YAML::Value << k.cy;
+}
+
+void emitList(YAML::Emitter& out, const char* key, const std::vector<double>& values) {
+  out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (const double v : values) out << v;
+  out << YAML::EndSeq;
+}
+
+// One registration per camera model: its name in the project YAML, its keys there (besides
+// model, width and height), how they are read and written (in this order, the file format),
+// and the distortion keys (besides fx fy cx cy, same names) that name it in a
+// fisheye-calib-adapter file. Adding a model is adding an entry.
+struct ModelFormat {
+  const char* name;
+  std::set<std::string> keys;
+  std::shared_ptr<Camera> (*read)(const std::string& path, const YamlReader& r, int width, int height);
+  void (*write)(const Camera& camera, YAML::Emitter& out);
+  std::vector<std::set<std::string>> adapterKeys;
+};
+
+// The order is the one error messages list the models in.
+const std::vector<ModelFormat>& modelFormats() {
+  static const std::vector<ModelFormat> formats = {
+      {"pinhole", {"fx", "fy", "cx", "cy"},
+       [](const std::string& path, const YamlReader& r, int width, int height) {
+         return construct<PinholeCamera>(path, readIntrinsics(r, width, height));
+       },
+       [](const Camera& camera, YAML::Emitter& out) { emitIntrinsics(out, as<PinholeCamera>(camera).intrinsics()); },
+       {std::set<std::string>{}}},  // fx fy cx cy only
+      {"radial", {"fx", "fy", "cx", "cy", "xi", "unit_px"},
+       [](const std::string& path, const YamlReader& r, int width, int height) {
+         RadialParams p;
+         p.intrinsics = readIntrinsics(r, width, height);
+         p.xi = r.number("xi");
+         p.unitPx = r.number("unit_px", p.unitPx);
+         return construct<RadialCamera>(path, p);
+       },
+       [](const Camera& camera, YAML::Emitter& out) {
+         const RadialParams& p = as<RadialCamera>(camera).params();
+         emitIntrinsics(out, p.intrinsics);
+         out << YAML::Key << "xi" << YAML::Value << p.xi;
+         out << YAML::Key << "unit_px" << YAML::Value << p.unitPx;
+       },
+       {}},
+      {"ocam", {"forward", "inverse", "c", "d", "e", "u0", "v0", "valid_radius"},
+       [](const std::string& path, const YamlReader& r, int width, int height) {
+         OcamParams p;
+         p.width = width;
+         p.height = height;
+         p.forward = r.numbers("forward");
+         if (r.has("inverse")) p.inverse = r.numbers("inverse");
+         p.c = r.number("c");
+         p.d = r.number("d");
+         p.e = r.number("e");
+         p.u0 = r.number("u0");
+         p.v0 = r.number("v0");
+         p.validRadius = r.number("valid_radius", 0.0);
+         return makeOcam(path, p);
+       },
+       [](const Camera& camera, YAML::Emitter& out) {
+         const OcamParams& p = as<OcamCamera>(camera).params();
+         emitList(out, "forward", p.forward);
+         emitList(out, "inverse", p.inverse);
+         out << YAML::Key << "c" << YAML::Value << p.c << YAML::Key << "d" << YAML::Value << p.d
+             << YAML::Key << "e" << YAML::Value << p.e << YAML::Key << "u0" << YAML::Value << p.u0
+             << YAML::Key << "v0" << YAML::Value << p.v0;
+         if (p.validRadius > 0.0) out << YAML::Key << "valid_radius" << YAML::Value << p.validRadius;
+       },
+       {}},  // the adapter writes OCam in a layout of its own (loadCalibAdapterYaml)
+      {"kannala_brandt", {"fx", "fy", "cx", "cy", "k1", "k2", "k3", "k4"},
+       [](const std::string& path, const YamlReader& r, int width, int height) {
+         const KannalaBrandtParams p{readIntrinsics(r, width, height), r.number("k1"), r.number("k2"),
+                                     r.number("k3"), r.number("k4")};
+         return construct<KannalaBrandtCamera>(path, p);
+       },
+       [](const Camera& camera, YAML::Emitter& out) {
+         const KannalaBrandtParams& p = as<KannalaBrandtCamera>(camera).params();
+         emitIntrinsics(out, p.intrinsics);
+         out << YAML::Key << "k1" << YAML::Value << p.k1 << YAML::Key << "k2" << YAML::Value << p.k2
+             << YAML::Key << "k3" << YAML::Value << p.k3 << YAML::Key << "k4" << YAML::Value << p.k4;
+       },
+       {{"k1", "k2", "k3", "k4"}}},
+      {"double_sphere", {"fx", "fy", "cx", "cy", "xi", "alpha"},
+       [](const std::string& path, const YamlReader& r, int width, int height) {
+         const DoubleSphereParams p{readIntrinsics(r, width, height), r.number("xi"), r.number("alpha")};
+         return construct<DoubleSphereCamera>(path, p);
+       },
+       [](const Camera& camera, YAML::Emitter& out) {
+         const DoubleSphereParams& p = as<DoubleSphereCamera>(camera).params();
+         emitIntrinsics(out, p.intrinsics);
+         out << YAML::Key << "xi" << YAML::Value << p.xi;
+         out << YAML::Key << "alpha" << YAML::Value << p.alpha;
+       },
+       {{"xi", "alpha"}}},
+      {"ucm", {"fx", "fy", "cx", "cy", "alpha"},
+       [](const std::string& path, const YamlReader& r, int width, int height) {
+         const UnifiedParams p{readIntrinsics(r, width, height), r.number("alpha"), 1.0};
+         return construct<UnifiedCamera>(path, p);
+       },
+       [](const Camera& camera, YAML::Emitter& out) {
+         const UnifiedParams& p = as<UnifiedCamera>(camera).params();
+         emitIntrinsics(out, p.intrinsics);
+         out << YAML::Key << "alpha" << YAML::Value << p.alpha;
+       },
+       {{"alpha"}}},
+      {"eucm", {"fx", "fy", "cx", "cy", "alpha", "beta"},
+       [](const std::string& path, const YamlReader& r, int width, int height) {
+         const UnifiedParams p{readIntrinsics(r, width, height), r.number("alpha"), r.number("beta")};
+         return construct<UnifiedCamera>(path, p);
+       },
+       [](const Camera& camera, YAML::Emitter& out) {
+         const UnifiedParams& p = as<UnifiedCamera>(camera).params();
+         emitIntrinsics(out, p.intrinsics);
+         out << YAML::Key << "alpha" << YAML::Value << p.alpha;
+         out << YAML::Key << "beta" << YAML::Value << p.beta;
+       },
+       {{"alpha", "beta"}}},
+      {"radtan", {"fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3"},
+       [](const std::string& path, const YamlReader& r, int width, int height) {
+         const RadTanParams p{readIntrinsics(r, width, height), r.number("k1"), r.number("k2"),
+                              r.number("p1"), r.number("p2"), r.number("k3", 0.0)};
+         return construct<RadTanCamera>(path, p);
+       },
+       [](const Camera& camera, YAML::Emitter& out) {
+         const RadTanParams& p = as<RadTanCamera>(camera).params();
+         emitIntrinsics(out, p.intrinsics);
+         out << YAML::Key << "k1" << YAML::Value << p.k1 << YAML::Key << "k2" << YAML::Value << p.k2
+             << YAML::Key << "p1" << YAML::Value << p.p1 << YAML::Key << "p2" << YAML::Value << p.p2
+             << YAML::Key << "k3" << YAML::Value << p.k3;
+       },
+       {{"k1", "k2", "p1", "p2"}, {"k1", "k2", "k3", "p1", "p2"}}},
+  };
+  return formats;
+}
+
+const ModelFormat* findFormat(const std::string& name) {
+  for (const ModelFormat& format : modelFormats())
+    if (name == format.name) return &format;
+  return nullptr;
+}
+
 std::shared_ptr<Camera> loadProjectYaml(const std::string& path, const YamlReader& r) {
   const YAML::Node modelNode = r.node("model");
   if (!modelNode.IsScalar()) r.fail("model", "must be a model name");
   const std::string model = modelNode.Scalar();
-  const std::set<std::string> common = {"model", "width", "height"};
-  const auto allowed = [&](std::initializer_list<const char*> extra) {
-    std::set<std::string> keys = common;
-    keys.insert(extra.begin(), extra.end());
-    return keys;
-  };
   const int width = r.size("width"), height = r.size("height");
-
-  if (model == "ocam") {
-    r.requireOnly(allowed({"forward", "inverse", "c", "d", "e", "u0", "v0", "valid_radius"}),
-                  model);
-    OcamParams p;
-    p.width = width;
-    p.height = height;
-    p.forward = r.numbers("forward");
-    if (r.has("inverse")) p.inverse = r.numbers("inverse");
-    p.c = r.number("c");
-    p.d = r.number("d");
-    p.e = r.number("e");
-    p.u0 = r.number("u0");
-    p.v0 = r.number("v0");
-    p.validRadius = r.number("valid_radius", 0.0);
-    return makeOcam(path, p);
+  const ModelFormat* format = findFormat(model);
+  if (!format) {
+    std::string known;
+    for (const ModelFormat& f : modelFormats()) known += (known.empty() ? "" : ", ") + std::string(f.name);
+    r.fail("model", "names an unknown model '" + model + "' (known: " + known + ")");
   }
-  const std::initializer_list<const char*> focal = {"fx", "fy", "cx", "cy"};
-  if (model == "pinhole") {
-    r.requireOnly(allowed(focal), model);
-    return construct<PinholeCamera>(path, readIntrinsics(r, width, height));
-  }
-  if (model == "radial") {
-    r.requireOnly(allowed({"fx", "fy", "cx", "cy", "xi", "unit_px"}), model);
-    RadialParams p;
-    p.intrinsics = readIntrinsics(r, width, height);
-    p.xi = r.number("xi");
-    p.unitPx = r.number("unit_px", p.unitPx);
-    return construct<RadialCamera>(path, p);
-  }
-  if (model == "kannala_brandt") {
-    r.requireOnly(allowed({"fx", "fy", "cx", "cy", "k1", "k2", "k3", "k4"}), model);
-    const KannalaBrandtParams p{readIntrinsics(r, width, height), r.number("k1"), r.number("k2"),
-                                r.number("k3"), r.number("k4")};
-    return construct<KannalaBrandtCamera>(path, p);
-  }
-  if (model == "double_sphere") {
-    r.requireOnly(allowed({"fx", "fy", "cx", "cy", "xi", "alpha"}), model);
-    const DoubleSphereParams p{readIntrinsics(r, width, height), r.number("xi"),
-                               r.number("alpha")};
-    return construct<DoubleSphereCamera>(path, p);
-  }
-  if (model == "ucm" || model == "eucm") {
-    const bool extended = model == "eucm";
-    r.requireOnly(extended ? allowed({"fx", "fy", "cx", "cy", "alpha", "beta"})
-                           : allowed({"fx", "fy", "cx", "cy", "alpha"}),
-                  model);
-    const UnifiedParams p{readIntrinsics(r, width, height), r.number("alpha"),
-                          extended ? r.number("beta") : 1.0};
-    return construct<UnifiedCamera>(path, p);
-  }
-  if (model == "radtan") {
-    r.requireOnly(allowed({"fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3"}), model);
-    const RadTanParams p{readIntrinsics(r, width, height), r.number("k1"), r.number("k2"),
-                         r.number("p1"), r.number("p2"), r.number("k3", 0.0)};
-    return construct<RadTanCamera>(path, p);
-  }
-  r.fail("model", "names an unknown model '" + model +
-                      "' (known: pinhole, radial, ocam, kannala_brandt, double_sphere, ucm, "
-                      "eucm, radtan)");
+  std::set<std::string> allowed = format->keys;
+  allowed.insert({"model", "width", "height"});
+  r.requireOnly(allowed, model);
+  return format->read(path, r, width, height);
 }
 
 std::shared_ptr<Camera> loadCalibAdapterYaml(const std::string& path, const YamlReader& root) {
@@ -267,25 +362,11 @@ std::shared_ptr<Camera> loadCalibAdapterYaml(const std::string& path, const Yaml
     p.v0 = r.number("cy");
     return makeOcam(path, p);
   }
-  const CameraIntrinsics k = readIntrinsics(r, width, height);
+  readIntrinsics(r, width, height);  // a missing or bad fx fy cx cy is reported first
   for (const char* key : {"fx", "fy", "cx", "cy"}) keys.erase(key);
-  using Keys = std::set<std::string>;
-  if (keys.empty()) return construct<PinholeCamera>(path, k);
-  if (keys == Keys{"k1", "k2", "k3", "k4"})
-    return construct<KannalaBrandtCamera>(
-        path, KannalaBrandtParams{k, r.number("k1"), r.number("k2"), r.number("k3"),
-                                  r.number("k4")});
-  if (keys == Keys{"k1", "k2", "p1", "p2"} || keys == Keys{"k1", "k2", "k3", "p1", "p2"})
-    return construct<RadTanCamera>(path, RadTanParams{k, r.number("k1"), r.number("k2"),
-                                                      r.number("p1"), r.number("p2"),
-                                                      r.number("k3", 0.0)});
-  if (keys == Keys{"xi", "alpha"})
-    return construct<DoubleSphereCamera>(path,
-                                         DoubleSphereParams{k, r.number("xi"), r.number("alpha")});
-  if (keys == Keys{"alpha", "beta"})
-    return construct<UnifiedCamera>(path, UnifiedParams{k, r.number("alpha"), r.number("beta")});
-  if (keys == Keys{"alpha"})
-    return construct<UnifiedCamera>(path, UnifiedParams{k, r.number("alpha"), 1.0});
+  for (const ModelFormat& format : modelFormats())
+    for (const std::set<std::string>& distortion : format.adapterKeys)
+      if (keys == distortion) return format.read(path, r, width, height);
   std::string list;
   for (const std::string& key : keys) list += (list.empty() ? "" : ", ") + key;
   throw std::runtime_error(path + ": key 'parameter' has distortion keys {" + list +
@@ -379,17 +460,6 @@ std::string readText(const std::string& path) {
   return text.str();
 }
 
-void emitIntrinsics(YAML::Emitter& out, const CameraIntrinsics& k) {
-  out << YAML::Key << "fx" << YAML::Value << k.fx << YAML::Key << "fy" << YAML::Value << k.fy
-      << YAML::Key << "cx" << YAML::Value << k.cx << YAML::Key << "cy" << YAML::Value << k.cy;
-}
-
-void emitList(YAML::Emitter& out, const char* key, const std::vector<double>& values) {
-  out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginSeq;
-  for (const double v : values) out << v;
-  out << YAML::EndSeq;
-}
-
 }  // namespace
 
 std::shared_ptr<Camera> loadCamera(const std::string& path) {
@@ -424,43 +494,10 @@ std::string cameraToYaml(const Camera& camera) {
   out << YAML::Key << "model" << YAML::Value << camera.modelName();
   out << YAML::Key << "width" << YAML::Value << camera.imageSize().width;
   out << YAML::Key << "height" << YAML::Value << camera.imageSize().height;
-  if (const auto* c = dynamic_cast<const PinholeCamera*>(&camera)) {
-    emitIntrinsics(out, c->intrinsics());
-  } else if (const auto* c = dynamic_cast<const RadialCamera*>(&camera)) {
-    emitIntrinsics(out, c->params().intrinsics);
-    out << YAML::Key << "xi" << YAML::Value << c->params().xi;
-    out << YAML::Key << "unit_px" << YAML::Value << c->params().unitPx;
-  } else if (const auto* c = dynamic_cast<const KannalaBrandtCamera*>(&camera)) {
-    const KannalaBrandtParams& p = c->params();
-    emitIntrinsics(out, p.intrinsics);
-    out << YAML::Key << "k1" << YAML::Value << p.k1 << YAML::Key << "k2" << YAML::Value << p.k2
-        << YAML::Key << "k3" << YAML::Value << p.k3 << YAML::Key << "k4" << YAML::Value << p.k4;
-  } else if (const auto* c = dynamic_cast<const DoubleSphereCamera*>(&camera)) {
-    emitIntrinsics(out, c->params().intrinsics);
-    out << YAML::Key << "xi" << YAML::Value << c->params().xi;
-    out << YAML::Key << "alpha" << YAML::Value << c->params().alpha;
-  } else if (const auto* c = dynamic_cast<const UnifiedCamera*>(&camera)) {
-    emitIntrinsics(out, c->params().intrinsics);
-    out << YAML::Key << "alpha" << YAML::Value << c->params().alpha;
-    if (c->modelName() == "eucm") out << YAML::Key << "beta" << YAML::Value << c->params().beta;
-  } else if (const auto* c = dynamic_cast<const RadTanCamera*>(&camera)) {
-    const RadTanParams& p = c->params();
-    emitIntrinsics(out, p.intrinsics);
-    out << YAML::Key << "k1" << YAML::Value << p.k1 << YAML::Key << "k2" << YAML::Value << p.k2
-        << YAML::Key << "p1" << YAML::Value << p.p1 << YAML::Key << "p2" << YAML::Value << p.p2
-        << YAML::Key << "k3" << YAML::Value << p.k3;
-  } else if (const auto* c = dynamic_cast<const OcamCamera*>(&camera)) {
-    const OcamParams& p = c->params();
-    emitList(out, "forward", p.forward);
-    emitList(out, "inverse", p.inverse);
-    out << YAML::Key << "c" << YAML::Value << p.c << YAML::Key << "d" << YAML::Value << p.d
-        << YAML::Key << "e" << YAML::Value << p.e << YAML::Key << "u0" << YAML::Value << p.u0
-        << YAML::Key << "v0" << YAML::Value << p.v0;
-    if (p.validRadius > 0.0) out << YAML::Key << "valid_radius" << YAML::Value << p.validRadius;
-  } else {
-    throw std::invalid_argument("cameraToYaml: unsupported camera model '" + camera.modelName() +
-                                "'");
-  }
+  const ModelFormat* format = findFormat(camera.modelName());
+  if (!format)
+    throw std::invalid_argument("cameraToYaml: unsupported camera model '" + camera.modelName() + "'");
+  format->write(camera, out);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }

@@ -36,9 +36,6 @@ inline int sampleNearest(const uchar* data, size_t step, int px, int py) {
   return data[((py + kSub / 2) >> kSubBits) * step + ((px + kSub / 2) >> kSubBits)];
 }
 
-bool hasMasks(DescriptorKind kind) { return kind == DescriptorKind::MdBrief || kind == DescriptorKind::MaskedBrief; }
-bool usesCamera(DescriptorKind kind) { return kind == DescriptorKind::DBrief || kind == DescriptorKind::MdBrief; }
-
 cv::Matx22d rotation(double deg) {
   const double a = deg * CV_PI / 180.0, c = std::cos(a), s = std::sin(a);
   return {c, -s, s, c};
@@ -178,8 +175,6 @@ void validate(const DescriptorOptions& o) {
                                 ": must be 4..15");
   if (!(o.supportScale >= 0.1 && o.supportScale <= 20.0))
     throw std::invalid_argument("descriptor option supportScale must be in [0.1, 20]");
-  if (o.pyramid.levels < 1 || !(o.pyramid.scaleFactor > 1.0))
-    throw std::invalid_argument("descriptor pyramid options: levels >= 1 and scaleFactor > 1 required");
 }
 
 DescriptorExtractor::DescriptorExtractor(CameraPtr camera, DescriptorOptions options)
@@ -274,7 +269,7 @@ std::vector<double> pyramidScales(const ImagePyramid& pyramid) {
 }
 
 // What placementsFor needs to re-measure the orientation on the tangent plane; null image =
-// use the keypoint's angle (testPositions has no image).
+// use the keypoint's angle.
 struct OrientationInput {
   const cv::Mat* image = nullptr;
   const SamplingKernels* kernels = nullptr;
@@ -346,6 +341,35 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
   return count;
 }
 
+// Per-thread buffers of placeChecked.
+struct PlacementScratch {
+  PlacementScratch(int nTests, size_t discSamples)
+      : xs(3 * 2 * nTests), ys(3 * 2 * nTests), discX(discSamples), discY(discSamples) {}
+  std::vector<int> xs, ys, discX, discY;  // rotation r at 2 * nTests * r
+  TangentPlaneFrame frame;
+  std::array<Placement, 3> placements;
+};
+
+// The one check of compute() and testPositions(): places every rotation of the tests of `kp`
+// on `img` (the smoothed level of `support`) into s.xs / s.ys and returns the number of
+// placements, 0 when the keypoint cannot be described (a test point that cannot be projected,
+// leaves the level or, with a camera, the valid area). disc: null unless the angle is re-measured.
+int placeChecked(const DescriptorOptions& o, const Camera* camera, const Offsets& offsets, const Disc* disc,
+                 const SamplingKernels& kernels, const cv::KeyPoint& kp, const cv::Mat& img, double scale,
+                 const Support& support, PlacementScratch& s, float& imageAngle) {
+  const int nTests = o.bits;
+  const OrientationInput in{disc ? &img : nullptr, &kernels, disc, s.discX.data(), s.discY.data()};
+  const int count = placementsFor(o, camera, kp, scale, support.fraction, in, s.frame, s.placements, imageAngle);
+  for (int r = 0; r < count; ++r) {
+    const Positions p{&s.xs[2 * nTests * r], &s.ys[2 * nTests * r]};
+    if (!placeTests(s.placements[r], camera, offsets, kernels, p) ||
+        !kernels.allInside(p.x, p.y, 2 * nTests, img.cols, img.rows) ||
+        (camera && !cornersValid(s.placements[r], *camera)))
+      return 0;
+  }
+  return count;
+}
+
 }  // namespace
 
 bool DescriptorExtractor::measuresOrientation() const {
@@ -353,7 +377,7 @@ bool DescriptorExtractor::measuresOrientation() const {
 }
 
 void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::KeyPoint>& keypoints,
-                                  cv::Mat& descriptors, cv::Mat* masks) const {
+                                  cv::OutputArray descriptors, cv::OutputArray masks) const {
   const int n = static_cast<int>(keypoints.size());
   const int bytes = descriptorBytes();
   const int nTests = options_.bits;
@@ -377,29 +401,18 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
   const SamplingKernels kernels = activeSamplingKernels();
 
   tbb::parallel_for(tbb::blocked_range<int>(0, n, 16), [&](const tbb::blocked_range<int>& range) {
-    std::vector<int> xs(3 * 2 * nTests), ys(3 * 2 * nTests), discX(disc.u.size()), discY(disc.u.size());
+    PlacementScratch scratch(nTests, disc.u.size());
     std::array<uchar, 64> bits[3];
-    TangentPlaneFrame frame;
-    std::array<Placement, 3> placements;
     for (int i = range.begin(); i != range.end(); ++i) {
-      const cv::KeyPoint& kp = keypoints[i];
       const Support& support = supports[i];
       if (support.level < 0) continue;  // no usable size
       const cv::Mat& img = pyramid.smoothed(support.level);
-      const OrientationInput in{measure ? &img : nullptr, &kernels, &disc, discX.data(), discY.data()};
-      const int count = placementsFor(options_, camera, kp, pyramid.scale(support.level), support.fraction, in, frame,
-                                      placements, angles[i]);
-      bool good = count > 0;
-      for (int r = 0; good && r < count; ++r) {
-        const Positions p{&xs[2 * nTests * r], &ys[2 * nTests * r]};
-        good = placeTests(placements[r], camera, offsets, kernels, p) &&
-               kernels.allInside(p.x, p.y, 2 * nTests, img.cols, img.rows) &&
-               (!camera || cornersValid(placements[r], *camera));
-      }
-      if (!good) continue;
+      const int count = placeChecked(options_, camera, offsets, measure ? &disc : nullptr, kernels, keypoints[i],
+                                     img, pyramid.scale(support.level), support, scratch, angles[i]);
+      if (count == 0) continue;
       for (int r = 0; r < count; ++r)
-        sampleDescriptor(img, Positions{&xs[2 * nTests * r], &ys[2 * nTests * r]}, nTests, options_.sampling,
-                         kernels, bits[r].data());
+        sampleDescriptor(img, Positions{&scratch.xs[2 * nTests * r], &scratch.ys[2 * nTests * r]}, nTests,
+                         options_.sampling, kernels, bits[r].data());
       std::copy_n(bits[0].data(), bytes, desc.ptr<uchar>(i));
       if (wantMasks) {
         uchar* m = mask.ptr<uchar>(i);
@@ -423,45 +436,44 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
     ++kept;
   }
   keypoints.resize(kept);
-  descriptors = desc.rowRange(0, kept).clone();
-  if (masks) {
+  if (descriptors.needed()) descriptors.assign(desc.rowRange(0, kept).clone());
+  if (masks.needed()) {
     if (wantMasks)
-      *masks = mask.rowRange(0, kept).clone();
+      masks.assign(mask.rowRange(0, kept).clone());
     else
-      masks->release();
+      masks.release();
   }
 }
 
 void DescriptorExtractor::compute(const cv::Mat& image, std::vector<cv::KeyPoint>& keypoints,
-                                  cv::Mat& descriptors, cv::Mat* masks) const {
+                                  cv::OutputArray descriptors, cv::OutputArray masks,
+                                  const PyramidOptions& pyramidOptions) const {
+  validate(pyramidOptions);  // pyramidScales() needs at least one level
   int levels = 1;
-  const std::vector<double> scales = pyramidScales(options_.pyramid);
+  const std::vector<double> scales = pyramidScales(pyramidOptions);
   for (const auto& kp : keypoints) levels = std::max(levels, supportOf(kp.size, options_.supportScale, scales).level + 1);
-  const ImagePyramid pyramid(image, options_.pyramid, levels);
+  const ImagePyramid pyramid(image, pyramidOptions, levels);
   compute(pyramid, keypoints, descriptors, masks);
 }
 
 std::vector<std::pair<cv::Point2f, cv::Point2f>> DescriptorExtractor::testPositions(
-    const cv::KeyPoint& keypoint) const {
-  const std::vector<double> scales = pyramidScales(options_.pyramid);
-  const Support support = supportOf(keypoint.size, options_.supportScale, scales);
+    const ImagePyramid& pyramid, const cv::KeyPoint& keypoint) const {
+  const Support support = supportOf(keypoint.size, options_.supportScale, pyramidScales(pyramid));
   if (support.level < 0) return {};
-  const double scale = scales[support.level];
-  TangentPlaneFrame frame;
-  std::array<Placement, 3> placements;
-  float imageAngle;
-  if (placementsFor(options_, camera_.get(), keypoint, scale, support.fraction, OrientationInput{}, frame, placements,
-                    imageAngle) == 0)
-    return {};
+  const bool measure = measuresOrientation();
+  const Disc disc = measure ? discOf(options_.orientationRadius, kDiscStep) : Disc{};
+  const double scale = pyramid.scale(support.level);
   const int nTests = options_.bits;
-  std::vector<int> xs(2 * nTests), ys(2 * nTests);
-  if (!placeTests(placements[0], camera_.get(), offsetsOf(tests_), activeSamplingKernels(),
-                  Positions{xs.data(), ys.data()}))
+  PlacementScratch scratch(nTests, disc.u.size());
+  float imageAngle;
+  if (placeChecked(options_, camera_.get(), offsetsOf(tests_), measure ? &disc : nullptr, activeSamplingKernels(),
+                   keypoint, pyramid.smoothed(support.level), scale, support, scratch, imageAngle) == 0)
     return {};
   std::vector<std::pair<cv::Point2f, cv::Point2f>> out(nTests);
   const float f = static_cast<float>(scale) / kSub;
   for (int d = 0; d < nTests; ++d)
-    out[d] = {cv::Point2f(xs[d] * f, ys[d] * f), cv::Point2f(xs[nTests + d] * f, ys[nTests + d] * f)};
+    out[d] = {cv::Point2f(scratch.xs[d] * f, scratch.ys[d] * f),
+              cv::Point2f(scratch.xs[nTests + d] * f, scratch.ys[nTests + d] * f)};
   return out;
 }
 

@@ -74,9 +74,7 @@ std::vector<cv::Mat> distancesToInvalid(const cv::Mat& validMask, const PyramidO
 void validate(const DetectorOptions& options) {
   requireRange("nfeatures", options.nfeatures, 1, 1e7);
   requireRange("pyramid.levels", options.pyramid.levels, 1, 32);
-  if (!(options.pyramid.scaleFactor > 1.0) || !std::isfinite(options.pyramid.scaleFactor))
-    throw std::invalid_argument("DetectorOptions::pyramid.scaleFactor must be a finite number > 1, got " +
-                                std::to_string(options.pyramid.scaleFactor));
+  validate(options.pyramid);
   requireRange("threshold", options.threshold, 1, 254);
   requireRange("fallbackThreshold", options.fallbackThreshold, 1, options.threshold);
   if (options.harrisBlockSize % 2 == 0)
@@ -136,7 +134,7 @@ cv::Mat validAreaMask(const Camera& camera, cv::Size size) {
   return mask;
 }
 
-Detector::Detector(DetectorOptions options, CameraPtr camera)
+Detector::Detector(CameraPtr camera, DetectorOptions options)
     : options_(std::move(options)), camera_(std::move(camera)) {
   validate(options_);
   if (!camera_) return;

@@ -10,46 +10,6 @@
 namespace mdbrief {
 namespace {
 
-template <typename Enum>
-std::string nameOf(Enum value, const std::vector<std::pair<Enum, const char*>>& names) {
-  for (const auto& [e, n] : names)
-    if (e == value) return n;
-  throw std::invalid_argument("unknown enum value");
-}
-
-template <typename Enum>
-Enum parseName(const std::string& name, const std::vector<std::pair<Enum, const char*>>& names,
-               const char* what) {
-  std::string known;
-  for (const auto& [e, n] : names) {
-    if (name == n) return e;
-    known += known.empty() ? n : std::string(", ") + n;
-  }
-  throw std::invalid_argument(std::string(what) + " '" + name + "' is not one of: " + known);
-}
-
-const std::vector<std::pair<DescriptorKind, const char*>> kKindNames = {
-    {DescriptorKind::Brief, "brief"},
-    {DescriptorKind::DBrief, "dbrief"},
-    {DescriptorKind::MdBrief, "mdbrief"},
-    {DescriptorKind::MaskedBrief, "mbrief"}};
-const std::vector<std::pair<OrientationSource, const char*>> kOrientationNames = {
-    {OrientationSource::TangentPlane, "tangent-plane"}, {OrientationSource::Keypoint, "keypoint"}};
-const std::vector<std::pair<DistortionForm, const char*>> kFormNames = {{DistortionForm::Affine, "affine"},
-                                                                        {DistortionForm::Paper, "paper"}};
-const std::vector<std::pair<Sampling, const char*>> kSamplingNames = {{Sampling::Bilinear, "bilinear"},
-                                                                      {Sampling::Nearest, "nearest"}};
-const std::vector<std::pair<DetectorMethod, const char*>> kMethodNames = {{DetectorMethod::ModOrb, "modorb"},
-                                                                          {DetectorMethod::Hessian, "hessian"}};
-const std::vector<std::pair<CornerDetector, const char*>> kCornerNames = {{CornerDetector::Fast, "fast"},
-                                                                          {CornerDetector::Agast, "agast"}};
-
-bool samePyramid(const PyramidOptions& a, const PyramidOptions& b) {
-  return a.levels == b.levels && a.scaleFactor == b.scaleFactor && a.firstLevel == b.firstLevel &&
-         a.smoothingKernel == b.smoothingKernel &&
-         a.smoothingSigma == b.smoothingSigma;
-}
-
 // FileNode readers: a missing key keeps `value`; a present key of the wrong type throws.
 std::string keyName(const cv::FileNode& node, const char* key) {
   return node.name().empty() ? std::string(key) : node.name() + "." + key;
@@ -98,27 +58,9 @@ void readEnum(const cv::FileNode& node, const char* key, Enum& value, Enum (*par
 
 }  // namespace
 
-std::string toString(DescriptorKind kind) { return nameOf(kind, kKindNames); }
-std::string toString(DistortionForm form) { return nameOf(form, kFormNames); }
-std::string toString(Sampling sampling) { return nameOf(sampling, kSamplingNames); }
-std::string toString(OrientationSource source) { return nameOf(source, kOrientationNames); }
-std::string toString(CornerDetector corners) { return nameOf(corners, kCornerNames); }
-std::string toString(DetectorMethod method) { return nameOf(method, kMethodNames); }
-DescriptorKind parseDescriptorKind(const std::string& name) { return parseName(name, kKindNames, "descriptor kind"); }
-DistortionForm parseDistortionForm(const std::string& name) { return parseName(name, kFormNames, "distortion form"); }
-Sampling parseSampling(const std::string& name) { return parseName(name, kSamplingNames, "sampling"); }
-OrientationSource parseOrientationSource(const std::string& name) {
-  return parseName(name, kOrientationNames, "orientation source");
-}
-CornerDetector parseCornerDetector(const std::string& name) { return parseName(name, kCornerNames, "corner detector"); }
-DetectorMethod parseDetectorMethod(const std::string& name) { return parseName(name, kMethodNames, "detector method"); }
-
 void validate(const MdBriefOptions& options) {
   validate(options.detector);
   validate(options.descriptor);
-  if (!samePyramid(options.detector.pyramid, options.descriptor.pyramid))
-    throw std::invalid_argument(
-        "MdBriefOptions: detector.pyramid and descriptor.pyramid differ (use MdBriefOptions::setPyramid)");
 }
 
 cv::Ptr<MdBrief> MdBrief::create(CameraPtr camera, const MdBriefOptions& options) {
@@ -128,7 +70,7 @@ cv::Ptr<MdBrief> MdBrief::create(CameraPtr camera, const MdBriefOptions& options
 MdBrief::MdBrief(CameraPtr camera, const MdBriefOptions& options)
     : camera_(std::move(camera)),
       options_((validate(options), options)),
-      detector_(options.detector, camera_),
+      detector_(camera_, options.detector),
       extractor_(camera_, options.descriptor) {}
 
 void MdBrief::detectAndCompute(cv::InputArray image, cv::InputArray mask, std::vector<cv::KeyPoint>& keypoints,
@@ -160,7 +102,7 @@ void MdBrief::detectAndComputeWithMasks(cv::InputArray image, cv::InputArray mas
   if (!describe) return;
 
   cv::Mat desc, msk;
-  extractor_.compute(pyramid, keypoints, desc, &msk);
+  extractor_.compute(pyramid, keypoints, desc, msk);
   if (descriptors.needed()) desc.copyTo(descriptors);
   if (masks.needed()) {
     if (msk.empty())
@@ -206,13 +148,12 @@ void MdBrief::read(const cv::FileNode& node) {
 
   MdBriefOptions o = options_;
   const cv::FileNode p = node["pyramid"];
-  PyramidOptions pyramid = o.detector.pyramid;
+  PyramidOptions& pyramid = o.detector.pyramid;
   readInt(p, "levels", pyramid.levels);
   readDouble(p, "scaleFactor", pyramid.scaleFactor);
   readInt(p, "firstLevel", pyramid.firstLevel);
   readInt(p, "smoothingKernel", pyramid.smoothingKernel);
   readDouble(p, "smoothingSigma", pyramid.smoothingSigma);
-  o.setPyramid(pyramid);
 
   const cv::FileNode d = node["detector"];
   readEnum(d, "method", o.detector.method, &parseDetectorMethod);

@@ -10,9 +10,7 @@
 
 namespace mdbrief {
 
-namespace {
-
-void validatePyramidOptions(const PyramidOptions& options) {
+void validate(const PyramidOptions& options) {
   if (options.levels < 1)
     throw std::invalid_argument("PyramidOptions::levels must be >= 1, got " +
                                 std::to_string(options.levels));
@@ -30,8 +28,6 @@ void validatePyramidOptions(const PyramidOptions& options) {
     throw std::invalid_argument("PyramidOptions::smoothingSigma must be a finite number > 0, got " +
                                 std::to_string(options.smoothingSigma));
 }
-
-}  // namespace
 
 cv::Mat toGrey(const cv::Mat& image) {
   if (image.empty()) throw std::invalid_argument("toGrey: the image is empty");
@@ -57,7 +53,7 @@ cv::Mat toGrey(const cv::Mat& image) {
 
 ImagePyramid::ImagePyramid(const cv::Mat& image, const PyramidOptions& options, int maxLevels)
     : options_(options) {
-  validatePyramidOptions(options);
+  validate(options);
   const cv::Mat grey = toGrey(image);
   inputSize_ = grey.size();
   const int wanted = maxLevels < 0 ? options.levels : std::min(options.levels, maxLevels);
@@ -84,25 +80,24 @@ ImagePyramid::ImagePyramid(const cv::Mat& image, const PyramidOptions& options, 
     images_.push_back(level_image);
     scales_.push_back(scale);
   }
-  // Sized once so that filling one level lazily never moves another.
-  smoothed_.resize(images_.size());
+  smoothed_ = std::make_shared<SmoothedLevels>(images_.size());
 }
 
 const cv::Mat& ImagePyramid::smoothed(int level) const {
   const cv::Mat& source = images_.at(level);
-  cv::Mat& target = smoothed_.at(level);
-  if (target.empty()) {
+  cv::Mat& target = smoothed_->images[level];
+  std::call_once(smoothed_->once[level], [&] {
     cv::GaussianBlur(source, target, cv::Size(options_.smoothingKernel, options_.smoothingKernel),
                      options_.smoothingSigma, options_.smoothingSigma, cv::BORDER_REFLECT_101);
-  }
+  });
   return target;
 }
 
 void ImagePyramid::prepareSmoothed(int maxLevel) const {
   // maxLevel is inclusive; a negative value or one past the last level prepares all levels.
   const int last = (maxLevel < 0 || maxLevel >= levels()) ? levels() - 1 : maxLevel;
-  // Levels are independent and smoothed_ never reallocates: blur them in parallel (the blur
-  // costs about as much as the whole description on one core).
+  // Levels are independent: blur them in parallel (the blur costs about as much as the whole
+  // description on one core).
   tbb::parallel_for(0, last + 1, [this](int level) { smoothed(level); });
 }
 

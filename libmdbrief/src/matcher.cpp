@@ -184,15 +184,14 @@ std::vector<cv::DMatch> match(const cv::Mat& query, const cv::Mat* queryMasks,
 
 }  // namespace
 
-std::vector<cv::DMatch> matchBruteForce(const cv::Mat& query, const cv::Mat& train,
-                                        const MatchOptions& options) {
-  return match(query, nullptr, train, nullptr, options);
+std::vector<cv::DMatch> matchBruteForce(cv::InputArray query, cv::InputArray train, const MatchOptions& options) {
+  return match(query.getMat(), nullptr, train.getMat(), nullptr, options);
 }
 
-std::vector<cv::DMatch> matchBruteForceMasked(const cv::Mat& query, const cv::Mat& queryMasks,
-                                              const cv::Mat& train, const cv::Mat& trainMasks,
-                                              const MatchOptions& options) {
-  return match(query, &queryMasks, train, &trainMasks, options);
+std::vector<cv::DMatch> matchBruteForceMasked(cv::InputArray query, cv::InputArray queryMasks, cv::InputArray train,
+                                              cv::InputArray trainMasks, const MatchOptions& options) {
+  const cv::Mat queryMaskRows = queryMasks.getMat(), trainMaskRows = trainMasks.getMat();
+  return match(query.getMat(), &queryMaskRows, train.getMat(), &trainMaskRows, options);
 }
 
 }  // namespace mdbrief

@@ -60,14 +60,12 @@ Keyword enumField(const char* name, const char* cppField, Access access, Enum (*
           }};
 }
 
-// The pyramid is one option for detector and descriptor: setPyramid keeps them equal.
+// The pyramid of detector and descriptor (MdBriefOptions::detector.pyramid).
 template <typename T, typename Access>
 Keyword pyramidField(const char* name, const char* cppField, Access access) {
   return {name, cppField, [access](const MdBriefOptions& o) { return py::cast(access(o.detector.pyramid)); },
           [access, name](MdBriefOptions& o, const py::handle& v) {
-            PyramidOptions p = o.detector.pyramid;
-            access(p) = castExactly<T>(v, name);
-            o.setPyramid(p);
+            access(o.detector.pyramid) = castExactly<T>(v, name);
           }};
 }
 
@@ -173,8 +171,7 @@ py::tuple run(MdBrief& feature, const py::handle& image, const py::handle& mask,
     throw py::value_error(e.what());
   }
   const int bytes = feature.descriptorSize();
-  const DescriptorKind kind = feature.options().descriptor.kind;
-  const bool masked = kind == DescriptorKind::MdBrief || kind == DescriptorKind::MaskedBrief;
+  const bool masked = hasMasks(feature.options().descriptor.kind);
   return py::make_tuple(keypointsToPython(keypoints), arrayFromMat(descriptors, bytes),
                         masked ? py::object(arrayFromMat(masks, bytes)) : py::object(py::none()));
 }

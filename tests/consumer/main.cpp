@@ -19,13 +19,13 @@ int main() {
   mdbrief::CameraIntrinsics k;
   k.width = 600, k.height = 440, k.fx = k.fy = 400, k.cx = 300, k.cy = 220;
   const auto camera = std::make_shared<mdbrief::PinholeCamera>(k);
-  const mdbrief::Detector detector(mdbrief::DetectorOptions{}, camera);
-  const mdbrief::DescriptorExtractor extractor(camera, mdbrief::DescriptorOptions{});
+  const mdbrief::Detector detector(camera);
+  const mdbrief::DescriptorExtractor extractor(camera);
 
   auto k1 = detector.detect(original), k2 = detector.detect(shifted);
   cv::Mat d1, d2, m1, m2;
-  extractor.compute(original, k1, d1, &m1);
-  extractor.compute(shifted, k2, d2, &m2);
+  extractor.compute(original, k1, d1, m1);
+  extractor.compute(shifted, k2, d2, m2);
   const auto matches = mdbrief::matchBruteForceMasked(d1, m1, d2, m2, mdbrief::MatchOptions{});
   int correct = 0;
   for (const auto& m : matches) {

@@ -14,6 +14,7 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/camera.hpp"
+#include "mdbrief/enum_names.hpp"
 #include "mdbrief/image_pyramid.hpp"
 #include "mdbrief/test_set.hpp"
 
@@ -27,6 +28,18 @@ enum class DescriptorKind {
   // mdBRIEF it separates what the masks and what the distortion model contribute.
   MaskedBrief,
 };
+// The names users type, one table per enum (enum_names.hpp); parse* throw listing them.
+inline constexpr EnumName<DescriptorKind> kDescriptorKindNames[] = {{DescriptorKind::Brief, "brief"},
+                                                                    {DescriptorKind::DBrief, "dbrief"},
+                                                                    {DescriptorKind::MdBrief, "mdbrief"},
+                                                                    {DescriptorKind::MaskedBrief, "mbrief"}};
+inline std::string toString(DescriptorKind kind) { return nameOf(kind, kDescriptorKindNames); }
+inline DescriptorKind parseDescriptorKind(const std::string& name) {
+  return parseName(name, kDescriptorKindNames, "descriptor kind");
+}
+// Whether the kind learns masks (mdBRIEF, masked BRIEF) and needs a camera model (dBRIEF, mdBRIEF).
+inline bool hasMasks(DescriptorKind kind) { return kind == DescriptorKind::MdBrief || kind == DescriptorKind::MaskedBrief; }
+inline bool usesCamera(DescriptorKind kind) { return kind == DescriptorKind::DBrief || kind == DescriptorKind::MdBrief; }
 
 // Where the tests' orientation comes from when useOrientation is set.
 enum class OrientationSource {
@@ -41,6 +54,12 @@ enum class OrientationSource {
   // Measured on keypoints without an angle too (angle -1).
   TangentPlane,
 };
+inline constexpr EnumName<OrientationSource> kOrientationSourceNames[] = {
+    {OrientationSource::TangentPlane, "tangent-plane"}, {OrientationSource::Keypoint, "keypoint"}};
+inline std::string toString(OrientationSource source) { return nameOf(source, kOrientationSourceNames); }
+inline OrientationSource parseOrientationSource(const std::string& name) {
+  return parseName(name, kOrientationSourceNames, "orientation source");
+}
 
 // How dBRIEF maps the test set into the image.
 enum class DistortionForm {
@@ -53,8 +72,17 @@ enum class DistortionForm {
   // reflects the compressed appearance near the rim, so the paper's form shrinks twice there.
   Affine,
 };
+inline constexpr EnumName<DistortionForm> kDistortionFormNames[] = {{DistortionForm::Affine, "affine"},
+                                                                    {DistortionForm::Paper, "paper"}};
+inline std::string toString(DistortionForm form) { return nameOf(form, kDistortionFormNames); }
+inline DistortionForm parseDistortionForm(const std::string& name) {
+  return parseName(name, kDistortionFormNames, "distortion form");
+}
 
 enum class Sampling { Bilinear, Nearest };
+inline constexpr EnumName<Sampling> kSamplingNames[] = {{Sampling::Bilinear, "bilinear"}, {Sampling::Nearest, "nearest"}};
+inline std::string toString(Sampling sampling) { return nameOf(sampling, kSamplingNames); }
+inline Sampling parseSampling(const std::string& name) { return parseName(name, kSamplingNames, "sampling"); }
 
 struct DescriptorOptions {
   DescriptorKind kind = DescriptorKind::MdBrief;
@@ -63,20 +91,21 @@ struct DescriptorOptions {
   // chosen by held-out measurement (docs/RESULTS.md "Learned vs random test sets").
   std::string pattern;
   bool useOrientation = true;       // rotate the tests by the keypoint angle
-  // TangentPlane: recognition of dBRIEF-Affine 74.6 % vs 67.7 % with the detector's angle (mean
-  // over the oriented detected-keypoint simulations of four lenses); fisheye precision-recall
-  // AUC 0.586 vs 0.428, where BRIEF has 0.473 (docs/RESULTS.md).
+  // TangentPlane: higher recognition and precision-recall than the detector's angle (the -kp
+  // rows of docs/RESULTS.md, sections "Precision-recall" and
+  // "Detected keypoints, tilted and rolled poses (decides the defaults)").
   OrientationSource orientation = OrientationSource::TangentPlane;
   // TangentPlane: disc radius, 4..15, in test-offset units (level pixels without distortion;
   // cv::ORB's 15). At most 15 so the disc stays inside the 32x32 footprint that is checked.
   int orientationRadius = 15;
-  // Affine: 69.8 % vs Paper 58.8 % mean recognition on fisheye views with detected keypoints
-  // (docs/RESULTS.md "Simulation"), and about 35x faster.
+  // Affine: higher recognition than Paper with detected keypoints and an order of magnitude
+  // faster (docs/RESULTS.md, sections "Description speed (issue 2)" and
+  // "Detected keypoints, tilted and rolled poses (decides the defaults)").
   DistortionForm form = DistortionForm::Affine;
   Sampling sampling = Sampling::Bilinear;
-  // mdBRIEF: the two extra rotations are +/- this angle. 20 degrees: on fisheye views with
-  // detected keypoints, recognition rose from 5 to 20 degrees (68.2, 70.1, 71.6, 72.1 %;
-  // docs/RESULTS.md "Simulation"): the mask must cover the orientation error of the detector.
+  // mdBRIEF: the two extra rotations are +/- this angle, which must cover the orientation error
+  // of the detector. 20 degrees: the best of the angles compared in docs/RESULTS.md, section
+  // "Detected keypoints, tilted and rolled poses (decides the defaults)".
   double maskRotationDeg = 20.0;
   // dBRIEF/mdBRIEF: keypoints whose ray is further than this from the optical axis are dropped;
   // Pi_lambda degenerates towards 90 degrees (the test footprint stretches without bound).
@@ -90,7 +119,6 @@ struct DescriptorOptions {
   // cv::SIFT) want a larger factor: the measured one per detector is in docs/RESULTS.md
   // "Descriptor footprint for other detectors".
   double supportScale = 1.0;
-  PyramidOptions pyramid;           // the levels the footprints are sampled on (the detector's)
 };
 
 // Throws std::invalid_argument with a message naming the option if the options are unusable.
@@ -99,22 +127,24 @@ void validate(const DescriptorOptions& options);
 class DescriptorExtractor {
  public:
   // camera may be null only for DescriptorKind::Brief and MaskedBrief.
-  DescriptorExtractor(CameraPtr camera, DescriptorOptions options);
+  explicit DescriptorExtractor(CameraPtr camera, DescriptorOptions options = {});
   // With an explicit test set (options.pattern is ignored); its first options.bits tests are used.
   DescriptorExtractor(CameraPtr camera, DescriptorOptions options, const TestSet& tests);
 
+  // Samples on the levels of `pyramid` (the detector's, when detection and description share it).
   // Keypoints: level-0 pixels, angle in degrees (cv::KeyPoint's convention, -1 = none), size
   // as DescriptorOptions::supportScale describes (octave is not read). Keypoints whose size is
   // not a positive finite number are dropped. Keypoints whose tests cannot all be sampled inside the image and
   // the camera's valid area are removed from `keypoints` (as cv::Feature2D::compute does), so
-  // rows stay aligned. masks is filled only for MdBrief and MaskedBrief (otherwise released).
+  // rows stay aligned. descriptors and masks may be cv::noArray(); masks is filled only for
+  // MdBrief and MaskedBrief (otherwise released).
   // With OrientationSource::TangentPlane (dBRIEF/mdBRIEF) the kept keypoints' angle becomes
   // the re-measured one.
-  void compute(const ImagePyramid& pyramid, std::vector<cv::KeyPoint>& keypoints,
-               cv::Mat& descriptors, cv::Mat* masks = nullptr) const;
-  // Same, building the pyramid levels the keypoints need.
-  void compute(const cv::Mat& image, std::vector<cv::KeyPoint>& keypoints,
-               cv::Mat& descriptors, cv::Mat* masks = nullptr) const;
+  void compute(const ImagePyramid& pyramid, std::vector<cv::KeyPoint>& keypoints, cv::OutputArray descriptors,
+               cv::OutputArray masks = cv::noArray()) const;
+  // Same, building the levels the keypoints need of a pyramid of `image` with `pyramid`'s options.
+  void compute(const cv::Mat& image, std::vector<cv::KeyPoint>& keypoints, cv::OutputArray descriptors,
+               cv::OutputArray masks = cv::noArray(), const PyramidOptions& pyramid = {}) const;
 
   int descriptorBytes() const { return options_.bits / 8; }
   // True when compute() replaces the keypoints' angles with its own measurement (dBRIEF and
@@ -124,10 +154,12 @@ class DescriptorExtractor {
   const TestSet& testSet() const { return tests_; }
   const CameraPtr& camera() const { return camera_; }
 
-  // The image positions (level-0 pixels) of the test points of one keypoint, for drawing:
-  // element d is (p1, p2) of test d for rotation 0. Empty if the keypoint would be dropped.
-  // Uses keypoint.angle as given: pass keypoints as compute() returned them.
-  std::vector<std::pair<cv::Point2f, cv::Point2f>> testPositions(const cv::KeyPoint& keypoint) const;
+  // The image positions (level-0 pixels) of the test points of one keypoint on `pyramid`, for
+  // drawing: element d is (p1, p2) of test d for rotation 0, placed and checked as compute()
+  // does (the same code), so empty exactly when compute() would drop the keypoint. An angle
+  // that compute() re-measures is re-measured here too; otherwise keypoint.angle is used.
+  std::vector<std::pair<cv::Point2f, cv::Point2f>> testPositions(const ImagePyramid& pyramid,
+                                                                 const cv::KeyPoint& keypoint) const;
 
  private:
   CameraPtr camera_;

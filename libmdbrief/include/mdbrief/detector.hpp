@@ -26,6 +26,7 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/camera.hpp"
+#include "mdbrief/enum_names.hpp"
 #include "mdbrief/image_pyramid.hpp"
 
 namespace mdbrief {
@@ -35,17 +36,30 @@ class ConformalView;
 }
 
 enum class CornerDetector { Fast, Agast };
+inline constexpr EnumName<CornerDetector> kCornerDetectorNames[] = {{CornerDetector::Fast, "fast"},
+                                                                    {CornerDetector::Agast, "agast"}};
+inline std::string toString(CornerDetector corners) { return nameOf(corners, kCornerDetectorNames); }
+inline CornerDetector parseCornerDetector(const std::string& name) {
+  return parseName(name, kCornerDetectorNames, "corner detector");
+}
+
 enum class DetectorMethod { ModOrb, Hessian };
+inline constexpr EnumName<DetectorMethod> kDetectorMethodNames[] = {{DetectorMethod::ModOrb, "modorb"},
+                                                                    {DetectorMethod::Hessian, "hessian"}};
+inline std::string toString(DetectorMethod method) { return nameOf(method, kDetectorMethodNames); }
+inline DetectorMethod parseDetectorMethod(const std::string& name) {
+  return parseName(name, kDetectorMethodNames, "detector method");
+}
 
 struct DetectorOptions {
-  // ModOrb stays the default: the measurement is in docs/RESULTS.md "Whole pipelines", which
-  // says what Hessian wins and loses (matching, repeatability, speed).
+  // ModOrb stays the default: docs/RESULTS.md "Whole pipelines (issue 10)" has the measurement,
+  // which says what Hessian wins and loses (matching, repeatability, speed).
   DetectorMethod method = DetectorMethod::ModOrb;
   int nfeatures = 1000;               // upper bound on the number of keypoints returned
   // Levels, scale factor and first level (cv::ORB's nlevels / scaleFactor / firstLevel).
   PyramidOptions pyramid;
   // FAST-9/16 or AGAST OAST-9/16. FAST by default: OpenCV 4.6's AGAST has no SIMD path and
-  // takes about 3x as long here (bench/bench_detector.cpp), unlike in the paper.
+  // is the slower one here, unlike in the paper (docs/RESULTS.md "Detector (issue 3)").
   CornerDetector corners = CornerDetector::Fast;
   int threshold = 20;                 // FAST/AGAST intensity threshold (cv::ORB's default)
   // Used instead on a level where `threshold` finds fewer corners than the level's budget
@@ -56,11 +70,11 @@ struct DetectorOptions {
   // Spread each level's keypoints with a quadtree (one keypoint per cell, the cell with the
   // most candidates split first) instead of keeping the strongest. Off by default: it covers
   // more of the image but keeps weaker corners, and repeatability under a homography drops
-  // (graf 1->2: 0.54 spread vs 0.86 strongest; tests/test_detector.cpp prints both).
+  // (tests/test_detector.cpp prints both; docs/RESULTS.md "Detector (issue 3)").
   bool spread = false;
   // Hessian: Gaussian smoothing of the derivatives, in level pixels (chosen on the validation
-  // photos: docs/RESULTS.md "Whole pipelines"), and the smallest normalised determinant kept
-  // (intensities in [0, 1]).
+  // photos: docs/RESULTS.md "Whole pipelines (issue 10)"), and the smallest normalised
+  // determinant kept (intensities in [0, 1]).
   double hessianSigma = 2.0;
   double hessianThreshold = 1e-5;
   int orientationRadius = 15;         // circular patch of the intensity centroid (cv::ORB: 15)
@@ -71,7 +85,7 @@ struct DetectorOptions {
   // Detect on the camera's view in the stereographic projection (conformal: a structure keeps
   // its shape wherever the lens sees it) and map the keypoints back through the camera model,
   // size included. Needs a camera (ignored without one). Off by default: docs/RESULTS.md
-  // "Whole pipelines" ("detection on a conformal image") has what it changes.
+  // "Whole pipelines (issue 10)" ("detection on a conformal image") has what it changes.
   bool conformal = false;
 };
 
@@ -90,7 +104,7 @@ class Detector {
  public:
   // With a camera, keypoints keep borderMargin level pixels away from its invalid area, and
   // images must have the camera's imageSize().
-  explicit Detector(DetectorOptions options = {}, CameraPtr camera = nullptr);
+  explicit Detector(CameraPtr camera = nullptr, DetectorOptions options = {});
 
   // The pyramid must have been built with options().pyramid's levels and scale factor.
   // mask: empty, or CV_8UC1 of the level-0 size, nonzero = allowed. Output sorted by

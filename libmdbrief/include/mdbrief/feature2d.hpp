@@ -18,38 +18,14 @@
 namespace mdbrief {
 
 struct MdBriefOptions {
-  // detector.pyramid is the one source of truth for the pyramid: the descriptor's octave ->
-  // scale must be the detector's. descriptor.pyramid must equal it (validate() checks it);
-  // setPyramid() sets both.
+  // detector.pyramid is the pyramid of both steps: the descriptor samples the one built for the
+  // detector.
   DetectorOptions detector;
   DescriptorOptions descriptor;
-
-  void setPyramid(const PyramidOptions& pyramid) {
-    detector.pyramid = pyramid;
-    descriptor.pyramid = pyramid;
-  }
 };
 
-// Throws std::invalid_argument naming the option: the detector's and descriptor's own checks,
-// plus detector.pyramid != descriptor.pyramid.
+// Throws std::invalid_argument naming the option: the detector's and descriptor's own checks.
 void validate(const MdBriefOptions& options);
-
-// Option names as used by FileStorage and the command line ("brief", "dbrief", "mdbrief",
-// "mbrief"; "affine", "paper"; "tangent-plane", "keypoint"; "bilinear", "nearest"; "fast",
-// "agast"; "modorb", "hessian"). The parse functions throw
-// std::invalid_argument listing the accepted names.
-std::string toString(DescriptorKind kind);
-std::string toString(DistortionForm form);
-std::string toString(Sampling sampling);
-std::string toString(OrientationSource source);
-std::string toString(CornerDetector corners);
-std::string toString(DetectorMethod method);
-DescriptorKind parseDescriptorKind(const std::string& name);
-DistortionForm parseDistortionForm(const std::string& name);
-Sampling parseSampling(const std::string& name);
-OrientationSource parseOrientationSource(const std::string& name);
-CornerDetector parseCornerDetector(const std::string& name);
-DetectorMethod parseDetectorMethod(const std::string& name);
 
 class MdBrief : public cv::Feature2D {
  public:

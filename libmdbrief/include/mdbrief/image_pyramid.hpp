@@ -3,6 +3,8 @@
 // resampled by 1 / scale(k), scale(k) = scaleFactor^(k - firstLevel) (as cv::ORB): levels above
 // firstLevel are bilinear reductions of the level before, levels below it enlarge the input.
 // Keypoint coordinates are always input pixels; level coordinates are pt / scale(k).
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -20,6 +22,9 @@ struct PyramidOptions {
   double smoothingSigma = 2.0;
 };
 
+// Throws std::invalid_argument naming the option if the options are unusable.
+void validate(const PyramidOptions& options);
+
 class ImagePyramid {
  public:
   ImagePyramid() = default;
@@ -33,17 +38,25 @@ class ImagePyramid {
   double scale(int level) const { return scales_.at(level); }
   const PyramidOptions& options() const { return options_; }
   const cv::Mat& image(int level) const { return images_.at(level); }
-  // Smoothed level, computed on first use (not thread-safe for the same level: call
-  // prepareSmoothed(), which blurs the levels in parallel, before parallel sampling).
+  // Smoothed level, computed once on first use: safe to call from several threads (each level
+  // is blurred exactly once; a detector alone never pays for it). prepareSmoothed() blurs the
+  // levels 0..maxLevel (all if negative) in parallel ahead of parallel sampling.
   const cv::Mat& smoothed(int level) const;
   void prepareSmoothed(int maxLevel) const;
 
  private:
+  // Shared by copies of the pyramid, whose levels are the same images.
+  struct SmoothedLevels {
+    explicit SmoothedLevels(size_t levels) : images(levels), once(levels) {}
+    std::vector<cv::Mat> images;
+    std::vector<std::once_flag> once;
+  };
+
   PyramidOptions options_;
   cv::Size inputSize_;
   std::vector<cv::Mat> images_;
   std::vector<double> scales_;
-  mutable std::vector<cv::Mat> smoothed_;
+  std::shared_ptr<SmoothedLevels> smoothed_;
 };
 
 // Converts 8UC1/8UC3/8UC4 to an 8UC1 grey image (no copy for 8UC1). Throws

@@ -33,15 +33,14 @@ void validate(const MatchOptions& options);
 
 // One match per query that passes the enabled tests, in query order: queryIdx = query row,
 // trainIdx = train row, distance = Hamming distance in bits, imgIdx = 0.
-// query and train: N x bytes CV_8UC1, the same width, a multiple of 4 in [4, 64]. Empty
-// query or train gives no matches. Throws std::invalid_argument naming the argument otherwise.
-std::vector<cv::DMatch> matchBruteForce(const cv::Mat& query, const cv::Mat& train,
-                                        const MatchOptions& options = {});
+// query and train: N x bytes CV_8UC1, the same width, a multiple of 4 in [4, 64] (read once per
+// call). Empty query or train gives no matches. Throws std::invalid_argument naming the
+// argument otherwise.
+std::vector<cv::DMatch> matchBruteForce(cv::InputArray query, cv::InputArray train, const MatchOptions& options = {});
 
 // The same with the masked Hamming distance: queryMasks and trainMasks have the sizes of query
 // and train (CV_8UC1). distance = masked distance in bits (masked_hamming.hpp).
-std::vector<cv::DMatch> matchBruteForceMasked(const cv::Mat& query, const cv::Mat& queryMasks,
-                                              const cv::Mat& train, const cv::Mat& trainMasks,
-                                              const MatchOptions& options = {});
+std::vector<cv::DMatch> matchBruteForceMasked(cv::InputArray query, cv::InputArray queryMasks, cv::InputArray train,
+                                              cv::InputArray trainMasks, const MatchOptions& options = {});
 
 }  // namespace mdbrief
