@@ -3,12 +3,12 @@
 // clipped to [-15, 14]; self-comparisons and repeated tests are rejected.
 // Per test: the Euclidean length of the test in pixels.
 #pragma once
-#include "mdbrief/test_set.hpp"
+#include "patterns/pattern_info.hpp"
 
 namespace mdbrief::patterns {
 
 // BRIEF G II random tests: isotropic Gaussian, sigma = S/5 = 6.4 px, clipped to [-15, 14], seed 20170529
-inline constexpr TestPair kBriefRandom512[512] = {
+inline constexpr TestRow kBriefRandom512[512] = {
     {-2, 11, 7, 12},  // 0: length 9.1
     {0, -3, 2, -5},  // 1: length 2.8
     {-2, 5, -7, 4},  // 2: length 5.1

@@ -6,12 +6,12 @@
 // Per test: mean = fraction of patches where the test is 1; max corr = highest
 // correlation |2/P sum|t_i - t_j| - 1| with another test of this set; flip = fraction of matching pairs where it differs.
 #pragma once
-#include "mdbrief/test_set.hpp"
+#include "patterns/pattern_info.hpp"
 
 namespace mdbrief::patterns {
 
 // Learned (separation forward selection): 512 tests, 20000 orb fisheye patches from 400 images (100 skipped) rendered through the camera
-inline constexpr TestPair kOrbFisheye512[512] = {
+inline constexpr TestRow kOrbFisheye512[512] = {
     {-3, 0, 2, 0},  // 0: mean 0.81 max corr 0.86 flip 0.08
     {1, 1, 2, 4},  // 1: mean 0.46 max corr 0.84 flip 0.15
     {2, -4, 1, 0},  // 2: mean 0.53 max corr 0.86 flip 0.15

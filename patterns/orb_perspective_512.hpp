@@ -6,12 +6,12 @@
 // Per test: mean = fraction of patches where the test is 1; max corr = highest
 // correlation |2/P sum|t_i - t_j| - 1| with another test of this set; flip = fraction of matching pairs where it differs.
 #pragma once
-#include "mdbrief/test_set.hpp"
+#include "patterns/pattern_info.hpp"
 
 namespace mdbrief::patterns {
 
 // Learned (separation forward selection): 512 tests, 20000 orb patches from 361 images (139 skipped)
-inline constexpr TestPair kOrbPerspective512[512] = {
+inline constexpr TestRow kOrbPerspective512[512] = {
     {1, -4, 0, 0},  // 0: mean 0.50 max corr 0.86 flip 0.10
     {0, -1, 1, 4},  // 1: mean 0.50 max corr 0.88 flip 0.11
     {11, -7, 4, 0},  // 2: mean 0.47 max corr 0.63 flip 0.15

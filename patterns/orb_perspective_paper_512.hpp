@@ -6,12 +6,12 @@
 // Per test: mean = fraction of patches where the test is 1; max corr = highest
 // correlation |2/P sum|t_i - t_j| - 1| with another test of this set.
 #pragma once
-#include "mdbrief/test_set.hpp"
+#include "patterns/pattern_info.hpp"
 
 namespace mdbrief::patterns {
 
 // Learned (ORB greedy scheme): 512 tests, 20000 orb patches from 400 images (100 skipped)
-inline constexpr TestPair kOrbPerspectivePaper512[512] = {
+inline constexpr TestRow kOrbPerspectivePaper512[512] = {
     {-13, -14, -6, -6},  // 0: mean 0.50 max corr 0.49
     {-4, -14, -3, 8},  // 1: mean 0.50 max corr 0.50
     {9, -14, 10, 14},  // 2: mean 0.50 max corr 0.52

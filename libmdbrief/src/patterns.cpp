@@ -14,6 +14,8 @@ namespace mdbrief {
 
 namespace {
 
+using patterns::PatternInfo;
+
 const PatternInfo* findBuiltin(const std::string& name) {
   for (const PatternInfo* info : patterns::kRegistry)
     if (name == info->name) return info;
@@ -42,7 +44,11 @@ TestSet builtinTestSet(const std::string& name) {
   if (!info)
     throw std::invalid_argument("unknown test set '" + name + "' (built-in: " + knownNames() +
                                 ")");
-  TestSet set{info->name, std::vector<TestPair>(info->tests, info->tests + info->count), {}};
+  TestSet set{info->name, {}, {}};
+  for (int d = 0; d < info->count; ++d) {
+    const auto& t = info->tests[d];
+    set.tests.push_back({t[0], t[1], t[2], t[3]});
+  }
   std::istringstream digests(info->trainingImages ? info->trainingImages : "");
   for (std::string d; digests >> d;) set.trainingImages.push_back(d);
   return set;

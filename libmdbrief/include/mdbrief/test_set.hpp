@@ -16,21 +16,12 @@ struct TestPair {
 inline constexpr int kPatchSize = 32;
 inline constexpr int kPatchHalf = 16;  // offset = patch index - kPatchHalf
 
-// Compile-time description of a generated pattern header (patterns/*.hpp).
-struct PatternInfo {
-  const char* name;         // registry name, e.g. "brief_random_512"
-  const TestPair* tests;    // sorted as emitted: the first N tests form the N-bit descriptor
-  int count;
-  const char* description;  // one line: how it was made
-  // Digests (16 hex digits, space-separated) of the decoded grey pixels of the images the set
-  // was learned from, so an evaluation can prove it never saw them; "" for a random set.
-  const char* trainingImages;
-};
-
 struct TestSet {
   std::string name;
   std::vector<TestPair> tests;
-  std::vector<std::string> trainingImages;  // digests, as PatternInfo::trainingImages
+  // Digests (16 hex digits) of the decoded grey pixels of the images the set was learned from,
+  // so an evaluation can prove it never saw them; empty for a random set.
+  std::vector<std::string> trainingImages;
 
   // The first n tests (n in 32..size(), multiple of 32). Throws std::invalid_argument otherwise.
   TestSet first(int n) const;
