@@ -11,5 +11,6 @@ void bindCamera(py::module_& m);
 void bindFeatures(py::module_& m);
 void bindMatching(py::module_& m);
 void bindPatterns(py::module_& m);
+void bindSimdLevel(py::module_& m);
 
 }  // namespace mdbrief::python

@@ -7,4 +7,5 @@ PYBIND11_MODULE(_mdbrief, m) {
   mdbrief::python::bindFeatures(m);
   mdbrief::python::bindMatching(m);
   mdbrief::python::bindPatterns(m);
+  mdbrief::python::bindSimdLevel(m);
 }

@@ -229,3 +229,28 @@ def test_the_example_matches_a_turned_view_and_draws_the_matches(tmp_path, camer
     line = next(l for l in result.stdout.splitlines() if l.startswith("correct"))
     correct, total = (int(w) for w in line.split(": ")[1].split(" of "))
     assert total > 50 and correct > total // 2, result.stdout
+
+
+def test_every_simd_level_gives_the_same_features_and_matches(camera, image_pair):
+    levels = ["portable", "avx2", "avx512"]
+    supported = mdbrief.supported_simd_level()
+    assert mdbrief.simd_level() == supported
+    features = mdbrief.MdBrief(camera, nfeatures=500)
+    results = []
+    try:
+        for level in levels[:levels.index(supported) + 1]:
+            mdbrief.limit_simd_level(level)
+            assert mdbrief.simd_level() == level
+            kp1, d1, m1 = features.detect_and_compute(image_pair[0])
+            kp2, d2, m2 = features.detect_and_compute(image_pair[1])
+            matches = mdbrief.match(d1, d2, m1, m2, ratio=0.8, as_array=True)
+            results.append(([k.pt + (k.angle,) for k in kp1], d1, m1, matches))
+    finally:
+        mdbrief.limit_simd_level("avx512")
+    assert len(results[0][0]) > 100 and len(results[0][3]) > 20
+    for other in results[1:]:
+        assert other[0] == results[0][0]
+        for a, b in zip(other[1:], results[0][1:]):
+            np.testing.assert_array_equal(a, b)
+    with pytest.raises(ValueError, match="avx2"):
+        mdbrief.limit_simd_level("sse9")
