@@ -7,6 +7,7 @@
 
 #include "mdbrief/simd_level.hpp"
 #include "trainer/candidate_tests.hpp"
+#include "trainer/test_response_kernels.hpp"
 #include "trainer/test_responses.hpp"
 
 namespace {
@@ -34,11 +35,14 @@ TEST(TrainerSimdLevel, ResponsesAndDisagreementsAreIdenticalAtEveryLevel) {
     if (level > mdbrief::supportedSimdLevel()) break;
     mdbrief::limitSimdLevel(level);
     const TestResponses r = evaluateTests({a.data(), 200}, some);
+    const kernels::ResponseKernels k = kernels::activeResponseKernels();
     std::vector<uint64_t> bits;
-    std::vector<size_t> ones;
+    std::vector<size_t> ones;  // counts of ones, differences and coincidences of the columns
     for (size_t d = 0; d < r.tests(); ++d) {
       bits.insert(bits.end(), r.column(d), r.column(d) + r.words());
-      ones.push_back(r.ones(d) + 1000 * r.differences(d, (d + 1) % r.tests()));
+      const size_t next = (d + 1) % r.tests();
+      ones.push_back(r.ones(d) + 1000 * r.differences(d, next) +
+                     1000000 * k.popcountAnd(r.column(d), r.column(next), r.words()));
     }
     const std::vector<uint32_t> flips = countDisagreements({a.data(), 200}, {b.data(), 200}, counterpartOf, some);
     if (level == SimdLevel::Portable) {

@@ -6,15 +6,11 @@
 
 #include <tbb/parallel_for.h>
 
+#include "trainer/test_response_kernels.hpp"
+
 namespace mdbrief::train {
 
 namespace {
-
-size_t andCount(const uint64_t* a, const uint64_t* b, size_t words) {
-  size_t n = 0;
-  for (size_t w = 0; w < words; ++w) n += static_cast<size_t>(__builtin_popcountll(a[w] & b[w]));
-  return n;
-}
 
 // Columns of the pool on an evenly spread subset of whole words (64 patches each, so the rows
 // of one image stay together and every image contributes), contiguous per candidate.
@@ -23,6 +19,7 @@ struct Sample {
   size_t words = 0;
   double rows = 0;             // patches (or pairs) in the chosen words
   std::vector<double> alpha;   // per candidate: fraction of ones in the sample
+  kernels::ResponseKernels kernel = kernels::activeResponseKernels();
 
   Sample(const TestResponses& m, const std::vector<size_t>& columns, size_t maxWords) {
     words = std::min(maxWords, m.words());
@@ -35,16 +32,12 @@ struct Sample {
     alpha.resize(columns.size());
     tbb::parallel_for(size_t(0), columns.size(), [&](size_t i) {
       const uint64_t* c = m.column(columns[i]);
-      size_t ones = 0;
-      for (size_t k = 0; k < words; ++k) {
-        bits[i * words + k] = c[chosen[k]];
-        ones += static_cast<size_t>(__builtin_popcountll(c[chosen[k]]));
-      }
-      alpha[i] = ones / rows;
+      for (size_t w = 0; w < words; ++w) bits[i * words + w] = c[chosen[w]];
+      alpha[i] = kernel.popcount(bits.data() + i * words, words) / rows;
     });
   }
   const uint64_t* column(size_t i) const { return bits.data() + i * words; }
-  double both(size_t i, size_t k) const { return andCount(column(i), column(k), words) / rows; }
+  double both(size_t i, size_t j) const { return kernel.popcountAnd(column(i), column(j), words) / rows; }
 };
 
 }  // namespace

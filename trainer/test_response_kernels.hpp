@@ -20,10 +20,14 @@ struct ResponseKernels {
   // Number of lanes in blocks [w0, w1) where test (p1, p2) differs between blocks A and B.
   uint32_t (*flips)(const uint8_t* A, const uint8_t* B, size_t blockBytes, size_t p1, size_t p2, size_t w0,
                     size_t w1);
-  // Set bits of x[i], i < n, and of x[i] ^ y[i], i < n.
+  // Set bits of x[i], of x[i] ^ y[i] and of x[i] & y[i], i < n.
   size_t (*popcount)(const uint64_t* x, size_t n);
   size_t (*popcountXor)(const uint64_t* x, const uint64_t* y, size_t n);
+  size_t (*popcountAnd)(const uint64_t* x, const uint64_t* y, size_t n);
 };
+
+// The kernels of the active SIMD level; callers resolve them once per call (or object).
+ResponseKernels activeResponseKernels();
 
 ResponseKernels portableResponseKernels();
 ResponseKernels avx2ResponseKernels();
@@ -62,6 +66,11 @@ ResponseKernels responseKernelsWith() {
   k.popcountXor = [](const uint64_t* x, const uint64_t* y, size_t n) {
     size_t ones = 0;
     for (size_t i = 0; i < n; ++i) ones += static_cast<size_t>(__builtin_popcountll(x[i] ^ y[i]));
+    return ones;
+  };
+  k.popcountAnd = [](const uint64_t* x, const uint64_t* y, size_t n) {
+    size_t ones = 0;
+    for (size_t i = 0; i < n; ++i) ones += static_cast<size_t>(__builtin_popcountll(x[i] & y[i]));
     return ones;
   };
   return k;

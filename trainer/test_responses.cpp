@@ -13,6 +13,7 @@ namespace mdbrief::train {
 
 namespace {
 
+using kernels::activeResponseKernels;
 using kernels::kLanes;
 using kernels::ResponseKernels;
 
@@ -43,17 +44,6 @@ uint64_t lessMask(const uint8_t* a, const uint8_t* b) {
   return m;
 }
 
-// The kernels of the active SIMD level, resolved once per call.
-ResponseKernels activeResponseKernels() {
-#if defined(MDBRIEF_X86_KERNELS)
-  switch (activeSimdLevel()) {
-    case SimdLevel::Avx512: return kernels::avx512ResponseKernels();
-    case SimdLevel::Avx2: return kernels::avx2ResponseKernels();
-    case SimdLevel::Portable: break;
-  }
-#endif
-  return kernels::portableResponseKernels();
-}
 
 int pixelIndex(int x, int y) { return (y + kPatchHalf) * kPatchSize + (x + kPatchHalf); }
 
@@ -88,6 +78,17 @@ std::vector<uint8_t> pairedReferences(const PatchMatrix& reference, const PatchM
 }  // namespace
 
 ResponseKernels kernels::portableResponseKernels() { return responseKernelsWith<lessMask>(); }
+
+ResponseKernels kernels::activeResponseKernels() {
+#if defined(MDBRIEF_X86_KERNELS)
+  switch (activeSimdLevel()) {
+    case SimdLevel::Avx512: return avx512ResponseKernels();
+    case SimdLevel::Avx2: return avx2ResponseKernels();
+    case SimdLevel::Portable: break;
+  }
+#endif
+  return portableResponseKernels();
+}
 
 TestResponses::TestResponses(size_t tests, size_t patches)
     : tests_(tests), patches_(patches), words_((patches + 63) / 64), bits_(tests * words_, 0) {
