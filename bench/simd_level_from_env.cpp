@@ -5,7 +5,7 @@
 
 #include <cstdio>
 #include <cstdlib>
-#include <string>
+#include <stdexcept>
 
 #include "mdbrief/simd_level.hpp"
 
@@ -13,11 +13,10 @@ namespace {
 
 const bool kLevelChosen = [] {
   if (const char* env = std::getenv("MDBRIEF_SIMD_LEVEL"); env && *env) {
-    bool known = false;
-    for (const auto level : {mdbrief::SimdLevel::Portable, mdbrief::SimdLevel::Avx2, mdbrief::SimdLevel::Avx512})
-      if (mdbrief::toString(level) == env) mdbrief::limitSimdLevel(level), known = true;
-    if (!known) {
-      std::fprintf(stderr, "MDBRIEF_SIMD_LEVEL=%s: expected portable, avx2 or avx512\n", env);
+    try {
+      mdbrief::limitSimdLevel(mdbrief::parseSimdLevel(env));
+    } catch (const std::invalid_argument& e) {
+      std::fprintf(stderr, "MDBRIEF_SIMD_LEVEL: %s\n", e.what());
       std::exit(2);
     }
   }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -52,6 +53,8 @@ TEST(SimdLevel, CapLowersTheActiveLevel) {
   EXPECT_EQ(mdbrief::toString(SimdLevel::Portable), "portable");
   EXPECT_EQ(mdbrief::toString(SimdLevel::Avx2), "avx2");
   EXPECT_EQ(mdbrief::toString(SimdLevel::Avx512), "avx512");
+  EXPECT_EQ(mdbrief::parseSimdLevel("avx2"), SimdLevel::Avx2);
+  EXPECT_THROW(mdbrief::parseSimdLevel("sse4"), std::invalid_argument);
 #if !defined(__x86_64__)
   EXPECT_EQ(supported, SimdLevel::Portable);
 #endif

@@ -35,13 +35,4 @@ SimdLevel activeSimdLevel() {
 
 void limitSimdLevel(SimdLevel level) { cap.store(level, std::memory_order_relaxed); }
 
-std::string toString(SimdLevel level) {
-  switch (level) {
-    case SimdLevel::Portable: return "portable";
-    case SimdLevel::Avx2: return "avx2";
-    case SimdLevel::Avx512: return "avx512";
-  }
-  return "unknown";
-}
-
 }  // namespace mdbrief

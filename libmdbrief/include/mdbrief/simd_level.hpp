@@ -6,6 +6,8 @@
 // Builds for other CPUs, or with -DMDBRIEF_PORTABLE_KERNELS=ON, have only the portable level.
 #include <string>
 
+#include "mdbrief/enum_names.hpp"
+
 namespace mdbrief {
 
 enum class SimdLevel {
@@ -25,7 +27,9 @@ SimdLevel activeSimdLevel();
 // started with: each call resolves its kernels once.
 void limitSimdLevel(SimdLevel cap);
 
-// "portable", "avx2", "avx512".
-std::string toString(SimdLevel level);
+inline constexpr EnumName<SimdLevel> kSimdLevelNames[] = {
+    {SimdLevel::Portable, "portable"}, {SimdLevel::Avx2, "avx2"}, {SimdLevel::Avx512, "avx512"}};
+inline std::string toString(SimdLevel level) { return nameOf(level, kSimdLevelNames); }
+inline SimdLevel parseSimdLevel(const std::string& name) { return parseName(name, kSimdLevelNames, "SIMD level"); }
 
 }  // namespace mdbrief
