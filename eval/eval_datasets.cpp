@@ -5,12 +5,12 @@
 #include <stdexcept>
 
 #include "mdbrief/camera_io.hpp"
-#include "mdbrief/camera_pinhole.hpp"
 #include "mdbrief/internal/size_text.hpp"
 #include "patchextract/view_change.hpp"
 #include "plane_geometry.hpp"
 #include "toolkit/homography_file.hpp"
 #include "toolkit/image_file.hpp"
+#include "toolkit/photo_camera.hpp"
 #include "toolkit/plane_renderer.hpp"
 
 namespace mdbrief::eval {
@@ -57,14 +57,7 @@ std::optional<EvalSequence> loadOxfordSequence(const std::string& dir, const std
     if (!fs::exists(h)) return std::nullopt;
     s.pairs.push_back({0, k - 1, homographyMap(readHomography(h.string()), s.images[k - 1].size())});
   }
-  const cv::Size size = s.images[0].size();
-  CameraIntrinsics k;
-  k.width = size.width;
-  k.height = size.height;
-  k.fx = k.fy = size.width;
-  k.cx = (size.width - 1) / 2.0;
-  k.cy = (size.height - 1) / 2.0;
-  s.camera = std::make_shared<PinholeCamera>(k);
+  s.camera = photoCamera(s.images[0].size());
   return s;
 }
 

@@ -11,9 +11,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "mdbrief/camera_io.hpp"
-#include "mdbrief/camera_pinhole.hpp"
 #include "mdbrief/feature2d.hpp"
 #include "mdbrief/patterns.hpp"
+#include "toolkit/photo_camera.hpp"
 #include "toolkit/plane_renderer.hpp"
 #include "test_data.hpp"
 
@@ -37,16 +37,6 @@ cv::Mat fisheyeImage(const Camera& camera) {
   return renderPlane(camera, pose, scene);
 }
 
-// A perspective camera for the (undistorted) opencv-doc photos.
-CameraPtr pinholeFor(cv::Size size) {
-  CameraIntrinsics k;
-  k.width = size.width;
-  k.height = size.height;
-  k.fx = k.fy = size.width;
-  k.cx = (size.width - 1) / 2.0;
-  k.cy = (size.height - 1) / 2.0;
-  return std::make_shared<PinholeCamera>(k);
-}
 
 TEST(MdBriefFeature2D, ReportsOrbCompatibleTraits) {
   MdBriefOptions o;
@@ -321,7 +311,7 @@ TEST(MdBriefFeature2D, GenericOpenCvPipelineMatchesGraf1To3LikeOrb) {
   const cv::Matx33d H(Hm);
 
   const int orb = inlierMatches(cv::ORB::create(1000), a, b, H);
-  const int md = inlierMatches(MdBrief::create(pinholeFor(a.size())), a, b, H);
+  const int md = inlierMatches(MdBrief::create(photoCamera(a.size())), a, b, H);
   MdBriefOptions briefOptions;
   briefOptions.descriptor.kind = DescriptorKind::Brief;
   const int brief = inlierMatches(MdBrief::create(nullptr, briefOptions), a, b, H);
