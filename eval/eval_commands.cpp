@@ -87,6 +87,11 @@ void asInputErrors(F&& body) {
   }
 }
 
+void reportExported(const std::string& dir, const UserSequenceFiles& files) {
+  std::printf("%s: %zu images, camera.yaml, %zu homographies\n", dir.c_str(), files.images.size(),
+              files.homographies.size());
+}
+
 }  // namespace
 
 void addSimCommand(CLI::App& app) {
@@ -362,11 +367,7 @@ void addExportUserSampleCommand(CLI::App& app) {
   cmd->callback([a] {
     const CameraPtr cam = loadCameraOrThrow(a->camera);
     const cv::Mat tex = loadGreyOrThrow(a->texture.empty() ? a->opencvDocDir + "/graf3.png" : a->texture);
-    asInputErrors([&] {
-      const auto files = exportUserSequence(a->out, tex, cam, a->poses);
-      std::printf("%s: %zu images, camera.yaml, %zu homographies\n", a->out.c_str(), files.images.size(),
-                  files.homographies.size());
-    });
+    asInputErrors([&] { reportExported(a->out, exportUserSequence(a->out, tex, cam, a->poses)); });
   });
 }
 
@@ -386,11 +387,7 @@ void addExportRotatedViewsCommand(CLI::App& app) {
   cmd->callback([a] {
     const CameraPtr cam = loadCameraOrThrow(a->camera);
     const cv::Mat photo = loadGreyOrThrow(a->photo);
-    asInputErrors([&] {
-      const auto files = exportRotatedViews(a->out, photo, cam, a->views);
-      std::printf("%s: %zu images, camera.yaml, %zu homographies\n", a->out.c_str(), files.images.size(),
-                  files.homographies.size());
-    });
+    asInputErrors([&] { reportExported(a->out, exportRotatedViews(a->out, photo, cam, a->views)); });
   });
 }
 
