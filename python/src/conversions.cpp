@@ -33,6 +33,32 @@ py::object cv2Attribute(const char* name) {
   return cv2.attr(name);
 }
 
+// cv2's binding keeps a cv2.KeyPoint's value right after the object header (OpenCV's
+// generated `struct { PyObject_HEAD cv::KeyPoint v; }`). Reading it there skips six attribute
+// lookups per keypoint, most of compute()'s binding overhead. Used only if a probe keypoint reads
+// back exactly, so another cv2 layout falls back to the attributes.
+PyTypeObject* keypointTypeWithKnownLayout() {
+  static PyTypeObject* const type = [] () -> PyTypeObject* {
+    const py::object make = cv2Attribute("KeyPoint");
+    if (!PyType_Check(make.ptr())) return nullptr;
+    auto* t = reinterpret_cast<PyTypeObject*>(make.ptr());
+    if (t->tp_basicsize < static_cast<py::ssize_t>(sizeof(PyObject) + sizeof(cv::KeyPoint))) return nullptr;
+    const cv::KeyPoint expected(1.5f, -2.25f, 31.f, 45.5f, 0.125f, 3, 7);
+    const py::object probe = make(expected.pt.x, expected.pt.y, expected.size, expected.angle, expected.response,
+                                  expected.octave, expected.class_id);
+    if (Py_TYPE(probe.ptr()) != t) return nullptr;
+    cv::KeyPoint got;
+    std::memcpy(&got, reinterpret_cast<const char*>(probe.ptr()) + sizeof(PyObject), sizeof(cv::KeyPoint));
+    const bool same = got.pt == expected.pt && got.size == expected.size && got.angle == expected.angle &&
+                      got.response == expected.response && got.octave == expected.octave &&
+                      got.class_id == expected.class_id;
+    if (!same) return nullptr;
+    make.inc_ref();  // the type stays alive with the module
+    return t;
+  }();
+  return type;
+}
+
 }  // namespace
 
 cv::Mat imageFromArray(const py::handle& object, const char* argument, py::object& keep, bool allowNone) {
@@ -92,8 +118,13 @@ std::vector<cv::KeyPoint> keypointsFromPython(const py::handle& sequence, const 
                                      py::str("octave").release(),   py::str("class_id").release()};
   const auto items = py::reinterpret_borrow<py::sequence>(sequence);
   std::vector<cv::KeyPoint> out(items.size());
+  PyTypeObject* const known = keypointTypeWithKnownLayout();
   for (size_t i = 0; i < out.size(); ++i) {
     const py::object k = items[i];
+    if (known && Py_TYPE(k.ptr()) == known) {
+      std::memcpy(&out[i], reinterpret_cast<const char*>(k.ptr()) + sizeof(PyObject), sizeof(cv::KeyPoint));
+      continue;
+    }
     double values[7];
     bool ok = true;
     for (int a = 0; a < 6 && ok; ++a) {

@@ -254,3 +254,25 @@ def test_every_simd_level_gives_the_same_features_and_matches(camera, image_pair
             np.testing.assert_array_equal(a, b)
     with pytest.raises(ValueError, match="avx2"):
         mdbrief.limit_simd_level("sse9")
+
+
+def test_keypoint_lookalikes_are_read_like_cv2_keypoints(camera, image_pair):
+    # cv2.KeyPoint values are read from the object itself, anything else through its attributes.
+    class Lookalike:
+        def __init__(self, k):
+            self.pt, self.size, self.angle = k.pt, k.size, k.angle
+            self.response, self.octave, self.class_id = k.response, k.octave, k.class_id
+
+    given = cv2.ORB_create(300).detect(image_pair[0])
+    for i, k in enumerate(given):
+        k.class_id = 1000 + i  # passed through to the described keypoints
+    features = mdbrief.MdBrief(camera)
+    kp_a, d_a, m_a = features.compute(image_pair[0], given)
+    kp_b, d_b, m_b = features.compute(image_pair[0], [Lookalike(k) for k in given])
+    assert len(kp_a) > 100
+    assert [(k.pt, k.size, k.angle, k.response, k.octave, k.class_id) for k in kp_a] == \
+        [(k.pt, k.size, k.angle, k.response, k.octave, k.class_id) for k in kp_b]
+    np.testing.assert_array_equal(d_a, d_b)
+    np.testing.assert_array_equal(m_a, m_b)
+    ids = [k.class_id for k in kp_a]
+    assert ids == sorted(set(ids)) and ids[0] >= 1000
