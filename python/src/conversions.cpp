@@ -2,6 +2,8 @@
 
 #include <filesystem>
 
+#include "cv2_value_layout.hpp"
+
 namespace mdbrief::python {
 namespace {
 
@@ -31,32 +33,6 @@ py::array_t<uint8_t, py::array::c_style> uint8Array(const py::handle& object, co
 py::object cv2Attribute(const char* name) {
   static const py::handle cv2 = py::module_::import("cv2").release();
   return cv2.attr(name);
-}
-
-// cv2's binding keeps a cv2.KeyPoint's value right after the object header (OpenCV's
-// generated `struct { PyObject_HEAD cv::KeyPoint v; }`). Reading it there skips six attribute
-// lookups per keypoint, most of compute()'s binding overhead. Used only if a probe keypoint reads
-// back exactly, so another cv2 layout falls back to the attributes.
-PyTypeObject* keypointTypeWithKnownLayout() {
-  static PyTypeObject* const type = [] () -> PyTypeObject* {
-    const py::object make = cv2Attribute("KeyPoint");
-    if (!PyType_Check(make.ptr())) return nullptr;
-    auto* t = reinterpret_cast<PyTypeObject*>(make.ptr());
-    if (t->tp_basicsize < static_cast<py::ssize_t>(sizeof(PyObject) + sizeof(cv::KeyPoint))) return nullptr;
-    const cv::KeyPoint expected(1.5f, -2.25f, 31.f, 45.5f, 0.125f, 3, 7);
-    const py::object probe = make(expected.pt.x, expected.pt.y, expected.size, expected.angle, expected.response,
-                                  expected.octave, expected.class_id);
-    if (Py_TYPE(probe.ptr()) != t) return nullptr;
-    cv::KeyPoint got;
-    std::memcpy(&got, reinterpret_cast<const char*>(probe.ptr()) + sizeof(PyObject), sizeof(cv::KeyPoint));
-    const bool same = got.pt == expected.pt && got.size == expected.size && got.angle == expected.angle &&
-                      got.response == expected.response && got.octave == expected.octave &&
-                      got.class_id == expected.class_id;
-    if (!same) return nullptr;
-    make.inc_ref();  // the type stays alive with the module
-    return t;
-  }();
-  return type;
 }
 
 }  // namespace
@@ -112,63 +88,30 @@ py::array_t<double, py::array::c_style> pointsFromArray(const py::handle& object
 std::vector<cv::KeyPoint> keypointsFromPython(const py::handle& sequence, const char* argument) {
   if (py::isinstance<py::str>(sequence) || !py::isinstance<py::sequence>(sequence))
     throw py::type_error(std::string(argument) + " must be a sequence of cv2.KeyPoint");
-  // Attribute names made once: this loop is most of compute()'s binding overhead.
-  static const py::handle names[] = {py::str("pt").release(),       py::str("size").release(),
-                                     py::str("angle").release(),    py::str("response").release(),
-                                     py::str("octave").release(),   py::str("class_id").release()};
   const auto items = py::reinterpret_borrow<py::sequence>(sequence);
+  PyTypeObject* const cv2Type = Cv2Value<cv::KeyPoint>::type();
   std::vector<cv::KeyPoint> out(items.size());
-  PyTypeObject* const known = keypointTypeWithKnownLayout();
   for (size_t i = 0; i < out.size(); ++i) {
     const py::object k = items[i];
-    if (known && Py_TYPE(k.ptr()) == known) {
-      std::memcpy(&out[i], reinterpret_cast<const char*>(k.ptr()) + sizeof(PyObject), sizeof(cv::KeyPoint));
-      continue;
-    }
-    double values[7];
     bool ok = true;
-    for (int a = 0; a < 6 && ok; ++a) {
-      const py::object v = py::reinterpret_steal<py::object>(PyObject_GetAttr(k.ptr(), names[a].ptr()));
-      if (!v) {
-        ok = false;
-      } else if (a == 0) {
-        ok = PyTuple_Check(v.ptr()) && PyTuple_GET_SIZE(v.ptr()) == 2;
-        for (int c = 0; c < 2 && ok; ++c) values[c] = PyFloat_AsDouble(PyTuple_GET_ITEM(v.ptr(), c));
-      } else {
-        values[a + 1] = a < 4 ? PyFloat_AsDouble(v.ptr()) : static_cast<double>(PyLong_AsLong(v.ptr()));
-      }
-    }
-    if (!ok || PyErr_Occurred()) {
+    out[i] = cv2Type && Py_TYPE(k.ptr()) == cv2Type ? Cv2Value<cv::KeyPoint>::read(k.ptr())
+                                                     : keypointFromAttributes(k.ptr(), ok);
+    if (!ok) {
       PyErr_Clear();
       throw py::type_error(std::string(argument) + "[" + std::to_string(i) + "] is not a cv2.KeyPoint");
     }
-    out[i] = cv::KeyPoint(static_cast<float>(values[0]), static_cast<float>(values[1]), static_cast<float>(values[2]),
-                          static_cast<float>(values[3]), static_cast<float>(values[4]), static_cast<int>(values[5]),
-                          static_cast<int>(values[6]));
   }
   return out;
 }
 
 py::list keypointsToPython(const std::vector<cv::KeyPoint>& keypoints) {
-  // A direct vectorcall of the cv2.KeyPoint type: most of detect_and_compute()'s binding overhead
-  // is making these objects.
+  const bool direct = Cv2Value<cv::KeyPoint>::type() != nullptr;
   const py::object make = cv2Attribute("KeyPoint");
   py::list out(keypoints.size());
   for (size_t i = 0; i < keypoints.size(); ++i) {
     const cv::KeyPoint& k = keypoints[i];
-    const py::object args[] = {py::reinterpret_steal<py::object>(PyFloat_FromDouble(k.pt.x)),
-                               py::reinterpret_steal<py::object>(PyFloat_FromDouble(k.pt.y)),
-                               py::reinterpret_steal<py::object>(PyFloat_FromDouble(k.size)),
-                               py::reinterpret_steal<py::object>(PyFloat_FromDouble(k.angle)),
-                               py::reinterpret_steal<py::object>(PyFloat_FromDouble(k.response)),
-                               py::reinterpret_steal<py::object>(PyLong_FromLong(k.octave)),
-                               py::reinterpret_steal<py::object>(PyLong_FromLong(k.class_id))};
-    PyObject* raw[7];
-    for (int a = 0; a < 7; ++a) {
-      if (!args[a]) throw py::error_already_set();
-      raw[a] = args[a].ptr();
-    }
-    PyObject* keypoint = PyObject_Vectorcall(make.ptr(), raw, 7, nullptr);
+    PyObject* keypoint = direct ? Cv2Value<cv::KeyPoint>::make(k)
+                                : make(k.pt.x, k.pt.y, k.size, k.angle, k.response, k.octave, k.class_id).release().ptr();
     if (!keypoint) throw py::error_already_set();
     PyList_SET_ITEM(out.ptr(), static_cast<py::ssize_t>(i), keypoint);
   }
@@ -176,10 +119,15 @@ py::list keypointsToPython(const std::vector<cv::KeyPoint>& keypoints) {
 }
 
 py::list matchesToPython(const std::vector<cv::DMatch>& matches) {
+  const bool direct = Cv2Value<cv::DMatch>::type() != nullptr;
   const py::object make = cv2Attribute("DMatch");
   py::list out(matches.size());
-  for (size_t i = 0; i < matches.size(); ++i)
-    out[i] = make(matches[i].queryIdx, matches[i].trainIdx, matches[i].distance);  // cv2's fastest overload
+  for (size_t i = 0; i < matches.size(); ++i) {
+    const cv::DMatch& m = matches[i];
+    PyObject* match = direct ? Cv2Value<cv::DMatch>::make(m) : make(m.queryIdx, m.trainIdx, m.distance).release().ptr();
+    if (!match) throw py::error_already_set();
+    PyList_SET_ITEM(out.ptr(), static_cast<py::ssize_t>(i), match);
+  }
   return out;
 }
 

@@ -1,0 +1,142 @@
+#include "cv2_value_layout.hpp"
+
+#include <cstring>
+#include <new>
+
+namespace mdbrief::python {
+
+namespace py = pybind11;
+
+namespace {
+
+// Kept for the life of the process (a static py::object would be released after the interpreter).
+PyObject* cv2Type(const char* name) {
+  static const py::handle cv2 = py::module_::import("cv2").release();
+  return py::object(cv2.attr(name)).release().ptr();
+}
+
+bool same(const cv::KeyPoint& a, const cv::KeyPoint& b) {
+  return a.pt == b.pt && a.size == b.size && a.angle == b.angle && a.response == b.response &&
+         a.octave == b.octave && a.class_id == b.class_id;
+}
+bool same(const cv::DMatch& a, const cv::DMatch& b) {
+  return a.queryIdx == b.queryIdx && a.trainIdx == b.trainIdx && a.imgIdx == b.imgIdx && a.distance == b.distance;
+}
+
+cv::KeyPoint fromAttributes(PyObject* o, bool& ok, cv::KeyPoint*) { return keypointFromAttributes(o, ok); }
+cv::DMatch fromAttributes(PyObject* o, bool& ok, cv::DMatch*) { return matchFromAttributes(o, ok); }
+
+const char* cv2Name(cv::KeyPoint*) { return "KeyPoint"; }
+const char* cv2Name(cv::DMatch*) { return "DMatch"; }
+
+py::object construct(PyObject* type, const cv::KeyPoint& k) {
+  return py::reinterpret_borrow<py::object>(type)(k.pt.x, k.pt.y, k.size, k.angle, k.response, k.octave,
+                                                  k.class_id);
+}
+py::object construct(PyObject* type, const cv::DMatch& m) {
+  return py::reinterpret_borrow<py::object>(type)(m.queryIdx, m.trainIdx, m.imgIdx, m.distance);
+}
+
+// Values no default-constructed object holds, exactly representable.
+cv::KeyPoint probeValue(cv::KeyPoint*) { return {1.5f, -2.25f, 31.f, 45.5f, 0.125f, 3, 7}; }
+cv::DMatch probeValue(cv::DMatch*) { return {11, 22, 3, 4.75f}; }
+
+template <typename T>
+PyTypeObject* probedType() {
+  PyObject* object = cv2Type(cv2Name(static_cast<T*>(nullptr)));
+  if (!PyType_Check(object)) return nullptr;
+  auto* type = reinterpret_cast<PyTypeObject*>(object);
+  if (type->tp_basicsize < static_cast<py::ssize_t>(sizeof(PyObject) + sizeof(T)) || !type->tp_alloc) return nullptr;
+  const T expected = probeValue(static_cast<T*>(nullptr));
+  // cv2 -> here.
+  const py::object made = construct(object, expected);
+  if (Py_TYPE(made.ptr()) != type || !same(Cv2Value<T>::read(made.ptr()), expected)) return nullptr;
+  // Here -> cv2.
+  PyObject* raw = type->tp_alloc(type, 0);
+  if (!raw) throw py::error_already_set();
+  const py::object written = py::reinterpret_steal<py::object>(raw);
+  new (reinterpret_cast<char*>(raw) + sizeof(PyObject)) T(expected);
+  bool ok = true;
+  const T back = fromAttributes(raw, ok, static_cast<T*>(nullptr));
+  if (!ok || !same(back, expected)) {
+    PyErr_Clear();
+    return nullptr;
+  }
+  return type;
+}
+
+double number(PyObject* o, const char* name, bool& ok) {
+  PyObject* v = ok ? PyObject_GetAttrString(o, name) : nullptr;
+  if (!v) return ok = false, 0.0;
+  const double d = PyFloat_AsDouble(v);
+  Py_DECREF(v);
+  if (PyErr_Occurred()) ok = false;
+  return d;
+}
+
+// Integers only: a float octave or class_id is not a keypoint's.
+long integer(PyObject* o, const char* name, bool& ok) {
+  PyObject* v = ok ? PyObject_GetAttrString(o, name) : nullptr;
+  if (!v) return ok = false, 0;
+  const long n = PyLong_AsLong(v);
+  Py_DECREF(v);
+  if (PyErr_Occurred()) ok = false;
+  return n;
+}
+
+}  // namespace
+
+template <typename T>
+PyTypeObject* Cv2Value<T>::type() {
+  static PyTypeObject* const t = probedType<T>();
+  return t;
+}
+
+template <typename T>
+T Cv2Value<T>::read(PyObject* object) {
+  T value;
+  std::memcpy(static_cast<void*>(&value), reinterpret_cast<const char*>(object) + sizeof(PyObject), sizeof(T));
+  return value;
+}
+
+template <typename T>
+PyObject* Cv2Value<T>::make(const T& value) {
+  PyTypeObject* t = type();
+  PyObject* object = t->tp_alloc(t, 0);
+  if (object) new (reinterpret_cast<char*>(object) + sizeof(PyObject)) T(value);
+  return object;
+}
+
+template struct Cv2Value<cv::KeyPoint>;
+template struct Cv2Value<cv::DMatch>;
+
+cv::KeyPoint keypointFromAttributes(PyObject* o, bool& ok) {
+  cv::KeyPoint k;
+  PyObject* pt = PyObject_GetAttrString(o, "pt");
+  if (!pt || !PyTuple_Check(pt) || PyTuple_GET_SIZE(pt) != 2) {
+    Py_XDECREF(pt);
+    ok = false;
+    return k;
+  }
+  k.pt.x = static_cast<float>(PyFloat_AsDouble(PyTuple_GET_ITEM(pt, 0)));
+  k.pt.y = static_cast<float>(PyFloat_AsDouble(PyTuple_GET_ITEM(pt, 1)));
+  Py_DECREF(pt);
+  k.size = static_cast<float>(number(o, "size", ok));
+  k.angle = static_cast<float>(number(o, "angle", ok));
+  k.response = static_cast<float>(number(o, "response", ok));
+  k.octave = static_cast<int>(integer(o, "octave", ok));
+  k.class_id = static_cast<int>(integer(o, "class_id", ok));
+  if (PyErr_Occurred()) ok = false;
+  return k;
+}
+
+cv::DMatch matchFromAttributes(PyObject* o, bool& ok) {
+  cv::DMatch m;
+  m.queryIdx = static_cast<int>(integer(o, "queryIdx", ok));
+  m.trainIdx = static_cast<int>(integer(o, "trainIdx", ok));
+  m.imgIdx = static_cast<int>(integer(o, "imgIdx", ok));
+  m.distance = static_cast<float>(number(o, "distance", ok));
+  return m;
+}
+
+}  // namespace mdbrief::python
