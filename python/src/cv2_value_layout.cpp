@@ -65,23 +65,16 @@ PyTypeObject* probedType() {
   return type;
 }
 
-double number(PyObject* o, const char* name, bool& ok) {
+// Attribute `name` of o converted by `convert` (PyFloat_AsDouble, or PyLong_AsLong, which
+// refuses a float octave or class_id); ok turns false on the first failure.
+template <typename R>
+R attribute(PyObject* o, const char* name, bool& ok, R (*convert)(PyObject*)) {
   PyObject* v = ok ? PyObject_GetAttrString(o, name) : nullptr;
-  if (!v) return ok = false, 0.0;
-  const double d = PyFloat_AsDouble(v);
+  if (!v) return ok = false, R{};
+  const R r = convert(v);
   Py_DECREF(v);
   if (PyErr_Occurred()) ok = false;
-  return d;
-}
-
-// Integers only: a float octave or class_id is not a keypoint's.
-long integer(PyObject* o, const char* name, bool& ok) {
-  PyObject* v = ok ? PyObject_GetAttrString(o, name) : nullptr;
-  if (!v) return ok = false, 0;
-  const long n = PyLong_AsLong(v);
-  Py_DECREF(v);
-  if (PyErr_Occurred()) ok = false;
-  return n;
+  return r;
 }
 
 }  // namespace
@@ -121,21 +114,21 @@ cv::KeyPoint keypointFromAttributes(PyObject* o, bool& ok) {
   k.pt.x = static_cast<float>(PyFloat_AsDouble(PyTuple_GET_ITEM(pt, 0)));
   k.pt.y = static_cast<float>(PyFloat_AsDouble(PyTuple_GET_ITEM(pt, 1)));
   Py_DECREF(pt);
-  k.size = static_cast<float>(number(o, "size", ok));
-  k.angle = static_cast<float>(number(o, "angle", ok));
-  k.response = static_cast<float>(number(o, "response", ok));
-  k.octave = static_cast<int>(integer(o, "octave", ok));
-  k.class_id = static_cast<int>(integer(o, "class_id", ok));
+  k.size = static_cast<float>(attribute(o, "size", ok, PyFloat_AsDouble));
+  k.angle = static_cast<float>(attribute(o, "angle", ok, PyFloat_AsDouble));
+  k.response = static_cast<float>(attribute(o, "response", ok, PyFloat_AsDouble));
+  k.octave = static_cast<int>(attribute(o, "octave", ok, PyLong_AsLong));
+  k.class_id = static_cast<int>(attribute(o, "class_id", ok, PyLong_AsLong));
   if (PyErr_Occurred()) ok = false;
   return k;
 }
 
 cv::DMatch matchFromAttributes(PyObject* o, bool& ok) {
   cv::DMatch m;
-  m.queryIdx = static_cast<int>(integer(o, "queryIdx", ok));
-  m.trainIdx = static_cast<int>(integer(o, "trainIdx", ok));
-  m.imgIdx = static_cast<int>(integer(o, "imgIdx", ok));
-  m.distance = static_cast<float>(number(o, "distance", ok));
+  m.queryIdx = static_cast<int>(attribute(o, "queryIdx", ok, PyLong_AsLong));
+  m.trainIdx = static_cast<int>(attribute(o, "trainIdx", ok, PyLong_AsLong));
+  m.imgIdx = static_cast<int>(attribute(o, "imgIdx", ok, PyLong_AsLong));
+  m.distance = static_cast<float>(attribute(o, "distance", ok, PyFloat_AsDouble));
   return m;
 }
 
