@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "command_helpers.hpp"
 #include "eval_datasets.hpp"
 #include "held_out.hpp"
 #include "mdbrief/camera_io.hpp"
@@ -21,41 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The defaults below are relative to the working directory: the scripts run from the repository
-// root, where configs/cameras and ../shared/data are; an installed program is given paths.
-
-// MDBRIEF_DATA or ../shared/data.
-std::string sharedData() {
-  if (const char* env = std::getenv("MDBRIEF_DATA"); env && *env) return env;
-  return "../shared/data";
-}
-
-// --opencv-doc-dir: Debian's opencv-doc sample photos, which the default textures come from.
-void addOpencvDocFlag(CLI::App* cmd, std::string& dir) {
-  dir = kDebianOpencvDocData;
-  cmd->add_option("--opencv-doc-dir", dir,
-                  "Folder of the opencv-doc sample photos the default textures come from (default: where "
-                  "Debian's opencv-doc package installs them)")
-      ->envname("MDBRIEF_OPENCV_DOC")
-      ->capture_default_str();
-}
-
-CameraPtr loadCameraOrThrow(const std::string& path) {
-  try {
-    return loadCamera(path);
-  } catch (const std::exception& e) {
-    throw InputError(e.what());
-  }
-}
-
-cv::Mat loadGreyOrThrow(const std::string& path) {
-  try {
-    return loadEvaluationImage(path);
-  } catch (const std::runtime_error& e) {
-    throw InputError(e.what());
-  }
-}
-
 // "name=path" pairs of the --camera flags; a name ending in "_rim" takes the camera's own
 // longest path (to the rim) instead of the shared one.
 std::vector<SimCamera> parseCameras(const std::vector<std::string>& specs) {
@@ -69,22 +35,6 @@ std::vector<SimCamera> parseCameras(const std::vector<std::string>& specs) {
     out.push_back({name, loadCameraOrThrow(s.substr(eq + 1)), rim ? -1.0 : 0.0});
   }
   return out;
-}
-
-// Runs `body`, turning file errors of the library (std::runtime_error naming the file) into
-// input errors so the caller exits 2. OpenCV failures are internal errors (exit 1): the
-// inputs were checked before they reached OpenCV.
-template <typename F>
-void asInputErrors(F&& body) {
-  try {
-    body();
-  } catch (const std::invalid_argument&) {
-    throw;
-  } catch (const cv::Exception& e) {
-    throw std::runtime_error(std::string("OpenCV: ") + e.what());
-  } catch (const std::runtime_error& e) {
-    throw InputError(e.what());
-  }
 }
 
 void reportExported(const std::string& dir, const UserSequenceFiles& files) {
@@ -395,26 +345,26 @@ void addHeldOutImagesCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("held-out-images",
                                  "Write the digests of every image the default evaluations read (the training's "
                                  "held-out list, configs/held-out-images.txt)");
-  auto oxfordDir = std::make_shared<std::string>(sharedData() + "/oxford-affine");
+  auto dataDir = std::make_shared<std::string>(sharedData());
   auto docDir = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>();
   auto only = std::make_shared<std::vector<std::string>>();
-  cmd->add_option("--oxford-dir", *oxfordDir, "Folder of the Oxford affine sequences (default relative to the "
-                                              "working directory, or $MDBRIEF_DATA/oxford-affine)")
+  cmd->add_option("--data", *dataDir, "The shared data folder (Oxford sequences, poster-dev frames, fisheye photos; "
+                                      "default relative to the working directory, or $MDBRIEF_DATA)")
       ->capture_default_str();
   addOpencvDocFlag(cmd, *docDir);
   cmd->add_option("--only", *only,
                   "List these images instead (e.g. a validation set used for tuning), labelled by their "
                   "folder and file name");
   cmd->add_option("--out", *out, "Output file")->required();
-  cmd->callback([oxfordDir, docDir, out, only] {
+  cmd->callback([dataDir, docDir, out, only] {
     std::vector<EvaluationImage> images;
     for (const auto& p : *only) {
       loadGreyOrThrow(p);
       images.push_back({p, (fs::path(p).parent_path().filename() / fs::path(p).filename()).string()});
     }
-    if (only->empty()) images = defaultEvaluationImages(*oxfordDir, *docDir);
-    if (images.empty()) throw InputError("no evaluation image found (opencv-doc and " + *oxfordDir + " missing)");
+    if (only->empty()) images = defaultEvaluationImages(*dataDir, *docDir);
+    if (images.empty()) throw InputError("no evaluation image found (opencv-doc and " + *dataDir + " missing)");
     asInputErrors([&] { internal::writeFileAtomically(*out, heldOutListText(images)); });
     std::printf("%s: %zu images\n", out->c_str(), images.size());
   });

@@ -110,19 +110,55 @@ UserSequenceFiles exportUserSequence(const std::string& dir, const cv::Mat& text
   return writeUserSequence(dir, images, homographies, *camera);
 }
 
-UserSequenceFiles exportRotatedViews(const std::string& dir, const cv::Mat& photo, const CameraPtr& camera,
-                                     int views) {
+namespace {
+
+// The photo and the views of the same lens turned by cameraRotation(8 k, -4 k, 12 k) degrees,
+// with the rotations (the bearing homographies image 1 -> image k + 1).
+void turnedLensViews(const cv::Mat& photo, const CameraPtr& camera, int views, std::vector<cv::Mat>& images,
+                     std::vector<cv::Matx33d>& rotations) {
   if (photo.size() != camera->imageSize())
     throw std::runtime_error("the photo is " + internal::sizeText(photo.size()) + " but the calibration " +
                              internal::sizeText(camera->imageSize()));
-  std::vector<cv::Mat> images{photo};
-  std::vector<cv::Matx33d> homographies;
+  images = {photo};
+  rotations.clear();
   for (int k = 1; k < views; ++k) {
     const cv::Matx33d r = cameraRotation(8.0 * k, -4.0 * k, 12.0 * k);
     images.push_back(train::lensRotation(camera, r)->render(photo, 0));
-    homographies.push_back(r);
+    rotations.push_back(r);
   }
-  return writeUserSequence(dir, images, homographies, *camera);
+}
+
+// Pixel of image a -> pixel of image b through a homography between bearings (b ~ h a, det > 0).
+GroundTruthMap bearingHomographyMap(const CameraPtr& camera, const cv::Matx33d& h) {
+  return [h, camera](const cv::Point2d& px) -> std::optional<cv::Point2d> {
+    cv::Vec3d b;
+    cv::Point2d out;
+    if (!camera->pixelToBearing(px, b)) return std::nullopt;
+    if (!camera->bearingToPixel(h * b, out) || !camera->isValid(out)) return std::nullopt;
+    return out;
+  };
+}
+
+}  // namespace
+
+UserSequenceFiles exportRotatedViews(const std::string& dir, const cv::Mat& photo, const CameraPtr& camera,
+                                     int views) {
+  std::vector<cv::Mat> images;
+  std::vector<cv::Matx33d> rotations;
+  turnedLensViews(photo, camera, views, images, rotations);
+  return writeUserSequence(dir, images, rotations, *camera);
+}
+
+EvalSequence turnedLensSequence(const std::string& name, const cv::Mat& photo, const CameraPtr& camera, int views) {
+  EvalSequence s;
+  s.name = name;
+  s.camera = camera;
+  s.cameraIsModel = true;
+  std::vector<cv::Matx33d> rotations;
+  turnedLensViews(photo, camera, views, s.images, rotations);
+  for (size_t k = 0; k < rotations.size(); ++k)
+    s.pairs.push_back({0, static_cast<int>(k + 1), bearingHomographyMap(camera, rotations[k])});
+  return s;
 }
 
 EvalSequence renderedFisheyeSequence(const std::string& name, const cv::Mat& texture, const CameraPtr& camera,
@@ -131,6 +167,7 @@ EvalSequence renderedFisheyeSequence(const std::string& name, const cv::Mat& tex
   s.name = name;
   s.camera = camera;
   s.cameraIsModel = true;
+  s.baseline = true;
   const PlaneScene scene = renderedScene(texture);
   const std::vector<CameraPose> ps = renderedSequencePoses(poses);
   for (const auto& p : ps) s.images.push_back(renderPlane(*camera, p, scene));
@@ -169,14 +206,7 @@ EvalSequence loadUserSequence(const std::string& name, const std::vector<std::st
     if (!(std::abs(det) > 1e-12 * std::pow(cv::norm(h), 3)))
       throw std::runtime_error(homographyFiles[k] + ": the homography is singular");
     if (det < 0) h = -h;
-    const CameraPtr cam = s.camera;
-    s.pairs.push_back({0, static_cast<int>(k + 1), [h, cam](const cv::Point2d& px) -> std::optional<cv::Point2d> {
-                         cv::Vec3d b;
-                         cv::Point2d out;
-                         if (!cam->pixelToBearing(px, b)) return std::nullopt;
-                         if (!cam->bearingToPixel(h * b, out) || !cam->isValid(out)) return std::nullopt;
-                         return out;
-                       }});
+    s.pairs.push_back({0, static_cast<int>(k + 1), bearingHomographyMap(s.camera, h)});
   }
   return s;
 }

@@ -30,6 +30,21 @@ inline const std::vector<std::string> kDocFisheyeTextures{"building.jpg", "home.
 inline const std::vector<std::string> kDocEvaluationPhotos{"graf1.png", "graf3.png", "building.jpg", "home.jpg",
                                                            "aero1.jpg", "baboon.jpg", "fruits.jpg", "messi5.jpg"};
 
+// The real fisheye frames with ground truth (poster_dev.hpp), under <data>/fisheye/poster-dev.
+inline const std::vector<std::string> kPosterDevFrames{"m1.jpg",  "m5.jpg",  "m7.jpg",  "m8.jpg",  "m10.jpg",
+                                                       "m11.jpg", "m14.jpg", "m16.jpg", "m17.jpg", "m18.jpg"};
+// The real fisheye photos of the shared data folder with their calibrations, seen again by the
+// lens turned (turnedLensSequence; scripts/real_fisheye_photos.sh lists the same three).
+struct TurnedLensPhoto {
+  const char* name;
+  const char* image;   // relative to the shared data folder
+  const char* camera;
+};
+inline constexpr TurnedLensPhoto kTurnedLensPhotos[] = {
+    {"ocamcalib_sample", "fisheye/ocamcalib-sample/test_fisheye.jpg", "fisheye/ocamcalib-sample/calib_results.txt"},
+    {"calib_adapter_kb", "fisheye/calib-adapter/kalibr/image.png", "fisheye/calib-adapter/kalibr/KB.yml"},
+    {"calib_adapter_ocam", "fisheye/calib-adapter/OcamCalib/image.jpg", "fisheye/calib-adapter/OcamCalib/OcamCalib.yml"}};
+
 struct EvalPair {
   int first = 0, second = 0;  // image indices
   GroundTruthMap map;         // pixel of `first` -> pixel of `second`
@@ -43,6 +58,13 @@ struct EvalSequence {
   bool cameraIsModel = false;  // true when the detector should respect the camera's valid area
   std::vector<cv::Mat> images;  // 8UC1
   std::vector<EvalPair> pairs;
+  // Per image, where the ground truth holds (CV_8UC1, nonzero = on the scene): keypoints are
+  // sought there only. Empty: the whole image (inside the camera's valid area).
+  std::vector<cv::Mat> regions;
+  // The camera moves between images (the scene is not seen from one centre), so an essential
+  // matrix is defined; false for pure rotations and the Oxford sequences, whose ground truth is
+  // a homography only.
+  bool baseline = false;
 };
 
 // <dir>/img1..6.png (or .ppm) and H1to2p..H1to6p. Empty if the folder or a file is missing;
@@ -76,6 +98,9 @@ UserSequenceFiles exportUserSequence(const std::string& dir, const cv::Mat& text
 // rotations. Written like exportUserSequence. Throws std::runtime_error on a size mismatch.
 UserSequenceFiles exportRotatedViews(const std::string& dir, const cv::Mat& photo, const CameraPtr& camera,
                                      int views);
+
+// The same views in memory (pairs 1-k, ground truth the rotations, no baseline).
+EvalSequence turnedLensSequence(const std::string& name, const cv::Mat& photo, const CameraPtr& camera, int views);
 
 // User data: images[0] is the reference; homographyFiles[k] relates bearings of image 0 and
 // image k+1 (3x3, nine numbers, whitespace separated, bearing_k ~ H * bearing_0). A homography

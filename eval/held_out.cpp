@@ -14,16 +14,21 @@ namespace mdbrief::eval {
 
 namespace fs = std::filesystem;
 
-std::vector<EvaluationImage> defaultEvaluationImages(const std::string& oxfordDir, const std::string& opencvDocDir) {
+std::vector<EvaluationImage> defaultEvaluationImages(const std::string& dataDir, const std::string& opencvDocDir) {
   std::vector<EvaluationImage> out;
+  const auto add = [&](const fs::path& path, const std::string& label) {
+    if (fs::exists(path)) out.push_back({path.string(), label});
+  };
+  const fs::path data(dataDir);
   for (const auto& seq : kOxfordSequences)
     for (int k = 1; k <= 6; ++k) {
       const std::string name = seq + "/img" + std::to_string(k) + ".png";
-      if (fs::exists(fs::path(oxfordDir) / name)) out.push_back({(fs::path(oxfordDir) / name).string(), "oxford-affine/" + name});
+      add(data / "oxford-affine" / name, "oxford-affine/" + name);
     }
-  for (const auto& name : kDocEvaluationPhotos)
-    if (fs::exists(fs::path(opencvDocDir) / name))
-      out.push_back({(fs::path(opencvDocDir) / name).string(), "opencv-doc/" + name});
+  for (const auto& frame : kPosterDevFrames)
+    add(data / "fisheye" / "poster-dev" / frame, "fisheye/poster-dev/" + frame);
+  for (const auto& photo : kTurnedLensPhotos) add(data / photo.image, photo.image);
+  for (const auto& name : kDocEvaluationPhotos) add(fs::path(opencvDocDir) / name, "opencv-doc/" + name);
   return out;
 }
 

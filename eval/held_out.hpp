@@ -16,9 +16,10 @@ struct EvaluationImage {
   std::string label;  // e.g. "oxford-affine/graf/img1.png", "opencv-doc/building.jpg"
 };
 
-// Every image the default sim, eval, timing and export-user-sample commands read (those
-// present on this machine): the Oxford sequences under oxfordDir and the photos of opencvDocDir.
-std::vector<EvaluationImage> defaultEvaluationImages(const std::string& oxfordDir,
+// Every image the default evaluations read (those present on this machine): of the shared data
+// folder the Oxford sequences, the poster-dev frames and the turned-lens photos; the photos of
+// opencvDocDir.
+std::vector<EvaluationImage> defaultEvaluationImages(const std::string& dataDir,
                                                      const std::string& opencvDocDir = kDebianOpencvDocData);
 
 // The held-out list text ("<digest> <label>" per image, sorted by label, header comments).

@@ -11,6 +11,8 @@ int main(int argc, char** argv) {
   mdbrief::eval::addSimCommand(app);
   mdbrief::eval::addEvalCommand(app);
   mdbrief::eval::addPipelinesCommand(app);
+  mdbrief::eval::addTrackerCommand(app);
+  mdbrief::eval::addMapPosterPointsCommand(app);
   mdbrief::eval::addTimingCommand(app);
   mdbrief::eval::addExportUserSampleCommand(app);
   mdbrief::eval::addExportRotatedViewsCommand(app);

@@ -1,7 +1,8 @@
 # Sourced by reproduce.sh and pipelines.sh: the real fisheye photos of ../shared with their
-# calibrations. export_real_fisheye_views EVAL DATA DIR writes each one, seen again by the same
-# lens turned (mdbrief-eval export-rotated-views: exact ground truth, the rotations), into
-# DIR/<name>/ (img1..6.png, camera.yaml, H1to2..6) and prints the names it wrote, one per line.
+# calibrations (eval/eval_datasets.hpp kTurnedLensPhotos lists the same three, for the tracker
+# benchmark and the held-out list). export_real_fisheye_views EVAL DATA DIR writes each one,
+# seen again by the same lens turned (mdbrief-eval export-rotated-views: exact ground truth, the
+# rotations), into DIR/<name>/ (img1..6.png, camera.yaml, H1to2..6) and prints the names it wrote, one per line.
 export_real_fisheye_views() {
   local eval=$1 data=$2 dir=$3 name image camera
   if [ ! -d "$data/fisheye" ]; then

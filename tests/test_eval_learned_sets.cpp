@@ -62,8 +62,8 @@ TEST(LearnedSets, ShippedSetsRecordTheirTrainingImagesAndNoneIsHeldOut) {
 }
 
 TEST(LearnedSets, HeldOutListCoversEveryDefaultEvaluationImage) {
-  const auto images = defaultEvaluationImages(oxfordDir().value_or("/nonexistent").string());
-  if (images.empty()) GTEST_SKIP() << "neither opencv-doc nor ../shared/data/oxford-affine present";
+  const auto images = defaultEvaluationImages(mdbrief::testing::sharedDataDir().value_or("/nonexistent").string());
+  if (images.empty()) GTEST_SKIP() << "neither opencv-doc nor ../shared/data present";
   const auto& heldOut = train::shippedHeldOutImages();
   for (const auto& im : images)
     EXPECT_EQ(heldOut.count(train::imageFileDigest(im.path)), 1u)
@@ -93,7 +93,7 @@ TEST(LearnedSets, EvaluationRefusesASetTrainedOnItsImages) {
   // Images it was not trained on are fine, and so is every shipped set on the default images.
   EXPECT_NO_THROW(requireDisjointTraining(methods, {(*doc / "box.png").string()}));
   std::vector<std::string> paths;
-  for (const auto& im : defaultEvaluationImages(oxfordDir().value_or("/nonexistent").string())) paths.push_back(im.path);
+  for (const auto& im : defaultEvaluationImages(mdbrief::testing::sharedDataDir().value_or("/nonexistent").string())) paths.push_back(im.path);
   EXPECT_NO_THROW(requireDisjointTraining(standardPrMethods(true), paths));
 }
 

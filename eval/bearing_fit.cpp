@@ -1,0 +1,254 @@
+#include "bearing_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <opengv/relative_pose/CentralRelativeAdapter.hpp>
+#include <opengv/relative_pose/methods.hpp>
+
+namespace mdbrief::eval {
+namespace {
+
+double angleBetween(const cv::Vec3d& u, const cv::Vec3d& v) { return std::atan2(cv::norm(u.cross(v)), u.dot(v)); }
+
+// Least-squares DLT of b ~ H a over `indices`: each pair gives b x (H a) = 0, three equations
+// of rank two. Bearings are unit vectors, so no normalisation is needed. Empty when degenerate.
+std::optional<cv::Matx33d> solveHomography(const std::vector<cv::Vec3d>& a, const std::vector<cv::Vec3d>& b,
+                                           const std::vector<int>& indices) {
+  cv::Mat m(static_cast<int>(indices.size()) * 3, 9, CV_64F, cv::Scalar(0));
+  for (size_t k = 0; k < indices.size(); ++k) {
+    const cv::Vec3d& p = a[indices[k]];
+    const cv::Vec3d& q = b[indices[k]];
+    double* r0 = m.ptr<double>(static_cast<int>(3 * k));
+    double* r1 = m.ptr<double>(static_cast<int>(3 * k + 1));
+    double* r2 = m.ptr<double>(static_cast<int>(3 * k + 2));
+    for (int c = 0; c < 3; ++c) {
+      // row 0: q_y (h3 . p) - q_z (h2 . p)
+      r0[3 + c] = -q[2] * p[c];
+      r0[6 + c] = q[1] * p[c];
+      // row 1: q_z (h1 . p) - q_x (h3 . p)
+      r1[c] = q[2] * p[c];
+      r1[6 + c] = -q[0] * p[c];
+      // row 2: q_x (h2 . p) - q_y (h1 . p)
+      r2[c] = -q[1] * p[c];
+      r2[3 + c] = q[0] * p[c];
+    }
+  }
+  // The null vector of m from the 9x9 normal matrix: an order of magnitude faster than an SVD
+  // of m, and accurate enough in doubles for unit bearings.
+  cv::Mat normal, values, vectors;
+  cv::mulTransposed(m, normal, true);
+  cv::eigen(normal, values, vectors);  // eigenvalues descending
+  // A minimal sample with three collinear points leaves a null space of dimension > 1.
+  if (indices.size() == 4 && !(values.at<double>(7) > 1e-18 * values.at<double>(0))) return std::nullopt;
+  cv::Matx33d h;
+  for (int i = 0; i < 9; ++i) h.val[i] = vectors.at<double>(8, i);
+  const double det = cv::determinant(h);
+  if (!(std::abs(det) > 1e-12) || !std::isfinite(det)) return std::nullopt;
+  return h;
+}
+
+// Orients h so that h a . b > 0 on the sample; empty when the sample disagrees (no plane seen
+// from one side explains it).
+std::optional<cv::Matx33d> orient(cv::Matx33d h, const std::vector<cv::Vec3d>& a, const std::vector<cv::Vec3d>& b,
+                                  const std::vector<int>& indices) {
+  int positive = 0;
+  for (int i : indices) positive += (h * a[i]).dot(b[i]) > 0;
+  if (positive == 0) return cv::Matx33d(-h);
+  if (positive == static_cast<int>(indices.size())) return h;
+  return std::nullopt;
+}
+
+double residualPx(const cv::Matx33d& h, const cv::Vec3d& a, const cv::Vec3d& b, double scale) {
+  const cv::Vec3d v = h * a;
+  if (!(v.dot(b) > 0)) return std::numeric_limits<double>::infinity();
+  return angleBetween(v, b) * scale;
+}
+
+int countInliers(const cv::Matx33d& h, const std::vector<cv::Vec3d>& a, const std::vector<cv::Vec3d>& b,
+                 const std::vector<double>& scale, double threshold, std::vector<char>& inliers) {
+  inliers.assign(a.size(), 0);
+  int n = 0;
+  for (size_t k = 0; k < a.size(); ++k) {
+    inliers[k] = residualPx(h, a[k], b[k], scale[k]) <= threshold;
+    n += inliers[k];
+  }
+  return n;
+}
+
+// RANSAC iterations that find an all-inlier sample of `sampleSize` with `confidence`, at an
+// inlier share `w`.
+int iterationsNeeded(double w, int sampleSize, double confidence, int cap) {
+  const double good = std::pow(w, sampleSize);
+  if (good >= 1.0) return 1;
+  if (good <= 0.0) return cap;
+  const double k = std::log(1.0 - confidence) / std::log(1.0 - good);
+  return k >= cap ? cap : std::max(1, static_cast<int>(std::ceil(k)));
+}
+
+}  // namespace
+
+std::optional<double> pixelsPerRadian(const Camera& camera, const cv::Point2d& pixel) {
+  cv::Vec3d l, r, u, d;
+  const double h = 0.5;
+  if (!camera.pixelToBearing(pixel - cv::Point2d(h, 0), l) || !camera.pixelToBearing(pixel + cv::Point2d(h, 0), r) ||
+      !camera.pixelToBearing(pixel - cv::Point2d(0, h), u) || !camera.pixelToBearing(pixel + cv::Point2d(0, h), d))
+    return std::nullopt;
+  const double radiansPerPixel = 0.5 * (angleBetween(l, r) + angleBetween(u, d)) / (2 * h);
+  if (!(radiansPerPixel > 0)) return std::nullopt;
+  return 1.0 / radiansPerPixel;
+}
+
+std::optional<HomographyFit> fitBearingHomography(const std::vector<cv::Vec3d>& a, const std::vector<cv::Vec3d>& b,
+                                                  const std::vector<double>& scaleB, const RansacOptions& o) {
+  const int n = static_cast<int>(a.size());
+  if (n < 4 || b.size() != a.size() || scaleB.size() != a.size()) return std::nullopt;
+  std::mt19937_64 rng(o.seed);
+  std::uniform_int_distribution<int> pick(0, n - 1);
+  HomographyFit best;
+  std::vector<char> inliers;
+  int needed = o.maxIterations;
+  std::vector<int> sample(4);
+  for (int it = 0; it < needed; ++it) {
+    for (int s = 0; s < 4; ++s) {
+      do sample[s] = pick(rng);
+      while (std::find(sample.begin(), sample.begin() + s, sample[s]) != sample.begin() + s);
+    }
+    auto h = solveHomography(a, b, sample);
+    if (h) h = orient(*h, a, b, sample);
+    if (!h) continue;
+    const int count = countInliers(*h, a, b, scaleB, o.thresholdPx, inliers);
+    if (count > best.inlierCount) {
+      best.h = *h;
+      best.inlierCount = count;
+      best.inliers = inliers;
+      needed = iterationsNeeded(static_cast<double>(count) / n, 4, o.confidence, o.maxIterations);
+    }
+  }
+  if (best.inlierCount < 4) return std::nullopt;
+  // Refit on the inliers while that keeps or adds inliers (a local optimisation step).
+  for (int round = 0; round < 5; ++round) {
+    std::vector<int> members;
+    for (int k = 0; k < n; ++k)
+      if (best.inliers[k]) members.push_back(k);
+    auto h = solveHomography(a, b, members);
+    if (h) {
+      // The least-squares fit keeps the sign convention of the majority.
+      int positive = 0;
+      for (int k : members) positive += ((*h) * a[k]).dot(b[k]) > 0;
+      if (2 * positive < static_cast<int>(members.size())) *h = -*h;
+    }
+    if (!h) break;
+    const int count = countInliers(*h, a, b, scaleB, o.thresholdPx, inliers);
+    if (count < best.inlierCount) break;
+    const bool grew = count > best.inlierCount;
+    best.h = *h;
+    best.inlierCount = count;
+    best.inliers = inliers;
+    if (!grew) break;
+  }
+  return best;
+}
+
+std::optional<EssentialFit> fitEssential(const std::vector<cv::Vec3d>& a, const std::vector<cv::Vec3d>& b,
+                                         double pixelsPerRadian, const RansacOptions& o) {
+  const int n = static_cast<int>(a.size());
+  if (n < 5 || b.size() != a.size() || !(pixelsPerRadian > 0)) return std::nullopt;
+  opengv::bearingVectors_t fa, fb;
+  for (int k = 0; k < n; ++k) {
+    fa.push_back(Eigen::Vector3d(a[k][0], a[k][1], a[k][2]).normalized());
+    fb.push_back(Eigen::Vector3d(b[k][0], b[k][1], b[k][2]).normalized());
+  }
+  opengv::relative_pose::CentralRelativeAdapter adapter(fa, fb);
+  const double limit = o.thresholdPx / pixelsPerRadian;
+  const auto inliersOf = [&](const Eigen::Matrix3d& e, std::vector<char>& in) {
+    in.assign(n, 0);
+    int count = 0;
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector3d normal = e * fb[k];
+      const double nn = normal.norm();
+      in[k] = nn > 0 && std::abs(fa[k].dot(normal)) <= std::sin(limit) * nn;
+      count += in[k];
+    }
+    return count;
+  };
+  // RANSAC over minimal samples of OpenGV's 5-point solver (Nister; up to 10 essential
+  // matrices per sample, each scored), with this file's generator so that a run repeats.
+  std::mt19937_64 rng(o.seed);
+  std::uniform_int_distribution<int> pick(0, n - 1);
+  Eigen::Matrix3d bestE;
+  std::vector<char> bestIn, in;
+  int bestCount = 0, needed = o.maxIterations;
+  std::vector<int> sample(5);
+  for (int it = 0; it < needed; ++it) {
+    for (int s = 0; s < 5; ++s) {
+      do sample[s] = pick(rng);
+      while (std::find(sample.begin(), sample.begin() + s, sample[s]) != sample.begin() + s);
+    }
+    for (const auto& e : opengv::relative_pose::fivept_nister(adapter, sample)) {
+      const int count = inliersOf(e, in);
+      if (count > bestCount) {
+        bestCount = count;
+        bestE = e;
+        bestIn = in;
+        needed = iterationsNeeded(static_cast<double>(count) / n, 5, o.confidence, o.maxIterations);
+      }
+    }
+  }
+  if (bestCount < 5) return std::nullopt;
+  // E = [t]x R: of the four (R, t) it factors into, the one that puts most inliers in front of
+  // both cameras; then OpenGV's non-linear refinement on the inliers.
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(bestE, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d u = svd.matrixU(), v = svd.matrixV();
+  if (u.determinant() < 0) u = -u;
+  if (v.determinant() < 0) v = -v;
+  Eigen::Matrix3d w;
+  w << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+  std::vector<int> members;
+  for (int k = 0; k < n; ++k)
+    if (bestIn[k]) members.push_back(k);
+  Eigen::Matrix3d rotation;
+  Eigen::Vector3d translation;
+  int bestFront = -1;
+  for (const Eigen::Matrix3d& r : {Eigen::Matrix3d(u * w * v.transpose()), Eigen::Matrix3d(u * w.transpose() * v.transpose())})
+    for (const Eigen::Vector3d& t : {Eigen::Vector3d(u.col(2)), Eigen::Vector3d(-u.col(2))}) {
+      int front = 0;
+      for (int k : members) {
+        // depths: da fa = db R fb + t, least squares
+        Eigen::Matrix<double, 3, 2> m;
+        m.col(0) = fa[k];
+        m.col(1) = -(r * fb[k]);
+        const Eigen::Vector2d d = m.colPivHouseholderQr().solve(t);
+        front += d[0] > 0 && d[1] > 0;
+      }
+      if (front > bestFront) bestFront = front, rotation = r, translation = t;
+    }
+  adapter.sett12(translation);
+  adapter.setR12(rotation);
+  const opengv::transformation_t refined = opengv::relative_pose::optimize_nonlinear(adapter, members);
+  EssentialFit fit;
+  Eigen::Vector3d t = refined.col(3);
+  if (!(t.norm() > 0) || !t.allFinite()) return std::nullopt;
+  t.normalize();
+  const Eigen::Matrix3d r = refined.block<3, 3>(0, 0);
+  Eigen::Matrix3d tx;
+  tx << 0, -t[2], t[1], t[2], 0, -t[0], -t[1], t[0], 0;
+  const int refinedCount = inliersOf(tx * r, in);
+  // The refinement minimises another error than the inlier test; keep whichever explains more.
+  const Eigen::Matrix3d e = refinedCount >= bestCount ? Eigen::Matrix3d(tx * r) : bestE;
+  fit.inlierCount = inliersOf(e, fit.inliers);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) fit.essential(i, j) = e(i, j);
+  return fit;
+}
+
+double epipolarAngle(const EssentialFit& fit, const cv::Vec3d& a, const cv::Vec3d& b) {
+  const cv::Vec3d normal = fit.essential * b;
+  const double nn = cv::norm(normal), an = cv::norm(a);
+  if (!(nn > 0) || !(an > 0)) return std::numeric_limits<double>::infinity();
+  return std::asin(std::min(1.0, std::abs(normal.dot(a)) / (nn * an)));
+}
+
+}  // namespace mdbrief::eval

@@ -1,0 +1,41 @@
+#include "command_helpers.hpp"
+
+#include <cstdlib>
+
+#include "eval_datasets.hpp"
+#include "mdbrief/camera_io.hpp"
+#include "toolkit/data_folders.hpp"
+
+namespace mdbrief::eval {
+
+std::string sharedData() {
+  if (const char* env = std::getenv("MDBRIEF_DATA"); env && *env) return env;
+  return "../shared/data";
+}
+
+void addOpencvDocFlag(CLI::App* cmd, std::string& dir) {
+  dir = kDebianOpencvDocData;
+  cmd->add_option("--opencv-doc-dir", dir,
+                  "Folder of the opencv-doc sample photos the default textures come from (default: where "
+                  "Debian's opencv-doc package installs them)")
+      ->envname("MDBRIEF_OPENCV_DOC")
+      ->capture_default_str();
+}
+
+CameraPtr loadCameraOrThrow(const std::string& path) {
+  try {
+    return loadCamera(path);
+  } catch (const std::exception& e) {
+    throw InputError(e.what());
+  }
+}
+
+cv::Mat loadGreyOrThrow(const std::string& path) {
+  try {
+    return loadEvaluationImage(path);
+  } catch (const std::runtime_error& e) {
+    throw InputError(e.what());
+  }
+}
+
+}  // namespace mdbrief::eval

@@ -1,0 +1,41 @@
+#pragma once
+// What the subcommands of mdbrief-eval share: where the data is, the opencv-doc flag, and
+// turning file errors into input errors (exit 2).
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <opencv2/core.hpp>
+
+#include "eval_commands.hpp"
+#include "mdbrief/camera.hpp"
+
+namespace mdbrief::eval {
+
+// MDBRIEF_DATA or ../shared/data (relative to the working directory: the scripts run from the
+// repository root; an installed program is given paths).
+std::string sharedData();
+
+// --opencv-doc-dir: Debian's opencv-doc sample photos, which the default textures come from.
+void addOpencvDocFlag(CLI::App* cmd, std::string& dir);
+
+// loadCamera / loadEvaluationImage, throwing InputError.
+CameraPtr loadCameraOrThrow(const std::string& path);
+cv::Mat loadGreyOrThrow(const std::string& path);
+
+// Runs `body`, turning file errors of the library (std::runtime_error naming the file) into
+// input errors so the caller exits 2. OpenCV failures are internal errors (exit 1): the
+// inputs were checked before they reached OpenCV.
+template <typename F>
+void asInputErrors(F&& body) {
+  try {
+    body();
+  } catch (const std::invalid_argument&) {
+    throw;
+  } catch (const cv::Exception& e) {
+    throw std::runtime_error(std::string("OpenCV: ") + e.what());
+  } catch (const std::runtime_error& e) {
+    throw InputError(e.what());
+  }
+}
+
+}  // namespace mdbrief::eval

@@ -1,0 +1,197 @@
+// `mdbrief-eval tracker`: the tracker benchmark (tracker_experiment.hpp) on the real fisheye
+// poster frames, the Oxford sequences, the rendered fisheye sequences and the turned-lens photos.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <memory>
+
+#include "command_helpers.hpp"
+#include "eval_commands.hpp"
+#include "eval_datasets.hpp"
+#include "held_out.hpp"
+#include "mdbrief/camera_io.hpp"
+#include "poster_dev.hpp"
+#include "tracker_experiment.hpp"
+#include "toolkit/photo_camera.hpp"
+
+namespace mdbrief::eval {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::vector<std::string> kTrackerDatasets{"poster-dev", "oxford", "rendered-fisheye", "turned-lens"};
+
+struct Args {
+  std::string data = sharedData();
+  std::string opencvDocDir;
+  std::vector<std::string> datasets;
+  std::vector<std::string> only;
+  std::vector<std::string> library;  // name=options.yml
+  std::vector<std::string> fisheyeCameras{"configs/cameras/lafida_fisheye0.yaml",
+                                          "configs/cameras/double_sphere_example.yaml",
+                                          "configs/cameras/kannala_brandt_example.yaml"};
+  TrackerExperimentOptions options;
+};
+
+// One data set as a group; appends the files it read to `images`. Throws std::runtime_error
+// naming the file at fault.
+EvalGroup loadDataset(const std::string& name, const Args& a, std::vector<std::string>& images) {
+  EvalGroup g{name, {}};
+  if (name == "poster-dev") {
+    const PosterDev poster = loadPosterDev(a.data + "/fisheye/poster-dev");
+    for (const auto& f : poster.frames) images.push_back(f.path);
+    g.sequences.push_back(posterDevSequence(poster));
+  } else if (name == "oxford") {
+    for (const auto& s : kOxfordSequences) {
+      const std::string dir = a.data + "/oxford-affine/" + s;
+      auto seq = loadOxfordSequence(dir, s);
+      if (!seq) throw std::runtime_error(dir + ": not found or incomplete (img1..6, H1to2p..H1to6p)");
+      for (int k = 1; k <= 6; ++k) images.push_back(dir + "/img" + std::to_string(k) + ".png");
+      g.sequences.push_back(std::move(*seq));
+    }
+  } else if (name == "rendered-fisheye") {
+    // img1 of every Oxford sequence found and the opencv-doc photos, as `eval` renders them.
+    std::vector<std::string> textures;
+    for (const auto& s : kOxfordSequences)
+      if (const std::string t = a.data + "/oxford-affine/" + s + "/img1.png"; fs::exists(t)) textures.push_back(t);
+    for (const auto& p : kDocFisheyeTextures) textures.push_back(a.opencvDocDir + "/" + p);
+    for (const auto& cameraPath : a.fisheyeCameras) {
+      const CameraPtr camera = loadCamera(cameraPath);
+      for (const auto& t : textures) {
+        const std::string seqName = fs::path(cameraPath).stem().string() + ":" + fs::path(t).parent_path().filename().string() +
+                                    "/" + fs::path(t).stem().string();
+        g.sequences.push_back(renderedFisheyeSequence(seqName, loadEvaluationImage(t), camera, 6));
+      }
+    }
+    images.insert(images.end(), textures.begin(), textures.end());
+  } else if (name == "turned-lens") {
+    for (const auto& p : kTurnedLensPhotos) {
+      const std::string image = a.data + "/" + p.image;
+      g.sequences.push_back(turnedLensSequence(p.name, loadEvaluationImage(image), loadCamera(a.data + "/" + p.camera), 6));
+      images.push_back(image);
+    }
+  }
+  return g;
+}
+
+// Extra library pipelines: name=file, a cv::FileStorage file of MdBrief::write's schema.
+std::vector<TrackerPipeline> libraryPipelines(const std::vector<std::string>& specs) {
+  std::vector<TrackerPipeline> out;
+  for (const auto& s : specs) {
+    const auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == s.size()) throw InputError("--library " + s + ": expected name=file");
+    const std::string path = s.substr(eq + 1);
+    cv::FileStorage fs;
+    try {
+      fs.open(path, cv::FileStorage::READ);
+    } catch (const cv::Exception&) {
+    }
+    if (!fs.isOpened()) throw InputError(path + ": cannot read as an OpenCV FileStorage file");
+    // Options only: the placeholder camera is never used for images.
+    auto f2d = MdBrief::create(photoCamera({640, 480}));
+    try {
+      f2d->read(fs.root());
+    } catch (const std::invalid_argument& e) {
+      throw InputError(path + ": " + e.what());
+    }
+    TrackerPipeline p;
+    p.name = s.substr(0, eq);
+    p.options = f2d->options();
+    out.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace
+
+void addMapPosterPointsCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("map-poster-points",
+                                 "Map pixels of one poster-dev frame into another through the ground truth, as the "
+                                 "data set's map_points.py does: prints 'u v valid' per point");
+  struct MapArgs {
+    std::string dir = sharedData() + "/fisheye/poster-dev";
+    int from = 0, to = 0;
+    std::vector<double> uv;
+  };
+  auto a = std::make_shared<MapArgs>();
+  cmd->add_option("--poster-dir", a->dir, "The poster-dev folder")->capture_default_str();
+  cmd->add_option("from", a->from, "Frame number k of m<k>.jpg the points are in")->required();
+  cmd->add_option("to", a->to, "Frame number to map them into")->required();
+  cmd->add_option("uv", a->uv, "Pixel coordinates u v (column, row), one pair per point")->required();
+  cmd->callback([a] {
+    if (a->uv.size() % 2) throw InputError("points: expected pairs of u v");
+    asInputErrors([&] {
+      const PosterDev poster = loadPosterDev(a->dir);
+      const auto index = [&](int id) {
+        for (size_t i = 0; i < poster.frames.size(); ++i)
+          if (poster.frames[i].id == id) return static_cast<int>(i);
+        throw InputError("frame " + std::to_string(id) + " is not in " + a->dir + "/ground_truth.json");
+      };
+      const int from = index(a->from), to = index(a->to);
+      for (size_t k = 0; k < a->uv.size(); k += 2) {
+        const auto p = poster.map(from, to, {a->uv[k], a->uv[k + 1]});
+        if (p)
+          std::printf("%.4f %.4f 1\n", p->x, p->y);
+        else
+          std::printf("nan nan 0\n");
+      }
+    });
+  });
+}
+
+void addTrackerCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("tracker", "What a tracker keeps: ratio-test matches, their precision and robust "
+                                            "two-view fits, for every pipeline on real and rendered pairs");
+  auto a = std::make_shared<Args>();
+  addOpencvDocFlag(cmd, a->opencvDocDir);
+  cmd->add_option("--data", a->data, "The shared data folder (poster-dev, Oxford, fisheye photos; default relative "
+                                     "to the working directory, or $MDBRIEF_DATA)")
+      ->capture_default_str();
+  cmd->add_option("--datasets", a->datasets,
+                  "Only these data sets: poster-dev, oxford, rendered-fisheye, turned-lens (default: every one "
+                  "found; one named here that cannot be read is an error)")
+      ->check(CLI::IsMember(kTrackerDatasets));
+  cmd->add_option("--only", a->only, "Only the pipelines whose name starts with one of these");
+  cmd->add_option("--library", a->library,
+                  "Also evaluate the library with these options: name=file (cv::FileStorage, as MdBrief::write "
+                  "writes it); repeatable");
+  cmd->add_option("--budget", a->options.budget, "Keypoints per image")->check(CLI::Range(10, 100000))->capture_default_str();
+  cmd->add_option("--ratios", a->options.ratios, "Ratio-test sweep (1 = mutual nearest neighbours only)")
+      ->check(CLI::Range(0.05, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--fisheye-camera", a->fisheyeCameras, "Calibrations the rendered fisheye sequences use")
+      ->capture_default_str();
+  cmd->add_option("--out", a->options.outDir, "Output folder for tracker_pairs.csv and tracker_summary.csv")->required();
+  cmd->callback([a] {
+    std::vector<TrackerPipeline> pipelines;
+    for (const auto& p : standardTrackerPipelines())
+      if (a->only.empty() || std::any_of(a->only.begin(), a->only.end(),
+                                         [&](const std::string& prefix) { return p.name.rfind(prefix, 0) == 0; }))
+        pipelines.push_back(p);
+    for (auto& p : libraryPipelines(a->library)) pipelines.push_back(std::move(p));
+    if (pipelines.empty()) throw InputError("no pipeline selected (--only matches none, no --library)");
+    const bool named = !a->datasets.empty();
+    std::vector<EvalGroup> groups;
+    std::vector<std::string> images;
+    for (const auto& name : named ? a->datasets : kTrackerDatasets) {
+      std::vector<std::string> read;
+      try {
+        groups.push_back(loadDataset(name, *a, read));
+      } catch (const std::exception& e) {
+        if (named) throw InputError(name + ": " + e.what());
+        std::fprintf(stderr, "tracker: skipping %s: %s\n", name.c_str(), e.what());
+        continue;
+      }
+      images.insert(images.end(), read.begin(), read.end());
+    }
+    if (groups.empty()) throw InputError("no data set could be read (see the messages above)");
+    std::vector<MethodSpec> methods;
+    for (const auto& p : pipelines)
+      if (p.kind == TrackerPipeline::Kind::Library) methods.push_back({p.name, MethodFamily::Library, p.options.descriptor});
+    requireDisjointTraining(methods, images);
+    asInputErrors([&] { runTracker(groups, pipelines, a->options); });
+  });
+}
+
+}  // namespace mdbrief::eval

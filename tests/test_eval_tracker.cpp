@@ -1,0 +1,321 @@
+// The tracker benchmark of eval/: robust fits on bearings (bearing_fit.hpp), the matches a
+// tracker keeps (tracker_metrics.hpp) and the poster-dev ground truth (poster_dev.hpp), on
+// constructed inputs whose answers are known.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "eval/bearing_fit.hpp"
+#include "eval/eval_commands.hpp"
+#include "eval/poster_dev.hpp"
+#include "eval/tracker_metrics.hpp"
+#include "test_data.hpp"
+#include "toolkit/photo_camera.hpp"
+
+namespace mdbrief::eval {
+namespace {
+
+cv::Vec3d unit(const cv::Vec3d& v) { return v / cv::norm(v); }
+
+double angle(const cv::Vec3d& u, const cv::Vec3d& v) { return std::atan2(cv::norm(u.cross(v)), u.dot(v)); }
+
+cv::Matx33d rotationAbout(cv::Vec3d axis, double radians) {
+  cv::Matx33d r;
+  cv::Rodrigues(unit(axis) * radians, r);
+  return r;
+}
+
+// Camera b in the frame of camera a: X_a = R X_b + t.
+struct TwoViews {
+  cv::Matx33d r = rotationAbout({0.2, 1.0, 0.1}, 0.4);
+  cv::Vec3d t{0.6, -0.1, 0.2};
+  cv::Vec3d toB(const cv::Vec3d& xa) const { return r.t() * (xa - t); }
+};
+
+// Points on the plane x = 2 seen from camera a at the origin: bearings from 0 to beyond 120
+// degrees off camera a's optical axis (a fisheye's rim and beyond), all in front of the plane.
+std::vector<cv::Vec3d> planePoints(int n, std::mt19937& rng) {
+  std::uniform_real_distribution<double> y(-1.5, 1.5), z(-1.5, 3.0);
+  std::vector<cv::Vec3d> p;
+  for (int i = 0; i < n; ++i) p.emplace_back(2.0, y(rng), z(rng));
+  return p;
+}
+
+cv::Vec3d randomBearing(std::mt19937& rng) {
+  std::normal_distribution<double> g;
+  return unit({g(rng), g(rng), g(rng)});
+}
+
+TEST(BearingHomography, RecoversAPlaneBeyondNinetyDegreesAmongOutliers) {
+  std::mt19937 rng(3);
+  const TwoViews views;
+  std::vector<cv::Vec3d> a, b;
+  std::vector<double> scale;
+  int beyond90 = 0;
+  for (const auto& x : planePoints(120, rng)) {
+    a.push_back(unit(x));
+    b.push_back(unit(views.toB(x)));
+    beyond90 += a.back()[2] < 0;
+  }
+  ASSERT_GT(beyond90, 10);
+  const size_t truePairs = a.size();
+  for (int i = 0; i < 60; ++i) {  // a third outliers
+    a.push_back(randomBearing(rng));
+    b.push_back(randomBearing(rng));
+  }
+  scale.assign(a.size(), 300.0);
+  const auto fit = fitBearingHomography(a, b, scale, {});
+  ASSERT_TRUE(fit);
+  for (size_t k = 0; k < truePairs; ++k) {
+    EXPECT_TRUE(fit->inliers[k]) << k;
+    const cv::Vec3d mapped = fit->h * a[k];
+    EXPECT_GT(mapped.dot(b[k]), 0.0);
+    EXPECT_LT(angle(mapped, b[k]), 1e-7);
+  }
+  int outliersIn = 0;
+  for (size_t k = truePairs; k < a.size(); ++k) outliersIn += fit->inliers[k];
+  EXPECT_LE(outliersIn, 2);  // a random pair agrees with the plane within 2 px by chance at most rarely
+  EXPECT_EQ(fit->inlierCount, static_cast<int>(truePairs) + outliersIn);
+  // Deterministic: the same input gives the same model.
+  const auto again = fitBearingHomography(a, b, scale, {});
+  ASSERT_TRUE(again);
+  EXPECT_EQ(again->inliers, fit->inliers);
+  EXPECT_EQ(cv::norm(again->h - fit->h), 0.0);
+}
+
+TEST(BearingHomography, NeedsFourCorrespondences) {
+  const std::vector<cv::Vec3d> three{{0, 0, 1}, {0.1, 0, 1}, {0, 0.1, 1}};
+  EXPECT_FALSE(fitBearingHomography(three, three, {1, 1, 1}, {}));
+}
+
+TEST(Essential, RecoversTheEpipolarGeometryOfAGeneralScene) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> xy(-2, 2), depth(2, 6);
+  const TwoViews views;
+  std::vector<cv::Vec3d> a, b;
+  for (int i = 0; i < 100; ++i) {
+    const cv::Vec3d x(xy(rng), xy(rng), depth(rng));
+    a.push_back(unit(x));
+    b.push_back(unit(views.toB(x)));
+  }
+  for (int i = 0; i < 30; ++i) {
+    a.push_back(randomBearing(rng));
+    b.push_back(randomBearing(rng));
+  }
+  const auto fit = fitEssential(a, b, 300.0, {});
+  ASSERT_TRUE(fit);
+  for (int k = 0; k < 100; ++k) {
+    EXPECT_TRUE(fit->inliers[k]) << k;
+    EXPECT_LT(epipolarAngle(*fit, a[k], b[k]), 1e-6);
+  }
+  // E = [t]x R up to scale and sign: compare the normalised matrices.
+  const cv::Vec3d t = unit(views.t);
+  const cv::Matx33d tx(0, -t[2], t[1], t[2], 0, -t[0], -t[1], t[0], 0);
+  const cv::Matx33d truth = tx * views.r;
+  const cv::Matx33d e = fit->essential * (1.0 / cv::norm(fit->essential));
+  const cv::Matx33d expected = truth * (1.0 / cv::norm(truth));
+  EXPECT_LT(std::min(cv::norm(e - expected), cv::norm(e + expected)), 1e-5);
+}
+
+TEST(Essential, WorksOnAPlaneSeenBeyondNinetyDegrees) {
+  std::mt19937 rng(6);
+  const TwoViews views;
+  std::vector<cv::Vec3d> a, b;
+  for (const auto& x : planePoints(80, rng)) {
+    a.push_back(unit(x));
+    b.push_back(unit(views.toB(x)));
+  }
+  const auto fit = fitEssential(a, b, 300.0, {});
+  ASSERT_TRUE(fit);
+  EXPECT_EQ(fit->inlierCount, 80);
+  for (size_t k = 0; k < a.size(); ++k) EXPECT_LT(epipolarAngle(*fit, a[k], b[k]), 1e-6);
+}
+
+TEST(TrackerMatches, MutualNearestNeighboursPassingTheRatio) {
+  NeighbourTable t;
+  t.best = {0, 1, 1, -1};
+  t.bestDistance = {10, 10, 30, 0};
+  t.secondDistance = {40, 12, 60, 0};
+  t.bestQuery = {0, 2};  // train 1's nearest query is query 2
+  // Query 0: mutual, 10 < r * 40 for r > 0.25. Query 1: not mutual. Query 2: mutual, 30 < r * 60
+  // for r > 0.5. Query 3: no neighbour.
+  using Pairs = std::vector<std::pair<int, int>>;
+  EXPECT_EQ(mutualRatioMatches(t, 1.0), (Pairs{{0, 0}, {2, 1}}));
+  EXPECT_EQ(mutualRatioMatches(t, 0.6), (Pairs{{0, 0}, {2, 1}}));
+  EXPECT_EQ(mutualRatioMatches(t, 0.5), (Pairs{{0, 0}}));  // 30 < 30 fails: strict
+  EXPECT_EQ(mutualRatioMatches(t, 0.2), Pairs{});
+}
+
+TEST(TrackerMatches, AveragePrecisionOfRankedNearestNeighbours) {
+  PairMatches m;
+  m.distance = {3, 1, 2, 4};
+  m.correct = {1, 1, 0, 0};
+  m.groundTruth = 3;
+  // Ranked: d=1 correct (precision 1), d=2 wrong, d=3 correct (2/3), d=4 wrong; over 3 truths.
+  EXPECT_NEAR(averagePrecision(m), (1.0 + 2.0 / 3.0) / 3.0, 1e-12);
+  m.groundTruth = 0;
+  EXPECT_EQ(averagePrecision(m), 0.0);
+}
+
+TEST(TrackerMatches, IdenticalViewsKeepEveryMatchAndFitExactly) {
+  const CameraPtr camera = photoCamera({640, 480});
+  cv::RNG rng(11);
+  Features f;
+  f.bits = 256;
+  f.descriptors = cv::Mat(80, 32, CV_8U);
+  rng.fill(f.descriptors, cv::RNG::UNIFORM, 0, 256);
+  for (int i = 0; i < 80; ++i) f.keypoints.emplace_back(cv::Point2f(40.f + 60.f * (i % 10), 40.f + 50.f * (i / 10)), 31.f);
+  const GroundTruthMap identity = [](const cv::Point2d& p) -> std::optional<cv::Point2d> { return p; };
+  const TrackerOptions options;
+  const PairEvidence e = pairEvidence(f, f, *camera, identity, {}, {640, 480}, options);
+  EXPECT_EQ(e.repeated, 80);
+  EXPECT_EQ(e.nearest.groundTruth, 80);
+  EXPECT_NEAR(e.averagePrecision, 1.0, 1e-12);
+  EXPECT_NEAR(e.localScale, 1.0, 1e-9);
+  const GroundTruthGrid grid = groundTruthGrid(*camera, identity, {640, 480}, {}, 16);
+  EXPECT_EQ(grid.pixelA.size(), 40u * 30u);
+  const TrackerResult r = trackerResult(f, e, 0.8, *camera, grid, true, options);
+  EXPECT_EQ(r.matches, 80);
+  EXPECT_EQ(r.correct, 80);
+  EXPECT_EQ(r.homographyInliers, 80);
+  EXPECT_LT(r.homographyErrorPx, 1e-6);
+  // A pure rotation's epipolar geometry is undefined, but whatever essential matrix fits the
+  // matches, the identical grid lies on it.
+  EXPECT_TRUE(r.essentialChecked);
+}
+
+// A poster-dev folder with two frames of a 752x480 OCamCalib camera; both frames see the poster
+// through the same G, so every valid pixel maps to itself.
+struct FakePosterDev {
+  testing::TempDir data{"poster_dev"};  // a shared data folder: fisheye/poster-dev inside
+  struct {
+    std::filesystem::path path;
+  } dir;
+  std::string json;
+  FakePosterDev() {
+    dir.path = data.path / "fisheye" / "poster-dev";
+    std::filesystem::create_directories(dir.path);
+    std::ofstream(dir.path / "calib_results.txt") << "3 -209.2 0 0.002\n3 1 2 3\n240 376\n1 0 0\n480 752\n";
+    cv::Mat frame(480, 752, CV_8U);
+    cv::randu(frame, 0, 255);
+    cv::imwrite((dir.path / "a.png").string(), frame);
+    cv::imwrite((dir.path / "b.png").string(), frame);
+    cv::imwrite((dir.path / "mask.png").string(), cv::Mat(480, 752, CV_8U, cv::Scalar(255)));
+    // Pattern pixel (x, y) -> ray (x - 800, y - 600, 1000): the poster 1 unit in front, centred.
+    const std::string g = "[[1, 0, -800], [0, 1, -600], [0, 0, 1000]]";
+    json = R"({"calibration": "calib_results.txt", "max_incidence_deg": 88,
+               "printed_region_pattern_px": {"x0": 0, "x1": 1600, "y0": 0, "y1": 1200},
+               "frames": [{"frame": 1, "image": "a.png", "mask": "mask.png", "G": )" + g + R"(},
+                          {"frame": 2, "image": "b.png", "mask": "mask.png", "G": )" + g + "}]}";
+    write(json);
+  }
+  void write(const std::string& text) const { std::ofstream(dir.path / "ground_truth.json") << text; }
+  // The message loadPosterDev throws, or "" when it loads.
+  std::string problem() const {
+    try {
+      loadPosterDev(dir.path.string());
+    } catch (const std::runtime_error& e) {
+      return e.what();
+    }
+    return "";
+  }
+};
+
+TEST(PosterDev, LoadsFramesMasksAndAGroundTruthThatMapsThroughTheCamera) {
+  FakePosterDev fake;
+  const PosterDev poster = loadPosterDev(fake.dir.path.string());
+  ASSERT_EQ(poster.frames.size(), 2u);
+  EXPECT_EQ(poster.frames[1].id, 2);
+  const auto p = poster.map(0, 1, {400.3, 250.7});
+  ASSERT_TRUE(p);
+  EXPECT_NEAR(p->x, 400.3, 1e-6);
+  EXPECT_NEAR(p->y, 250.7, 1e-6);
+  EXPECT_FALSE(poster.map(0, 1, {-5, 250}));  // outside the image
+  const EvalSequence seq = posterDevSequence(poster);
+  EXPECT_EQ(seq.pairs.size(), 1u);
+  EXPECT_TRUE(seq.baseline);
+  ASSERT_EQ(seq.regions.size(), 2u);
+  EXPECT_EQ(cv::countNonZero(seq.regions[0]), 752 * 480);
+}
+
+TEST(PosterDev, BadFilesAreNamedWithTheProblem) {
+  FakePosterDev fake;
+  const std::string json = (fake.dir.path / "ground_truth.json").string();
+  fake.write("{ not json");
+  EXPECT_EQ(fake.problem(), json + ": not a JSON object");
+  fake.write(R"({"calibration": "calib_results.txt"})");
+  EXPECT_EQ(fake.problem(), json + ": missing \"printed_region_pattern_px\"");
+  std::string text = fake.json;
+  text.replace(text.find("[[1, 0, -800]"), 13, "[[1, 0]");
+  fake.write(text);
+  EXPECT_EQ(fake.problem(), json + ": frame 1: G is not 3x3");
+  text = fake.json;
+  text.replace(text.find("b.png"), 5, "c.png");
+  fake.write(text);
+  EXPECT_NE(fake.problem().find("c.png: no such file"), std::string::npos) << fake.problem();
+  fake.write(fake.json);
+  cv::imwrite((fake.dir.path / "mask.png").string(), cv::Mat(100, 100, CV_8U, cv::Scalar(255)));
+  EXPECT_NE(fake.problem().find("mask.png: the mask is 100x100 but the calibration 752x480"), std::string::npos)
+      << fake.problem();
+  std::filesystem::remove(json);
+  EXPECT_EQ(fake.problem(), json + ": no such file");
+}
+
+// `mdbrief-eval tracker ...` in-process: "" on success, else the message of the error that exits 2.
+std::string runTrackerCommand(std::vector<std::string> args) {
+  CLI::App app;
+  addTrackerCommand(app);
+  args.insert(args.begin(), {"mdbrief-eval", "tracker"});
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  try {
+    app.parse(static_cast<int>(argv.size()), argv.data());
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(TrackerCommand, ADamagedDataSetIsSkippedWithItsReasonOrRefusedWhenNamed) {
+  FakePosterDev fake;
+  testing::TempDir out("tracker_out"), noPhotos("tracker_no_photos");
+  const std::vector<std::string> common{"--data", fake.data.path.string(), "--opencv-doc-dir", noPhotos.path.string(),
+                                        "--only", "AKAZE", "--budget", "60", "--out", out.path.string()};
+  const std::string json = (fake.dir.path / "ground_truth.json").string();
+  // The intact data set runs; the missing ones are skipped with a reason.
+  ::testing::internal::CaptureStderr();
+  ::testing::internal::CaptureStdout();
+  EXPECT_EQ(runTrackerCommand(common), "");
+  std::string err = ::testing::internal::GetCapturedStderr();
+  ::testing::internal::GetCapturedStdout();
+  EXPECT_NE(err.find("skipping oxford: "), std::string::npos) << err;
+  const std::string summary = testing::readFile(out.path / "tracker_summary.csv");
+  EXPECT_NE(summary.find("poster-dev,AKAZE,"), std::string::npos) << summary;
+  // Damaged: asked for by name, an error naming the file; otherwise skipped with the same reason.
+  fake.write("{ not json");
+  auto named = common;
+  named.insert(named.end(), {"--datasets", "poster-dev"});
+  EXPECT_EQ(runTrackerCommand(named), "poster-dev: " + json + ": not a JSON object");
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(runTrackerCommand(common), "no data set could be read (see the messages above)");
+  err = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("skipping poster-dev: " + json + ": not a JSON object"), std::string::npos) << err;
+}
+
+TEST(PosterDev, TheSharedFramesGiveFortyFivePairs) {
+  MDBRIEF_REQUIRE_SHARED_DATA(data);
+  if (!std::filesystem::exists(data / "fisheye" / "poster-dev" / "ground_truth.json"))
+    GTEST_SKIP() << "fisheye/poster-dev not in " << data;
+  const PosterDev poster = loadPosterDev((data / "fisheye" / "poster-dev").string());
+  EXPECT_EQ(poster.frames.size(), 10u);
+  EXPECT_EQ(poster.camera->modelName(), "ocam");
+  EXPECT_EQ(posterDevSequence(poster).pairs.size(), 45u);
+}
+
+}  // namespace
+}  // namespace mdbrief::eval
