@@ -88,6 +88,61 @@ int iterationsNeeded(double w, int sampleSize, double confidence, int cap) {
   return k >= cap ? cap : std::max(1, static_cast<int>(std::ceil(k)));
 }
 
+// Pixel residual of b against h a in b's tangent plane (two components, angles times the local
+// pixel scale); +inf-free: a prediction behind b is penalised by its full angle.
+void tangentResidual(const cv::Matx33d& h, const cv::Vec3d& a, const cv::Vec3d& b, double scale, double* out) {
+  cv::Vec3d v = h * a;
+  v /= cv::norm(v);
+  // An orthonormal basis of b's tangent plane.
+  const cv::Vec3d helper = std::abs(b[0]) < 0.9 ? cv::Vec3d(1, 0, 0) : cv::Vec3d(0, 1, 0);
+  const cv::Vec3d e1 = cv::normalize(b.cross(helper)), e2 = b.cross(e1);
+  out[0] = v.dot(e1) * scale;
+  out[1] = v.dot(e2) * scale;
+}
+
+// Levenberg-Marquardt on the pixel residuals of the inliers (the DLT minimises an algebraic
+// error, which weighs rays by where they are): what a user's pipeline does after RANSAC.
+cv::Matx33d refineHomography(cv::Matx33d h, const std::vector<cv::Vec3d>& a, const std::vector<cv::Vec3d>& b,
+                             const std::vector<double>& scale, const std::vector<int>& members) {
+  const int m = static_cast<int>(members.size()) * 2;
+  const auto residuals = [&](const cv::Matx33d& g, cv::Mat& r) {
+    r.create(m, 1, CV_64F);
+    for (size_t k = 0; k < members.size(); ++k)
+      tangentResidual(g, a[members[k]], b[members[k]], scale[members[k]], r.ptr<double>(static_cast<int>(2 * k)));
+    return r.dot(r);
+  };
+  h *= 1.0 / cv::norm(h);
+  cv::Mat r, trial, jac(m, 9, CV_64F);
+  double cost = residuals(h, r), lambda = 1e-3;
+  for (int iteration = 0; iteration < 20; ++iteration) {
+    for (int p = 0; p < 9; ++p) {  // forward differences: h has unit norm, so steps are relative
+      cv::Matx33d g = h;
+      g.val[p] += 1e-7;
+      residuals(g, trial);
+      jac.col(p) = (trial - r) / 1e-7;
+    }
+    const cv::Mat jtj = jac.t() * jac, jtr = jac.t() * r;
+    bool improved = false;
+    while (lambda < 1e8) {
+      cv::Mat damped = jtj.clone(), step;
+      for (int p = 0; p < 9; ++p) damped.at<double>(p, p) *= 1.0 + lambda;
+      if (!cv::solve(damped, -jtr, step, cv::DECOMP_CHOLESKY)) break;
+      cv::Matx33d g = h;
+      for (int p = 0; p < 9; ++p) g.val[p] += step.at<double>(p);
+      g *= 1.0 / cv::norm(g);
+      const double c = residuals(g, trial);
+      if (c < cost) {
+        improved = cost - c > 1e-10 * cost;
+        h = g, cost = c, r = trial.clone(), lambda = std::max(lambda * 0.1, 1e-9);
+        break;
+      }
+      lambda *= 10;
+    }
+    if (!improved) break;
+  }
+  return h;
+}
+
 }  // namespace
 
 std::optional<double> pixelsPerRadian(const Camera& camera, const cv::Point2d& pixel) {
@@ -148,6 +203,16 @@ std::optional<HomographyFit> fitBearingHomography(const std::vector<cv::Vec3d>& 
     best.inlierCount = count;
     best.inliers = inliers;
     if (!grew) break;
+  }
+  std::vector<int> members;
+  for (int k = 0; k < n; ++k)
+    if (best.inliers[k]) members.push_back(k);
+  const cv::Matx33d refined = refineHomography(best.h, a, b, scaleB, members);
+  const int count = countInliers(refined, a, b, scaleB, o.thresholdPx, inliers);
+  if (count >= best.inlierCount) {
+    best.h = refined;
+    best.inlierCount = count;
+    best.inliers = inliers;
   }
   return best;
 }

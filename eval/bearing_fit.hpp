@@ -3,7 +3,8 @@
 // its matches: they work for any lens and beyond 90 degrees of incidence, where image
 // coordinates of a perspective model do not exist.
 // - A plane-induced homography between bearings (b ~ H a with a positive factor: a plane seen
-//   from one side, or a pure rotation): 4-point DLT in RANSAC, refitted on its inliers.
+//   from one side, or a pure rotation): 4-point DLT in RANSAC, refitted on its inliers, then
+//   refined by Levenberg-Marquardt on their pixel residuals.
 // - An essential matrix by OpenGV's 5-point solver (Nister) in RANSAC, factored into the
 //   relative pose that puts the inliers in front of both cameras and refined on them by
 //   OpenGV's non-linear optimisation.
