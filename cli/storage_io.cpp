@@ -13,6 +13,7 @@
 
 #include "cli/commands.hpp"
 #include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/internal/input_file.hpp"
 
 namespace mdbrief::cli {
 namespace {
@@ -150,8 +151,8 @@ struct StorageReader::Parsed {
 };
 
 StorageReader::StorageReader(const std::string& path) : path_(path), parsed_(std::make_unique<Parsed>()) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError(path + ": no such file");
+  if (const std::string problem = internal::inputFileProblem(path); !problem.empty())
+    throw InputError(path + ": " + problem);
   const std::string ext = storageExtension(path);
   if (ext == ".yml" || ext == ".yaml" || ext == ".json") {
     std::ifstream in(path, std::ios::binary);

@@ -7,6 +7,7 @@
 #include <hdf5.h>
 
 #include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/internal/input_file.hpp"
 
 namespace mdbrief::train {
 
@@ -207,8 +208,9 @@ void writePatchSet(const PatchSet& s, const fs::path& path) {
 PatchSet readPatchSet(const fs::path& path) {
   static const QuietHdf5 quiet;
   const std::string p = path.string();
+  if (const std::string problem = internal::inputFileProblem(path); !problem.empty())
+    throw std::runtime_error(p + ": patch file: " + problem);
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw std::runtime_error(p + ": no such patch file");
   if (H5Fis_hdf5(p.c_str()) <= 0) throw std::runtime_error(p + ": not an HDF5 file");
   Handle file(H5Fopen(p.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file.ok()) throw std::runtime_error(p + ": cannot open (truncated or damaged HDF5 file?)");

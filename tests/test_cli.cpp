@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -462,6 +463,30 @@ TEST_F(CliTest, MatchRejectsBadFeatureFiles) {
   expectOneLineNaming(run({"match", path("nodesc.yml"), path("a.yml"), "-o", path("m.yml")}), path("nodesc.yml"));
   expectOneLineNaming(run({"match", path("a.yml"), path("long.yml"), "-o", path("m.yml")}), path("long.yml"));
   EXPECT_FALSE(fs::exists(path("m.yml")));
+}
+
+// A folder, a FIFO or a symlink loop given as an input is reported as what it is, not as a
+// missing file, and a FIFO is never opened (which would block).
+TEST_F(CliTest, InputsThatAreNotFilesAreNamedForWhatTheyAre) {
+  REQUIRE_IMAGE(image, "view.png");
+  ASSERT_EQ(run({"extract", "--descriptor", "brief", "--features", "20", image, "-o", path("a.yml")}).code, 0);
+  fs::create_directory(path("folder.png"));
+  ASSERT_EQ(::mkfifo(path("fifo.yml").c_str(), 0600), 0);
+  fs::create_symlink("loop.yaml", path("loop.yaml"));
+  const std::string o = path("o.yml");
+  const std::vector<std::pair<Result, std::string>> cases{
+      {run({"extract", "--descriptor", "brief", path("folder.png"), "-o", o}), path("folder.png") + ": is a folder"},
+      {run({"match", path("fifo.yml"), path("a.yml"), "-o", o}), path("fifo.yml") + ": is a FIFO"},
+      {run({"match", path("a.yml"), path("folder.png"), "-o", o}), path("folder.png") + ": is a folder"},
+      {run({"extract", "--descriptor", "brief", "--keypoints", path("fifo.yml"), image, "-o", o}),
+       path("fifo.yml") + ": is a FIFO"},
+      {run({"extract", "--camera", path("loop.yaml"), image, "-o", o}),
+       path("loop.yaml") + ": too many levels of symbolic links"},
+  };
+  for (const auto& [r, message] : cases) {
+    expectOneLineNaming(r, message);
+    EXPECT_EQ(r.err.find("no such file"), std::string::npos) << r.err;
+  }
 }
 
 }  // namespace

@@ -58,6 +58,8 @@ TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
       {{"--images", (dir.path / "empty").string(), "--out", o}, "no images"},
       {{"--images", (dir.path / "textonly").string(), "--out", o}, "no images"},
       {{"--camera", (dir.path / "nocam.yaml").string(), "--out", o}, "nocam.yaml"},
+      {{"--camera", (dir.path / "empty").string(), "--out", o}, "empty: calibration file: is a folder"},
+      {{"--patches-file", (dir.path / "empty").string(), "--out", o}, "empty: patch file: is a folder"},
       {{"--out", (dir.path / "missing_out").string()}, "missing_out"},
       {{"--tests", "33", "--out", o}, "multiple of 32"},
       {{"--detector", "sift", "--out", o}, "sift"},

@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 #include <sys/resource.h>
 
+#include "mdbrief/internal/input_file.hpp"
 #include "toolkit/pattern_writer.hpp"
 #include "patchextract/patch_extraction.hpp"
 #include "patchextract/view_change_flags.hpp"
@@ -157,8 +158,9 @@ int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::os
       throw std::invalid_argument(s.out + ": output folder does not exist");
     if (!s.patchesFile.empty() && (!s.images.empty() || !s.camera.empty()))
       throw std::invalid_argument("--patches-file cannot be combined with --images or --camera");
-    if (!s.camera.empty() && !fs::is_regular_file(s.camera))
-      throw std::invalid_argument(s.camera + ": calibration file does not exist");
+    if (!s.camera.empty())
+      if (const std::string problem = internal::inputFileProblem(s.camera); !problem.empty())
+        throw std::invalid_argument(s.camera + ": calibration file: " + problem);
     const DetectorKind detector = parseDetector(s.detector);
     const SelectionCriterion criterion = parseSelectionCriterion(s.selection);
     if (s.counterparts < 0) s.counterparts = needsCounterparts(criterion) ? 1 : 0;
