@@ -220,6 +220,8 @@ void writePatchSet(const PatchSet& s, const fs::path& path) {
   internal::writeFileAtomically(path, std::string_view(image.data(), image.size()));
 }
 
+void checkPatchSetOutput(const fs::path& path) { internal::checkOutputPath(path); }
+
 PatchSet readPatchSet(const fs::path& path) {
   static const QuietHdf5 quiet;
   const std::string p = path.string();

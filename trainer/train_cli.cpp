@@ -12,11 +12,11 @@
 #include <sys/resource.h>
 
 #include "mdbrief/internal/input_file.hpp"
-#include "toolkit/pattern_writer.hpp"
 #include "patchextract/patch_extraction.hpp"
 #include "patchextract/view_change_flags.hpp"
-#include "trainer/candidate_tests.hpp"
+#include "toolkit/pattern_writer.hpp"
 #include "toolkit/progress_reporter.hpp"
+#include "trainer/candidate_tests.hpp"
 #include "trainer/trainer.hpp"
 
 namespace mdbrief::train {
@@ -167,6 +167,9 @@ int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::os
     if (s.name.empty())
       s.name = s.detector + (s.camera.empty() ? "_perspective_" : "_fisheye_") +
                std::to_string(s.tests);
+    // Outputs that cannot be written fail now, not after minutes of extraction and selection.
+    checkPatternOutputs(s.name, s.out, {true, s.makeDefault});
+    if (s.patchesFile.empty() && !s.savePatches.empty()) checkPatchSetOutput(s.savePatches);
 
     PatchSet patches;
     ExtractionReport report;
