@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
-#include <cstring>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -224,12 +223,11 @@ void writeFilesAtomically(const std::vector<FileContent>& files) {
     for (Step& step : steps) {
       std::error_code ec;
       if (!fs::exists(step.file->target, ec)) continue;
-      const fs::path backup = temporaryPath(step.file->target);
-      fs::create_hard_link(step.file->target, backup, ec);
-      if (ec) fs::copy_file(step.file->target, backup, ec);  // a file system without hard links
+      step.backup = temporaryPath(step.file->target);
+      fs::create_hard_link(step.file->target, *step.backup, ec);
+      if (ec) fs::copy_file(step.file->target, *step.backup, ec);  // a file system without hard links
       if (ec)
         throw std::runtime_error(step.file->target.string() + ": cannot keep the previous content: " + ec.message());
-      step.backup = backup;
     }
     for (Step& step : steps) {
       renameOrThrow(step.temp, step.file->target);
