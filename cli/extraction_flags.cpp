@@ -9,6 +9,7 @@
 #include "cli/commands.hpp"
 #include "cli/storage_io.hpp"
 #include "mdbrief/camera_io.hpp"
+#include "mdbrief/internal/input_file.hpp"
 #include "mdbrief/internal/size_text.hpp"
 #include "toolkit/image_file.hpp"
 
@@ -18,9 +19,9 @@ namespace {
 using internal::sizeText;
 
 void requireReadableFile(const std::string& path) {
+  if (const std::string problem = internal::inputFileProblem(path); !problem.empty())
+    throw InputError(path + ": " + problem);
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": not a regular file");
   if (std::filesystem::file_size(path, ec) == 0) throw InputError(path + ": the file is empty");
 }
 

@@ -12,7 +12,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include "cli/commands.hpp"
+#include "cli/gzip_compression.hpp"
 #include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/internal/input_file.hpp"
 
 namespace mdbrief::cli {
 namespace {
@@ -84,41 +86,48 @@ cv::KeyPoint keypointFrom(const std::vector<YAML::Node>& v, const std::string& w
                       static_cast<float>(number(v[4], where)), integer(v[5], where), integer(v[6], where));
 }
 
-void checkFolder(const fs::path& path) {
-  const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-  std::error_code ec;
-  if (!fs::is_directory(folder, ec))
-    throw InputError(path.string() + ": the output folder " + folder.string() + " does not exist");
+// The atomic writer's checks (folder, a regular file or none, writable) as an InputError.
+void checkWritable(const fs::path& path) {
+  try {
+    internal::checkOutputPath(path);
+  } catch (const std::runtime_error& e) {
+    throw InputError(e.what());
+  }
 }
 
 }  // namespace
 
 void checkStorageOutput(const fs::path& path) {
-  checkFolder(path);
   if (storageExtension(path).empty())
     throw InputError(path.string() + ": the output must end in .yml, .yaml, .json or .xml (optionally .gz)");
+  checkWritable(path);
 }
 
 void checkImageOutput(const fs::path& path) {
-  checkFolder(path);
   if (!cv::haveImageWriter(path.string()))
     throw InputError(path.string() + ": no image writer for this extension (use .png)");
+  checkWritable(path);
 }
 
 void writeStorageAtomically(const fs::path& path, const std::function<void(cv::FileStorage&)>& write) {
   checkStorageOutput(path);
+  const std::string extension = storageExtension(path);
+  const bool compressed = endsWith(extension, ".gz");
+  std::string bytes;
   try {
-    // The temporary keeps the extensions: FileStorage picks the format (and compression) from them.
-    internal::writeAtomically(path, [&](const fs::path& temp) {
-      cv::FileStorage storage(temp.string(), cv::FileStorage::WRITE);
-      if (!storage.isOpened()) throw InputError(path.string() + ": cannot create the output file");
-      write(storage);
-      storage.release();
-    });
+    // FileStorage's own file writes go unchecked: it writes to memory (the name only picks the
+    // format) and the bytes go through the checked atomic writer.
+    cv::FileStorage storage(compressed ? extension.substr(0, extension.size() - 3) : extension,
+                            cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+    write(storage);
+    bytes = storage.releaseAndGetString();
   } catch (const cv::Exception& e) {
     throw InputError(path.string() + ": writing failed: " + e.err);
-  } catch (const InputError&) {
-    throw;
+  }
+  // Level 3 is what FileStorage uses for .gz files it writes itself: the same bytes as before.
+  if (compressed) bytes = gzipCompress(bytes, 3);
+  try {
+    internal::writeFileAtomically(path, bytes);
   } catch (const std::runtime_error& e) {
     throw InputError(e.what());
   }
@@ -150,8 +159,8 @@ struct StorageReader::Parsed {
 };
 
 StorageReader::StorageReader(const std::string& path) : path_(path), parsed_(std::make_unique<Parsed>()) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError(path + ": no such file");
+  if (const std::string problem = internal::inputFileProblem(path); !problem.empty())
+    throw InputError(path + ": " + problem);
   const std::string ext = storageExtension(path);
   if (ext == ".yml" || ext == ".yaml" || ext == ".json") {
     std::ifstream in(path, std::ios::binary);

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "mdbrief/camera_io.hpp"
+#include "mdbrief/internal/input_file.hpp"
 #include "mdbrief/internal/size_text.hpp"
 #include "patchextract/view_change.hpp"
 #include "plane_geometry.hpp"
@@ -32,7 +33,8 @@ PlaneScene renderedScene(const cv::Mat& texture) { return {texture, 3.2 / textur
 }  // namespace
 
 cv::Mat loadEvaluationImage(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(path + ": no such file");
+  if (const std::string problem = internal::inputFileProblem(path); !problem.empty())
+    throw std::runtime_error(path + ": " + problem);
   // An evaluation on a partly decoded image would be wrong without saying so.
   if (const std::string problem = truncationProblem(path); !problem.empty())
     throw std::runtime_error(path + ": " + problem);

@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   }
   mdbrief::ProgressReporter progress(std::cout, isatty(fileno(stdout)) != 0);
   try {
+    checkPatchSetOutput(out);  // before the extraction, not after it
     o.detector = parseDetector(detector);
     for (const auto& d : dirs) o.imageDirs.emplace_back(d);
     for (const auto& file : heldOut) o.heldOut.merge(readHeldOutImages(file));

@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string_view>
 #include <system_error>
+#include <vector>
 
 #include <hdf5.h>
 
 #include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/internal/input_file.hpp"
 
 namespace mdbrief::train {
 
@@ -172,10 +175,17 @@ void writePatchSet(const PatchSet& s, const fs::path& path) {
     throw std::runtime_error(p + ": patch pixels do not match the record count");
   if (s.counterpartPixels.size() != s.counterpartCount() * 1024)
     throw std::runtime_error(p + ": counterpart pixels do not match their count");
-  internal::writeAtomically(path, [&](const fs::path& tmp) {
+  // libhdf5 builds the file in memory (its core driver, no file behind it) and the image goes
+  // through the checked atomic writer. Written to disk by libhdf5 itself, a failed write (a full
+  // disk) left it holding a file it could not close, and the process crashed at exit.
+  std::vector<char> image;
+  {
     Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
-    Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, fcpl.get(), H5P_DEFAULT), H5Fclose);
-    if (!file.ok()) throw std::runtime_error(p + ": cannot create " + tmp.string());
+    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+    if (H5Pset_fapl_core(fapl.get(), 1 << 20, false) < 0)
+      throw std::runtime_error(p + ": cannot set up the in-memory HDF5 file");
+    Handle file(H5Fcreate(p.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()), H5Fclose);
+    if (!file.ok()) throw std::runtime_error(p + ": cannot create the HDF5 file in memory");
     const hsize_t n = s.count();
     writeDataset(file.get(), "patches", H5T_NATIVE_UINT8, {n, 32, 32}, s.pixels.data(), p);
     writeStringList(file.get(), "images", s.images, p);
@@ -201,14 +211,23 @@ void writePatchSet(const PatchSet& s, const fs::path& path) {
     writeStringAttribute(file.get(), "detectors", kDetectorNames, p);
     for (const auto& [k, v] : s.attributes) writeStringAttribute(file.get(), k, v, p);
     if (H5Fflush(file.get(), H5F_SCOPE_GLOBAL) < 0) throw std::runtime_error(p + ": flush failed");
-  });
+    const ssize_t bytes = H5Fget_file_image(file.get(), nullptr, 0);
+    if (bytes < 0) throw std::runtime_error(p + ": cannot get the file image");
+    image.resize(static_cast<size_t>(bytes));
+    if (H5Fget_file_image(file.get(), image.data(), image.size()) != bytes)
+      throw std::runtime_error(p + ": cannot get the file image");
+  }
+  internal::writeFileAtomically(path, std::string_view(image.data(), image.size()));
 }
+
+void checkPatchSetOutput(const fs::path& path) { internal::checkOutputPath(path); }
 
 PatchSet readPatchSet(const fs::path& path) {
   static const QuietHdf5 quiet;
   const std::string p = path.string();
+  if (const std::string problem = internal::inputFileProblem(path); !problem.empty())
+    throw std::runtime_error(p + ": patch file: " + problem);
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw std::runtime_error(p + ": no such patch file");
   if (H5Fis_hdf5(p.c_str()) <= 0) throw std::runtime_error(p + ": not an HDF5 file");
   Handle file(H5Fopen(p.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file.ok()) throw std::runtime_error(p + ": cannot open (truncated or damaged HDF5 file?)");

@@ -48,6 +48,9 @@ struct PatchSet {
 // Written atomically (temporary file in the same folder, then rename); no timestamps in the
 // file. Throws std::runtime_error naming the path on failure (missing folder, write error).
 void writePatchSet(const PatchSet& set, const std::filesystem::path& path);
+// Throws std::runtime_error naming the path when writePatchSet could not write there (no such
+// folder, not writable, not a regular file): for tools to check before extracting.
+void checkPatchSetOutput(const std::filesystem::path& path);
 // Throws std::runtime_error naming the path and the problem (not HDF5, missing dataset,
 // inconsistent sizes, index out of range).
 PatchSet readPatchSet(const std::filesystem::path& path);

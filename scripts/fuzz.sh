@@ -1,20 +1,36 @@
 #!/usr/bin/env bash
-# Fuzzes every parser of outside input (fuzz/fuzz_targets.hpp) with libFuzzer under ASan + UBSan:
-# each target for SECONDS (default 600), starting from fuzz/seeds/<target> (plus the
-# calibrations of ../shared/data/fisheye for `camera`). A crash, hang or sanitizer report is
-# kept in fuzz/regressions/<target>/, which tests/test_fuzz_regressions.cpp replays in every
-# build; the script then exits 1. Prints one summary line per target (executions, corpus).
-# Usage: scripts/fuzz.sh [SECONDS] [BUILD_DIR]   (defaults: 600, build-fuzz). FUZZ_SEED fixes
-# libFuzzer's random seed (CI: 1, so a run repeats); unset, every run explores anew.
+# Fuzzes every parser of outside input (fuzz/fuzz_targets.hpp) with libFuzzer under ASan + UBSan,
+# starting from fuzz/seeds/<target> (plus the calibrations of ../shared/data/fisheye for
+# `camera`). A crash, hang or sanitizer report is kept in fuzz/regressions/<target>/, which
+# tests/test_fuzz_regressions.cpp replays in every build; the script then exits 1. Prints one
+# summary line per target (executions, corpus).
+# Usage: scripts/fuzz.sh [long | ci | SECONDS] [BUILD_DIR]   (BUILD_DIR default build-fuzz)
+#   long     every parser for 10 minutes (the default)
+#   ci       every parser for 60 s with libFuzzer's seed fixed to 1, so a run repeats (CI's step)
+#   SECONDS  every parser for that long
+# The parsers are the folders of fuzz/seeds (one per target of fuzz/fuzz_targets.cpp; the tests
+# check that none is missing); FUZZ_TARGETS="keypoints camera" takes a subset. FUZZ_SEED fixes
+# libFuzzer's random seed (unset outside ci: every run explores anew). FUZZ_DRY_RUN=1 prints the
+# plan, one "fuzz plan: <target> <seconds> s" line per target, and exits before building.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-SECONDS_PER_TARGET=${1:-600}
+MODE=${1:-long}
+case "$MODE" in
+  long) SECONDS_PER_TARGET=600 ;;
+  ci) SECONDS_PER_TARGET=60 && FUZZ_SEED=${FUZZ_SEED:-1} ;;
+  *[!0-9]* | '' | 0) echo "fuzz.sh: '$MODE' is neither long, ci nor a positive number of seconds" >&2 && exit 2 ;;
+  *) SECONDS_PER_TARGET=$MODE ;;
+esac
 BUILD_DIR=${2:-build-fuzz}
+all_targets=$(cd fuzz/seeds && ls -d -- */ | tr -d /)
+targets=(${FUZZ_TARGETS:-$all_targets})
+if [ -n "${FUZZ_DRY_RUN:-}" ]; then
+  for t in "${targets[@]}"; do echo "fuzz plan: $t ${SECONDS_PER_TARGET} s${FUZZ_SEED:+, seed $FUZZ_SEED}"; done
+  exit 0
+fi
 bash scripts/setup-deps.sh
 CC=clang CXX=clang++ cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMDBRIEF_BUILD_FUZZERS=ON \
   -DMDBRIEF_SANITIZE=ON -DMDBRIEF_BUILD_TESTS=OFF -DMDBRIEF_BUILD_BENCH=OFF > /dev/null
-# FUZZ_TARGETS: a subset, e.g. "keypoints camera".
-targets=(${FUZZ_TARGETS:-camera pattern_json keypoints patch_set train_config})
 cmake --build "$BUILD_DIR" -j"$(nproc)" --target "${targets[@]/#/fuzz_}"
 DATA=${MDBRIEF_DATA:-../shared/data}
 WORK=$(mktemp -d)

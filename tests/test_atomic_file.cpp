@@ -1,5 +1,12 @@
 // The atomic file writer every tool and saveCamera use (mdbrief/internal/atomic_file.hpp): the
-// target changes only when the new content is complete, and no temporary is left behind.
+// target changes only when the new content is complete, and no temporary is left behind; a
+// failed write (file size limit, full disk) keeps the old file; nodes that are not regular
+// files are never replaced; several files are replaced together.
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -11,11 +18,16 @@
 
 #include "mdbrief/internal/atomic_file.hpp"
 #include "test_data.hpp"
+#include "write_limits.hpp"
 
 namespace fs = std::filesystem;
+using mdbrief::internal::checkOutputPath;
 using mdbrief::internal::writeAtomically;
 using mdbrief::internal::writeFileAtomically;
+using mdbrief::internal::writeFilesAtomically;
+using mdbrief::testing::FileSizeLimit;
 using mdbrief::testing::readFile;
+using mdbrief::testing::SmallTmpfs;
 using mdbrief::testing::TempDir;
 
 namespace {
@@ -25,6 +37,26 @@ std::vector<std::string> fileNames(const fs::path& dir) {
   for (const auto& entry : fs::directory_iterator(dir)) names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
   return names;
+}
+
+// The message of the std::runtime_error that f throws ("" and a test failure if none).
+template <class F>
+std::string errorOf(F f) {
+  try {
+    f();
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "expected a std::runtime_error";
+  return "";
+}
+
+// A process id that no process has any more: a child that has exited and been reaped.
+pid_t deadPid() {
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ::waitpid(child, nullptr, 0);
+  return child;
 }
 
 }  // namespace
@@ -102,4 +134,102 @@ TEST(AtomicFile, ErrorsNameTheTargetAndLeaveNothingBehind) {
     EXPECT_NE(std::string(e.what()).find(blocked.string()), std::string::npos) << e.what();
   }
   EXPECT_EQ(fileNames(dir.path), std::vector<std::string>{"blocked"});
+}
+
+TEST(AtomicFile, AWriteBeyondTheFileSizeLimitKeepsTheOldFile) {
+  TempDir dir("atomic_fsize");
+  const fs::path target = dir.path / "table.csv";
+  writeFileAtomically(target, "kept\n");
+  std::string message;
+  {
+    const FileSizeLimit limit(4096);
+    message = errorOf([&] { writeFileAtomically(target, std::string(10000, 'x')); });
+  }
+  EXPECT_NE(message.find(target.string()), std::string::npos) << message;
+  EXPECT_NE(message.find("File too large"), std::string::npos) << message;
+  EXPECT_EQ(readFile(target), "kept\n");
+  EXPECT_EQ(fileNames(dir.path), std::vector<std::string>{"table.csv"});
+}
+
+TEST(AtomicFile, AFullDiskKeepsTheOldFile) {
+  SmallTmpfs disk("atomic", 64 * 1024);
+  if (!disk.mounted()) GTEST_SKIP() << disk.skipReason();
+  const fs::path target = disk.path / "table.csv";
+  writeFileAtomically(target, "kept\n");
+  disk.fill();
+  const std::string message = errorOf([&] { writeFileAtomically(target, std::string(10000, 'x')); });
+  EXPECT_NE(message.find("No space left on device"), std::string::npos) << message;
+  EXPECT_EQ(readFile(target), "kept\n");
+  EXPECT_EQ(fileNames(disk.path), (std::vector<std::string>{"filler", "table.csv"}));
+}
+
+TEST(AtomicFile, NodesThatAreNotRegularFilesAreNeverReplaced) {
+  TempDir dir("atomic_nodes");
+  const fs::path fifo = dir.path / "out.yml";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const fs::path folder = dir.path / "folder.png";
+  fs::create_directories(folder);
+  std::vector<fs::path> nodes{fifo, folder};
+  // A character device like /dev/null: only root may make one.
+  const fs::path device = dir.path / "null.yml";
+  if (::mknod(device.c_str(), S_IFCHR | 0600, makedev(1, 3)) == 0) nodes.push_back(device);
+  for (const fs::path& node : nodes) {
+    const fs::file_type type = fs::symlink_status(node).type();
+    for (const std::string& message :
+         {errorOf([&] { writeFileAtomically(node, "x"); }), errorOf([&] { checkOutputPath(node); }),
+          errorOf([&] { writeFilesAtomically({{dir.path / "other.txt", "y"}, {node, "x"}}); })}) {
+      EXPECT_NE(message.find(node.string()), std::string::npos) << message;
+      EXPECT_NE(message.find("not a regular file; refusing to replace it"), std::string::npos) << message;
+    }
+    EXPECT_EQ(fs::symlink_status(node).type(), type) << node;
+  }
+  EXPECT_EQ(fileNames(dir.path).size(), nodes.size()) << "no temporary, nothing else written";
+}
+
+TEST(AtomicFile, CheckOutputPathAcceptsNewAndRegularFilesAndLeavesNothing) {
+  TempDir dir("atomic_check");
+  checkOutputPath(dir.path / "new.yml");
+  writeFileAtomically(dir.path / "old.yml", "old");
+  checkOutputPath(dir.path / "old.yml");
+  EXPECT_EQ(fileNames(dir.path), std::vector<std::string>{"old.yml"});
+  const std::string missing = errorOf([&] { checkOutputPath(dir.path / "missing" / "x.yml"); });
+  EXPECT_NE(missing.find("does not exist"), std::string::npos) << missing;
+}
+
+TEST(AtomicFile, TemporariesOfKilledWritersAreRemovedByTheNextWrite) {
+  TempDir dir("atomic_orphans");
+  const fs::path target = dir.path / "patches.h5";
+  // What a SIGKILL during `mdbrief-train --save-patches` leaves, from a process that is gone,
+  // beside temporaries of running processes (this one and init), which must stay.
+  const std::string orphan = ".patches.tmp" + std::to_string(deadPid()) + "-0.h5";
+  const std::string mine = ".patches.tmp" + std::to_string(::getpid()) + "-7.h5";
+  const std::string init = ".patches.tmp1-0.h5";
+  const std::string otherTarget = ".other.tmp" + std::to_string(deadPid()) + "-0.h5";
+  for (const auto& name : {orphan, mine, init, otherTarget}) std::ofstream(dir.path / name) << "partial";
+  writeFileAtomically(target, "new");
+  EXPECT_EQ(readFile(target), "new");
+  std::vector<std::string> expected{mine, init, otherTarget, "patches.h5"};
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(fileNames(dir.path), expected);
+}
+
+TEST(AtomicFiles, ReplaceTheWholeSetOrNothing) {
+  TempDir dir("atomic_set");
+  const fs::path a = dir.path / "set.json", b = dir.path / "set.hpp", c = dir.path / "registry.hpp";
+  writeFilesAtomically({{a, "old a"}, {b, "old b"}});
+  EXPECT_EQ(readFile(a), "old a");
+  EXPECT_EQ(readFile(b), "old b");
+  // The second file cannot be written: the first keeps its old content, the third is not made.
+  std::string message;
+  {
+    const FileSizeLimit limit(4096);
+    message = errorOf([&] { writeFilesAtomically({{a, "new a"}, {b, std::string(10000, 'b')}, {c, "new c"}}); });
+  }
+  EXPECT_NE(message.find(b.string()), std::string::npos) << message;
+  EXPECT_EQ(readFile(a), "old a");
+  EXPECT_EQ(readFile(b), "old b");
+  EXPECT_EQ(fileNames(dir.path), (std::vector<std::string>{"set.hpp", "set.json"}));
+  writeFilesAtomically({{a, "new a"}, {b, "new b"}, {c, "new c"}});
+  EXPECT_EQ(readFile(a) + readFile(b) + readFile(c), "new anew bnew c");
+  EXPECT_EQ(fileNames(dir.path), (std::vector<std::string>{"registry.hpp", "set.hpp", "set.json"}));
 }

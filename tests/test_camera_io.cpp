@@ -293,7 +293,7 @@ TEST_F(BrokenFiles, ErrorsNameTheFileAndTheKey) {
   expectError("ocam_nan.txt", "#forward\n3 -209 nan 0.002" + ocamTail, "forward polynomial");
   expectError("ocam_short.txt", "#forward\n3 -209 0 0.002\n3 1 2 3\n", "5 lines");
   expectError("ocam_size.txt", "3 -209 0 0.002\n3 1 2 3\n240 376\n1 0 0\n0 752\n", "image size");
-  expectError("does_not_exist_dir/x.yaml", "", "cannot open");
+  expectError("does_not_exist_dir/x.yaml", "", "camera file: no such file");
 }
 
 // Files that parse but describe no lens: the error names the parameters and their values.

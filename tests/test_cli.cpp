@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -18,6 +20,7 @@
 #include "mdbrief/feature2d.hpp"
 #include "toolkit/plane_renderer.hpp"
 #include "test_data.hpp"
+#include "write_limits.hpp"
 
 namespace mdbrief {
 namespace {
@@ -462,6 +465,99 @@ TEST_F(CliTest, MatchRejectsBadFeatureFiles) {
   expectOneLineNaming(run({"match", path("nodesc.yml"), path("a.yml"), "-o", path("m.yml")}), path("nodesc.yml"));
   expectOneLineNaming(run({"match", path("a.yml"), path("long.yml"), "-o", path("m.yml")}), path("long.yml"));
   EXPECT_FALSE(fs::exists(path("m.yml")));
+}
+
+// A write that fails (here: beyond the file size limit) keeps the previous output byte for byte,
+// leaves no temporary and exits 2, for every FileStorage format and for match as for extract.
+TEST_F(CliTest, AFailedWriteKeepsThePreviousOutputAndExitsTwo) {
+  REQUIRE_IMAGE(image, "view.png");
+  const std::vector<std::string> outputs{"keep.yml", "keep.yml.gz", "keep.json"};
+  for (const auto& name : outputs)
+    ASSERT_EQ(run({"extract", "--descriptor", "brief", "--features", "20", image, "-o", path(name)}).code, 0);
+  ASSERT_EQ(run({"extract", "--descriptor", "brief", image, "-o", path("all.yml")}).code, 0);
+  ASSERT_EQ(run({"match", path("keep.yml"), path("keep.yml"), "-o", path("matches.yml")}).code, 0);
+  std::map<std::string, std::string> before;
+  for (const auto& name : {"keep.yml", "keep.yml.gz", "keep.json", "matches.yml"}) before[name] = testing::readFile(path(name));
+  std::vector<Result> results;
+  {
+    const testing::FileSizeLimit limit(8192);  // each new output is larger
+    for (const auto& name : outputs)
+      results.push_back(run({"extract", "--descriptor", "brief", image, "-o", path(name)}));
+    results.push_back(run({"match", path("all.yml"), path("all.yml"), "--no-ratio", "-o", path("matches.yml")}));
+  }
+  const std::vector<std::string> names{"keep.yml", "keep.yml.gz", "keep.json", "matches.yml"};
+  for (size_t i = 0; i < names.size(); ++i) {
+    expectOneLineNaming(results[i], path(names[i]));
+    EXPECT_NE(results[i].err.find("File too large"), std::string::npos) << results[i].err;
+    EXPECT_EQ(testing::readFile(path(names[i])), before[names[i]]) << names[i] << " changed";
+  }
+  EXPECT_EQ(testing::temporaryFiles(dir_), std::vector<std::string>{});
+}
+
+TEST_F(CliTest, AFullDiskKeepsThePreviousOutputAndExitsTwo) {
+  REQUIRE_IMAGE(image, "view.png");
+  testing::SmallTmpfs disk("cli", 256 * 1024);
+  if (!disk.mounted()) GTEST_SKIP() << disk.skipReason();
+  const std::string keep = (disk.path / "keep.yml.gz").string();
+  ASSERT_EQ(run({"extract", "--descriptor", "brief", "--features", "20", image, "-o", keep}).code, 0);
+  const std::string before = testing::readFile(keep);
+  disk.fill();
+  const Result r = run({"extract", "--descriptor", "brief", image, "-o", keep});
+  expectOneLineNaming(r, keep);
+  EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
+  EXPECT_EQ(testing::readFile(keep), before);
+  EXPECT_EQ(testing::temporaryFiles(disk.path), std::vector<std::string>{});
+}
+
+// -o naming a FIFO, a folder or a device (what /dev/null is) is refused before any work; the
+// node stays what it was instead of being replaced by a regular file.
+TEST_F(CliTest, OutputsThatAreNotRegularFilesAreRefusedAndKept) {
+  REQUIRE_IMAGE(image, "view.png");
+  ASSERT_EQ(run({"extract", "--descriptor", "brief", "--features", "20", image, "-o", path("a.yml")}).code, 0);
+  ASSERT_EQ(::mkfifo(path("fifo.yml").c_str(), 0600), 0);
+  fs::create_directory(path("folder.yml"));
+  std::vector<std::string> nodes{path("fifo.yml"), path("folder.yml")};
+  // Only root may make a device node.
+  if (::mknod(path("null.yml").c_str(), S_IFCHR | 0600, makedev(1, 3)) == 0) nodes.push_back(path("null.yml"));
+  if (::mknod(path("null.png").c_str(), S_IFCHR | 0600, makedev(1, 3)) == 0) nodes.push_back(path("null.png"));
+  for (const auto& node : nodes) {
+    const fs::file_type type = fs::symlink_status(node).type();
+    Result r;
+    if (fs::path(node).extension() == ".png")
+      r = run({"draw", "--descriptor", "brief", image, "-o", node});
+    else if (type == fs::file_type::fifo)
+      r = run({"match", path("a.yml"), path("a.yml"), "-o", node});
+    else
+      r = run({"extract", "--descriptor", "brief", image, "-o", node});
+    expectOneLineNaming(r, node);
+    EXPECT_NE(r.err.find("not a regular file; refusing to replace it"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "") << "refused before the work";
+    EXPECT_EQ(fs::symlink_status(node).type(), type) << node;
+  }
+}
+
+// A folder, a FIFO or a symlink loop given as an input is reported as what it is, not as a
+// missing file, and a FIFO is never opened (which would block).
+TEST_F(CliTest, InputsThatAreNotFilesAreNamedForWhatTheyAre) {
+  REQUIRE_IMAGE(image, "view.png");
+  ASSERT_EQ(run({"extract", "--descriptor", "brief", "--features", "20", image, "-o", path("a.yml")}).code, 0);
+  fs::create_directory(path("folder.png"));
+  ASSERT_EQ(::mkfifo(path("fifo.yml").c_str(), 0600), 0);
+  fs::create_symlink("loop.yaml", path("loop.yaml"));
+  const std::string o = path("o.yml");
+  const std::vector<std::pair<Result, std::string>> cases{
+      {run({"extract", "--descriptor", "brief", path("folder.png"), "-o", o}), path("folder.png") + ": is a folder"},
+      {run({"match", path("fifo.yml"), path("a.yml"), "-o", o}), path("fifo.yml") + ": is a FIFO"},
+      {run({"match", path("a.yml"), path("folder.png"), "-o", o}), path("folder.png") + ": is a folder"},
+      {run({"extract", "--descriptor", "brief", "--keypoints", path("fifo.yml"), image, "-o", o}),
+       path("fifo.yml") + ": is a FIFO"},
+      {run({"extract", "--camera", path("loop.yaml"), image, "-o", o}),
+       path("loop.yaml") + ": too many levels of symbolic links"},
+  };
+  for (const auto& [r, message] : cases) {
+    expectOneLineNaming(r, message);
+    EXPECT_EQ(r.err.find("no such file"), std::string::npos) << r.err;
+  }
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // skipped images, determinism, and the HDF5 patch file.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <numeric>
@@ -20,6 +21,7 @@
 #include "patchextract/patch_sampler.hpp"
 #include "patchextract/patch_set.hpp"
 #include "test_data.hpp"
+#include "write_limits.hpp"
 
 namespace fs = std::filesystem;
 using namespace mdbrief;
@@ -200,6 +202,38 @@ TEST(PatchFile, RoundTripAndBrokenFiles) {
   fs::resize_file(dir.path / "cut.h5", size / 2);
   EXPECT_THROW(readPatchSet(dir.path / "cut.h5"), std::runtime_error);
   EXPECT_THROW(writePatchSet(s, dir.path / "nofolder" / "x.h5"), std::runtime_error);
+}
+
+// A write that fails (here beyond the file size limit) keeps the previous file, leaves no
+// temporary, and leaves libhdf5 nothing it cannot close: the process exits cleanly (it used to
+// crash in libhdf5's exit handler).
+TEST(PatchFile, AFailedWriteKeepsTheOldFileAndTheProcessExitsCleanly) {
+  TempDir dir("h5_fsize");
+  const auto patchSet = [](int count) {
+    PatchSet s;
+    s.images = {"one.png"};
+    for (int i = 0; i < count; ++i) {
+      s.records.push_back({0, 1.f * i, 2.f * i, 31.f, 0.f, 0.f, 0});
+      for (int k = 0; k < 1024; ++k) s.pixels.push_back(static_cast<uint8_t>(i + k));
+    }
+    return s;
+  };
+  const fs::path p = dir.path / "set.h5";
+  writePatchSet(patchSet(5), p);
+  const std::string before = mdbrief::testing::readFile(p);
+  EXPECT_EXIT(
+      {
+        const mdbrief::testing::FileSizeLimit limit(64 * 1024);
+        try {
+          writePatchSet(patchSet(300), p);
+        } catch (const std::runtime_error& e) {
+          std::exit(std::string(e.what()).find("File too large") != std::string::npos ? 0 : 3);
+        }
+        std::exit(4);
+      },
+      ::testing::ExitedWithCode(0), "");
+  EXPECT_EQ(mdbrief::testing::readFile(p), before);
+  EXPECT_EQ(mdbrief::testing::temporaryFiles(dir.path), std::vector<std::string>{});
 }
 
 TEST(ViewChange, MapsBothWaysAndIsReproducible) {

@@ -1,19 +1,26 @@
 // Runtime test sets: the compiled-in registry, TestSet::first, JSON loading and the pattern
 // writer (header, JSON copy, registry).
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
+#include <thread>
 #include <tuple>
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include "mdbrief/internal/atomic_file.hpp"
 #include "mdbrief/patterns.hpp"
 #include "toolkit/pattern_writer.hpp"
 #include "test_data.hpp"
+#include "write_limits.hpp"
 
 namespace fs = std::filesystem;
 using namespace mdbrief;
@@ -210,4 +217,81 @@ TEST(PatternWriter, InvalidDocumentOrMissingFolderWritesNothing) {
   EXPECT_THROW(writePattern(bad, dir.path), std::invalid_argument);
   EXPECT_EQ(readFile(dir.path / "kept.hpp"), before);
   EXPECT_THROW(writePattern(smallDocument("x"), dir.path / "missing"), std::runtime_error);
+}
+
+// The header, its JSON copy and the registry are one set: a write that fails part way (here the
+// header, beyond the file size limit, after the JSON) leaves all three as they were.
+TEST(PatternWriter, AFailedWriteKeepsTheWholePreviousSet) {
+  TempDir dir("writer_fsize");
+  writePattern(smallDocument("kept", 32), dir.path);
+  std::map<std::string, std::string> before;
+  for (const char* file : {"kept.json", "kept.hpp", "registry.hpp"}) before[file] = readFile(dir.path / file);
+  PatternDocument larger = smallDocument("kept", 512);
+  const size_t jsonBytes = patternJsonText(larger).size(), headerBytes = patternHeaderText(larger).size();
+  ASSERT_LT(jsonBytes + 4096, headerBytes);
+  {
+    const mdbrief::testing::FileSizeLimit limit(jsonBytes + 1);
+    EXPECT_THROW(writePattern(larger, dir.path), std::runtime_error);
+  }
+  for (const auto& [file, content] : before) EXPECT_EQ(readFile(dir.path / file), content) << file << " changed";
+  EXPECT_EQ(mdbrief::testing::temporaryFiles(dir.path), std::vector<std::string>{});
+}
+
+// Writers running at once into one folder (parallel mdbrief-train or mdbrief-pattern-random
+// runs) each add their set; none drops another's from the registry.
+TEST(PatternWriter, ParallelWritersKeepEveryRegistryEntry) {
+  TempDir dir("writer_parallel");
+  constexpr int kWriters = 8, kRounds = 3;
+  for (int round = 0; round < kRounds; ++round) {
+    std::atomic<int> ready{0};
+    std::vector<std::thread> writers;
+    for (int w = 0; w < kWriters; ++w)
+      writers.emplace_back([&, w] {
+        const PatternDocument document = smallDocument("set_" + std::to_string(round) + "_" + std::to_string(w), 32);
+        // All start together, so their writes overlap.
+        for (++ready; ready < kWriters;) std::this_thread::yield();
+        writePattern(document, dir.path);
+      });
+    for (auto& t : writers) t.join();
+  }
+  const std::string registry = readFile(dir.path / "registry.hpp");
+  EXPECT_EQ(patternHeaderNames(dir.path).size(), static_cast<size_t>(kWriters * kRounds));
+  for (int round = 0; round < kRounds; ++round)
+    for (int w = 0; w < kWriters; ++w) {
+      const std::string name = "set_" + std::to_string(round) + "_" + std::to_string(w);
+      EXPECT_NE(registry.find("patterns/" + name + ".hpp"), std::string::npos) << name << " lost";
+    }
+}
+
+// The turns are taken with an flock on the folder (pattern_writer.hpp): while another writer
+// holds it, a writer waits instead of listing the headers and replacing the registry.
+TEST(PatternWriter, AWriterWaitsWhileAnotherHoldsTheFolder) {
+  TempDir dir("writer_turns");
+  const int folder = ::open(dir.path.c_str(), O_RDONLY | O_DIRECTORY);
+  ASSERT_GE(folder, 0);
+  ASSERT_EQ(::flock(folder, LOCK_EX), 0);
+  std::atomic<bool> done{false};
+  std::thread writer([&] {
+    writePattern(smallDocument("waiting", 32), dir.path);
+    done = true;
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_FALSE(done) << "wrote while another writer held the folder";
+  writeText(dir.path / "other.hpp", "// the other writer's header\n");
+  ::flock(folder, LOCK_UN);
+  ::close(folder);
+  writer.join();
+  EXPECT_TRUE(done);
+  EXPECT_EQ(patternHeaderNames(dir.path), (std::vector<std::string>{"other", "waiting"}));
+  EXPECT_NE(readFile(dir.path / "registry.hpp").find("patterns/other.hpp"), std::string::npos);
+}
+
+TEST(PatternWriter, OutputsThatCannotBeWrittenAreReportedBeforeTheWork) {
+  TempDir dir("writer_check");
+  checkPatternOutputs("fresh", dir.path);
+  EXPECT_TRUE(fs::is_empty(dir.path));
+  fs::create_directory(dir.path / "taken.hpp");
+  EXPECT_THROW(checkPatternOutputs("taken", dir.path), std::runtime_error);
+  EXPECT_THROW(checkPatternOutputs("fresh", dir.path / "missing"), std::runtime_error);
+  EXPECT_THROW(checkPatternOutputs("Bad-Name", dir.path), std::invalid_argument);
 }

@@ -12,6 +12,7 @@
 #include "patchextract/image_digest.hpp"
 #include "test_data.hpp"
 #include "trainer/train_cli.hpp"
+#include "write_limits.hpp"
 
 namespace fs = std::filesystem;
 using namespace mdbrief;
@@ -58,6 +59,8 @@ TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
       {{"--images", (dir.path / "empty").string(), "--out", o}, "no images"},
       {{"--images", (dir.path / "textonly").string(), "--out", o}, "no images"},
       {{"--camera", (dir.path / "nocam.yaml").string(), "--out", o}, "nocam.yaml"},
+      {{"--camera", (dir.path / "empty").string(), "--out", o}, "empty: calibration file: is a folder"},
+      {{"--patches-file", (dir.path / "empty").string(), "--out", o}, "empty: patch file: is a folder"},
       {{"--out", (dir.path / "missing_out").string()}, "missing_out"},
       {{"--tests", "33", "--out", o}, "multiple of 32"},
       {{"--detector", "sift", "--out", o}, "sift"},
@@ -72,6 +75,33 @@ TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
     EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
   }
   EXPECT_TRUE(fs::is_empty(out));
+}
+
+// Outputs that cannot be written (a folder as --save-patches, a missing folder, a folder in the
+// way of the header) fail at once, before the extraction and selection, which take minutes on
+// real data.
+TEST(TrainCli, UnwritableOutputsFailBeforeTheExtraction) {
+  TempDir dir("unwritable");
+  const fs::path images = smallImageFolder(dir);
+  if (fs::is_empty(images)) GTEST_SKIP() << "opencv-doc not installed";
+  const fs::path out = dir.path / "out";
+  fs::create_directories(out / "blocked_64.hpp");
+  const std::vector<std::string> common{"--images", images.string(), "--patches", "300", "--tests", "64",
+                                        "--out", out.string()};
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--name", "tiny_64", "--save-patches", out.string()}, out.string() + ": the output exists and is a folder"},
+      {{"--name", "tiny_64", "--save-patches", (dir.path / "no" / "p.h5").string()}, "does not exist"},
+      {{"--name", "blocked_64"}, (out / "blocked_64.hpp").string() + ": the output exists and is a folder"},
+  };
+  for (const auto& [extra, message] : cases) {
+    auto args = common;
+    args.insert(args.end(), extra.begin(), extra.end());
+    const CliRun r = runTrain(args);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "") << "the extraction ran first";
+  }
+  EXPECT_EQ(mdbrief::testing::temporaryFiles(out), std::vector<std::string>{});
 }
 
 TEST(TrainCli, CriteriaThatNeedPairsRefuseAPatchFileWithout) {

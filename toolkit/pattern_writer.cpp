@@ -1,7 +1,13 @@
 #include "toolkit/pattern_writer.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -13,9 +19,32 @@
 
 namespace mdbrief {
 namespace fs = std::filesystem;
-using internal::writeFileAtomically;
 
 namespace {
+
+// An exclusive flock on the folder itself, held for the object's lifetime (no lock file to
+// leave behind). Waits while another writer holds it; the lock ends with the process, however
+// it ends.
+class FolderLock {
+ public:
+  explicit FolderLock(const fs::path& dir) : fd_(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)) {
+    if (fd_ < 0) throw std::runtime_error(dir.string() + ": cannot open the folder: " + std::strerror(errno));
+    int result;
+    do result = ::flock(fd_, LOCK_EX);
+    while (result != 0 && errno == EINTR);
+    if (result != 0) {
+      const int error = errno;
+      ::close(fd_);
+      throw std::runtime_error(dir.string() + ": cannot lock the folder: " + std::strerror(error));
+    }
+  }
+  ~FolderLock() { ::close(fd_); }
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+
+ private:
+  int fd_;
+};
 
 constexpr const char* kRegistryStem = "registry";
 constexpr const char* kPatternInfoStem = "pattern_info";  // patterns/pattern_info.hpp: the type
@@ -26,6 +55,11 @@ bool isValidName(const std::string& name) {
   return std::all_of(name.begin(), name.end(), [](char c) {
     return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
   });
+}
+
+void requireValidName(const std::string& name) {
+  if (!isValidName(name))
+    throw std::invalid_argument("pattern name '" + name + "' must match [a-z][a-z0-9_]* and not be 'registry'");
 }
 
 bool isSingleLine(const std::string& s) { return s.find_first_of("\r\n") == std::string::npos; }
@@ -56,9 +90,7 @@ std::string digestString(const std::vector<std::string>& digests) {
 }  // namespace
 
 void validate(const PatternDocument& d) {
-  if (!isValidName(d.name))
-    throw std::invalid_argument("pattern name '" + d.name +
-                                "' must match [a-z][a-z0-9_]* and not be 'registry'");
+  requireValidName(d.name);
   if (d.tests.empty()) throw std::invalid_argument("pattern '" + d.name + "' has no tests");
   if (!d.testComments.empty() && d.testComments.size() != d.tests.size())
     throw std::invalid_argument("pattern '" + d.name + "': " +
@@ -211,6 +243,13 @@ std::string registryDefaultName(const fs::path& dir) {
   return "";
 }
 
+void checkPatternOutputs(const std::string& name, const fs::path& dir, const PatternWriteOptions& options) {
+  requireValidName(name);
+  if (options.writeJson) internal::checkOutputPath(dir / (name + ".json"));
+  internal::checkOutputPath(dir / (name + ".hpp"));
+  internal::checkOutputPath(dir / "registry.hpp");
+}
+
 void writePattern(const PatternDocument& document, const fs::path& dir,
                   const PatternWriteOptions& options) {
   const std::string header = patternHeaderText(document);  // validates first: nothing written
@@ -218,14 +257,20 @@ void writePattern(const PatternDocument& document, const fs::path& dir,
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
     throw std::runtime_error(dir.string() + ": output folder does not exist");
-  if (options.writeJson) writeFileAtomically(dir / (document.name + ".json"), json);
-  writeFileAtomically(dir / (document.name + ".hpp"), header);
-
-  const std::vector<std::string> names = patternHeaderNames(dir);
+  // Writers into one folder take turns, so each registry lists every header written before it.
+  const FolderLock lock(dir);
+  std::vector<std::string> names = patternHeaderNames(dir);
+  names.push_back(document.name);
+  std::sort(names.begin(), names.end());
+  names.erase(std::unique(names.begin(), names.end()), names.end());
   std::string defaultName = registryDefaultName(dir);
   if (options.makeDefault || !std::binary_search(names.begin(), names.end(), defaultName))
     defaultName = document.name;
-  writeFileAtomically(dir / "registry.hpp", registryHeaderText(names, defaultName));
+  std::vector<internal::FileContent> files;
+  if (options.writeJson) files.push_back({dir / (document.name + ".json"), json});
+  files.push_back({dir / (document.name + ".hpp"), header});
+  files.push_back({dir / "registry.hpp", registryHeaderText(names, defaultName)});
+  internal::writeFilesAtomically(files);
 }
 
 }  // namespace mdbrief

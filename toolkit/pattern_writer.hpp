@@ -4,7 +4,7 @@
 // and the random-set generator, so every shipped header has the same form.
 //
 // Outputs are deterministic (no timestamps) and written atomically
-// (mdbrief/internal/atomic_file.hpp), so an interrupted run leaves the previous file intact.
+// (mdbrief/internal/atomic_file.hpp), so an interrupted run leaves the previous files intact.
 // A tool module, not installed: the runtime only reads test sets (mdbrief/patterns.hpp).
 #include <filesystem>
 #include <string>
@@ -50,9 +50,17 @@ struct PatternWriteOptions {
   bool makeDefault = false;   // make this set the registry's kDefaultPattern
 };
 
-// Writes dir/<name>.hpp (and dir/<name>.json), then regenerates dir/registry.hpp from every
-// header in dir. The registry's default stays what it was unless makeDefault is set or the old
-// default no longer exists (then this set becomes the default). dir must exist.
+// Throws std::runtime_error naming the file when writePattern could not write the set called
+// name into dir (no such folder, not writable, a file in the way that is not a regular file):
+// for tools to check before the work.
+void checkPatternOutputs(const std::string& name, const std::filesystem::path& dir,
+                         const PatternWriteOptions& options = {});
+
+// Writes dir/<name>.hpp (and dir/<name>.json) and dir/registry.hpp, regenerated from every
+// header in dir, as one set (internal::writeFilesAtomically): a failure leaves the previous
+// files. Writers into one folder take turns (an flock on dir), so parallel runs lose no registry
+// entry. The registry's default stays what it was unless makeDefault is set or the old default
+// no longer exists (then this set becomes the default). dir must exist.
 void writePattern(const PatternDocument& document, const std::filesystem::path& dir,
                   const PatternWriteOptions& options = {});
 

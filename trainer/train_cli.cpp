@@ -11,11 +11,12 @@
 #include <CLI/CLI.hpp>
 #include <sys/resource.h>
 
-#include "toolkit/pattern_writer.hpp"
+#include "mdbrief/internal/input_file.hpp"
 #include "patchextract/patch_extraction.hpp"
 #include "patchextract/view_change_flags.hpp"
-#include "trainer/candidate_tests.hpp"
+#include "toolkit/pattern_writer.hpp"
 #include "toolkit/progress_reporter.hpp"
+#include "trainer/candidate_tests.hpp"
 #include "trainer/trainer.hpp"
 
 namespace mdbrief::train {
@@ -157,14 +158,18 @@ int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::os
       throw std::invalid_argument(s.out + ": output folder does not exist");
     if (!s.patchesFile.empty() && (!s.images.empty() || !s.camera.empty()))
       throw std::invalid_argument("--patches-file cannot be combined with --images or --camera");
-    if (!s.camera.empty() && !fs::is_regular_file(s.camera))
-      throw std::invalid_argument(s.camera + ": calibration file does not exist");
+    if (!s.camera.empty())
+      if (const std::string problem = internal::inputFileProblem(s.camera); !problem.empty())
+        throw std::invalid_argument(s.camera + ": calibration file: " + problem);
     const DetectorKind detector = parseDetector(s.detector);
     const SelectionCriterion criterion = parseSelectionCriterion(s.selection);
     if (s.counterparts < 0) s.counterparts = needsCounterparts(criterion) ? 1 : 0;
     if (s.name.empty())
       s.name = s.detector + (s.camera.empty() ? "_perspective_" : "_fisheye_") +
                std::to_string(s.tests);
+    // Outputs that cannot be written fail now, not after minutes of extraction and selection.
+    checkPatternOutputs(s.name, s.out, {true, s.makeDefault});
+    if (s.patchesFile.empty() && !s.savePatches.empty()) checkPatchSetOutput(s.savePatches);
 
     PatchSet patches;
     ExtractionReport report;

@@ -21,6 +21,7 @@
 #include "mdbrief/camera_radtan.hpp"
 #include "mdbrief/camera_unified.hpp"
 #include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/internal/input_file.hpp"
 
 namespace mdbrief {
 namespace {
@@ -453,6 +454,8 @@ std::shared_ptr<Camera> loadOcamText(const std::string& path, const std::string&
 }
 
 std::string readText(const std::string& path) {
+  if (const std::string problem = internal::inputFileProblem(path); !problem.empty())
+    throw std::runtime_error(path + ": camera file: " + problem);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot open camera file");
   std::ostringstream text;

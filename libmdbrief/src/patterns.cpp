@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "mdbrief/internal/input_file.hpp"
 #include "patterns/registry.hpp"
 
 namespace mdbrief {
@@ -67,6 +68,8 @@ TestSet loadTestSetJson(const std::string& path) {
   const auto fail = [&](const std::string& problem) {
     return std::runtime_error(path + ": " + problem);
   };
+  if (const std::string problem = internal::inputFileProblem(path); !problem.empty())
+    throw fail("test set file: " + problem);
   std::ifstream f(path, std::ios::binary);
   if (!f) throw fail("cannot open test set file");
   nlohmann::json doc;

@@ -1,8 +1,11 @@
 #include "conversions.hpp"
 
-#include <filesystem>
+#include <sys/stat.h>
+
+#include <cerrno>
 
 #include "cv2_value_layout.hpp"
+#include "mdbrief/internal/input_file.hpp"
 
 namespace mdbrief::python {
 namespace {
@@ -154,12 +157,14 @@ py::array matchesToArray(const std::vector<cv::DMatch>& matches) {
 }
 
 void requireFile(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    PyErr_SetObject(PyExc_FileNotFoundError,
-                    py::make_tuple(2, "No such file or directory", path).ptr());
-    throw py::error_already_set();
-  }
+  const std::string problem = internal::inputFileProblem(path);
+  if (problem.empty()) return;
+  // OSError(errno, text, path) becomes the subclass open() would raise: FileNotFoundError,
+  // IsADirectoryError, PermissionError; a FIFO or a device is a plain OSError.
+  struct stat info {};
+  const int error = ::stat(path.c_str(), &info) != 0 ? errno : S_ISDIR(info.st_mode) ? EISDIR : EINVAL;
+  PyErr_SetObject(PyExc_OSError, py::make_tuple(error, problem, path).ptr());
+  throw py::error_already_set();
 }
 
 }  // namespace mdbrief::python

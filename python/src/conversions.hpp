@@ -36,7 +36,8 @@ py::list matchesToPython(const std::vector<cv::DMatch>& matches);
 // The same as a structured array: query_idx, train_idx (int32), distance (float32).
 py::array matchesToArray(const std::vector<cv::DMatch>& matches);
 
-// Raises FileNotFoundError naming the path unless it is an existing file.
+// Raises OSError naming the path and the reason unless it is an existing regular file:
+// FileNotFoundError when nothing is there, IsADirectoryError for a folder.
 void requireFile(const std::string& path);
 
 }  // namespace mdbrief::python

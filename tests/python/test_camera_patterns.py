@@ -1,5 +1,6 @@
 """mdbrief.Camera, the test sets and off-line learning from Python."""
 import json
+import os
 
 import numpy as np
 import pytest
@@ -47,6 +48,15 @@ def test_unprojectable_rays_are_nan_and_cameras_save_and_resize(tmp_path):
 def test_camera_errors_are_python_exceptions(tmp_path):
     with pytest.raises(FileNotFoundError):
         mdbrief.load_camera(str(tmp_path / "missing.yaml"))
+    # Something that is not a file is named for what it is, and a FIFO is never opened (it would block).
+    with pytest.raises(IsADirectoryError, match="is a folder"):
+        mdbrief.load_camera(str(tmp_path))
+    os.mkfifo(tmp_path / "fifo.yaml")
+    with pytest.raises(OSError, match="is a FIFO"):
+        mdbrief.load_camera(str(tmp_path / "fifo.yaml"))
+    os.symlink("loop.yaml", tmp_path / "loop.yaml")
+    with pytest.raises(OSError, match="symbolic links"):
+        mdbrief.load_pattern(str(tmp_path / "loop.yaml"))
     (tmp_path / "bad.yaml").write_text("model: kannala_brandt\nwidth: 640\nheight: 480\nfx: 300\nfy: 300\n"
                                        "cx: 320\ncy: 240\nk1: 1e30\nk2: 0\nk3: 0\nk4: 0\n")
     with pytest.raises(ValueError, match="k1"):

@@ -1,25 +1,53 @@
 #pragma once
-// Replacing a file only once its new content is complete, so that an interrupted or failed run
-// leaves the previous file (or none) instead of a half-written one. Used by the library
-// (saveCamera) and by the tools through the build-only target mdbrief_internal; not installed.
+// Replacing files only once their new content is complete and on disk, so that an interrupted
+// or failed run (a full disk, a file size limit, a signal) leaves the previous file (or none)
+// instead of a half-written one. Used by the library (saveCamera) and by the tools through the
+// build-only target mdbrief_internal; not installed.
+//
+// Every write goes the same way: a temporary in the target's folder (same file system, so the
+// rename is atomic), every write and the flush checked, fsync, rename over the target, then an
+// fsync of the folder (best effort: some file systems refuse it on a folder). Temporaries are
+// hidden and unique per call ("." + first part of the name + ".tmp<pid>-<n>" + the rest, e.g.
+// ".img1.tmp42-0.png"): they keep target's extensions, from which writers such as cv::imwrite
+// pick the format. A process killed while writing cannot remove its temporary; the next write
+// of the same target removes those of processes that no longer run.
 #include <filesystem>
 #include <functional>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace mdbrief::internal {
 
-// Calls write(temp) with a fresh temporary path in target's folder (same file system, so the
-// rename is atomic), then renames it over target. The temporary is hidden and unique per call
-// ("." + first part of the name + ".tmp<pid>-<n>" + the rest, e.g. ".img1.tmp42-0.png"): it
-// keeps target's extensions, from which writers such as cv::imwrite pick the format. If
-// write throws or the rename fails, the temporary is removed, target is left as it was and the
-// exception propagates. Throws std::runtime_error naming target when its folder does not
-// exist or the rename fails.
+// Throws std::runtime_error naming target when a write to it would fail or do harm: its folder
+// does not exist or no file can be created there (checked by creating and removing a
+// temporary), or target exists and is not a regular file (a folder, a device such as /dev/null,
+// a FIFO), which the rename would replace. For tools that check their outputs before the work.
+void checkOutputPath(const std::filesystem::path& target);
+
+// Calls write(temp) with a fresh temporary path, then makes it durable and renames it over
+// target. write must report its own failures by throwing. If write throws or anything after it
+// fails, the temporary is removed, target is left as it was and the exception propagates. Throws
+// std::runtime_error naming target when its folder does not exist, target is not a regular file,
+// or the sync or the rename fails.
 void writeAtomically(const std::filesystem::path& target,
                      const std::function<void(const std::filesystem::path& temp)>& write);
 
-// writeAtomically with content as the file's bytes. Throws std::runtime_error naming target
-// when the temporary cannot be created or written.
+// writeAtomically with content as the file's bytes. Throws std::runtime_error naming target and
+// the system's reason (e.g. "No space left on device", "File too large") when the temporary
+// cannot be created or written.
 void writeFileAtomically(const std::filesystem::path& target, std::string_view content);
+
+struct FileContent {
+  std::filesystem::path target;
+  std::string content;
+};
+
+// Replaces several files as one: every temporary is written and synced first, then the renames
+// follow; if one of them fails, the files already renamed get their previous content back (or
+// are removed when they did not exist). So a failure leaves the previous set, a success the new
+// one; only a crash between the renames can leave a mix. Targets must be distinct. Throws
+// std::runtime_error as writeFileAtomically does.
+void writeFilesAtomically(const std::vector<FileContent>& files);
 
 }  // namespace mdbrief::internal

@@ -1,0 +1,15 @@
+#pragma once
+// Why a path cannot be read as an input file, so that a folder, a FIFO or a symlink loop is
+// reported as what it is and not as a missing file. Internal to the build, as atomic_file.hpp.
+#include <filesystem>
+#include <string>
+
+namespace mdbrief::internal {
+
+// "" when path is a regular file this process can open for reading; otherwise the reason, e.g.
+// "no such file", "is a folder, not a file", "is a FIFO, not a regular file", "too many levels
+// of symbolic links (a symlink loop?)", "cannot open: Permission denied". Never blocks: a FIFO
+// or a device is refused before anything opens it.
+std::string inputFileProblem(const std::filesystem::path& path);
+
+}  // namespace mdbrief::internal
