@@ -63,7 +63,7 @@ TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
       {{"--detector", "sift", "--out", o}, "sift"},
       {{"--patches-file", (dir.path / "none.h5").string(), "--out", o}, "none.h5"},
       {{"--no-such-flag"}, ""},
-      {{"--selection", "boosting", "--out", o}, "use paper, stability or separation"},
+      {{"--selection", "boosting", "--out", o}, "boosting not in {paper,stability,separation}"},
       {{"--held-out", (dir.path / "nolist.txt").string(), "--out", o}, "nolist.txt: cannot read the held-out list"},
   };
   for (const auto& [args, message] : cases) {
@@ -79,7 +79,8 @@ TEST(TrainCli, CriteriaThatNeedPairsRefuseAPatchFileWithout) {
   const fs::path images = smallImageFolder(dir);
   if (fs::is_empty(images)) GTEST_SKIP() << "opencv-doc not installed";
   const fs::path patchFile = dir.path / "plain.h5";
-  ASSERT_EQ(runTrain({"--images", images.string(), "--patches", "300", "--tests", "64", "--name", "plain_64",
+  ASSERT_EQ(runTrain({"--images", images.string(), "--selection", "paper", "--patches", "300", "--tests", "64",
+                      "--name", "plain_64",
                       "--out", dir.path.string(), "--save-patches", patchFile.string()})
                 .code,
             0);
@@ -138,7 +139,8 @@ TEST(TrainCli, SameInputsAndSeedGiveByteIdenticalHeaders) {
   fs::create_directories(dir.path / "b");
   const fs::path patchFile = dir.path / "patches.h5";
   const std::vector<std::string> common = {"--images", images.string(), "--patches", "800",
-                                           "--tests", "64", "--seed", "3", "--name", "tiny_64"};
+                                           "--tests", "64", "--seed", "3", "--name", "tiny_64",
+                                           "--selection", "paper"};
   auto args = common;
   args.insert(args.end(), {"--out", (dir.path / "a").string(), "--save-patches", patchFile.string()});
   const CliRun first = runTrain(args);
@@ -159,7 +161,8 @@ TEST(TrainCli, SameInputsAndSeedGiveByteIdenticalHeaders) {
   ASSERT_EQ(learned.tests.size(), 64u);
   EXPECT_EQ(readPatchSet(patchFile).count(), 800u);
   fs::create_directories(dir.path / "c");
-  const CliRun reuse = runTrain({"--patches-file", patchFile.string(), "--tests", "64", "--name", "tiny_64",
+  const CliRun reuse = runTrain({"--patches-file", patchFile.string(), "--selection", "paper", "--tests", "64",
+                                 "--name", "tiny_64",
                            "--out", (dir.path / "c").string()});
   ASSERT_EQ(reuse.code, 0) << reuse.err;
   const TestSet again = loadTestSetJson((dir.path / "c" / "tiny_64.json").string());

@@ -24,7 +24,11 @@ struct MdBriefOptions {
   DescriptorOptions descriptor;
 };
 
-// Throws std::invalid_argument naming the option: the detector's and descriptor's own checks.
+// The fields of MdBriefOptions: the detector's ("detector.<member>", the pyramid's in FileStorage
+// section "pyramid") and the descriptor's ("descriptor.<member>"). FileStorage, the Python
+// keywords and the command line's detection flags all read this table.
+const OptionTable<MdBriefOptions>& mdBriefOptionFields();
+// Throws OptionError naming the first option out of its field's range.
 void validate(const MdBriefOptions& options);
 
 class MdBrief : public cv::Feature2D {
