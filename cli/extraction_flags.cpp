@@ -44,8 +44,9 @@ MdBriefOptions extractionOptions(const ExtractionFlags& flags) {
 }
 
 CameraPtr loadCalibration(const ExtractionFlags& flags) {
+  // The options first: a bad flag is reported before any file is read.
+  const DescriptorKind kind = extractionOptions(flags).descriptor.kind;
   if (flags.camera.empty()) {
-    const DescriptorKind kind = extractionOptions(flags).descriptor.kind;
     if (usesCamera(kind)) throw InputError("--camera is required for --descriptor " + toString(kind));
     return nullptr;
   }

@@ -31,7 +31,8 @@ void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags);
 // The options the flags give, validated. InputError "<flag> must be in [...], got <value>".
 MdBriefOptions extractionOptions(const ExtractionFlags& flags);
 
-// The calibration of flags.camera, or null when none is given (allowed for brief only).
+// The calibration of flags.camera, or null when none is given (allowed for brief only). Checks
+// the option flags first (extractionOptions).
 CameraPtr loadCalibration(const ExtractionFlags& flags);
 
 // Decoded 8UC1 image. InputError for a missing, empty or undecodable file. A truncated JPEG or

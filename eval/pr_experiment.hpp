@@ -17,10 +17,22 @@ struct EvalGroup {
   std::vector<EvalSequence> sequences;
 };
 
-// Whose keypoints every method but AKAZE describes.
+// Whose keypoints every method but AKAZE describes: the library's detector methods, spelled as
+// its DetectorMethod table spells them, or an OpenCV detector.
 enum class KeypointSource { ModOrb, Hessian, Orb, Akaze, Brisk, Sift };
-// "modorb" | "hessian" | "orb" | "akaze" | "brisk" | "sift"; throws std::invalid_argument naming the accepted values.
-KeypointSource parseKeypointSource(const std::string& name);
+inline constexpr EnumName<KeypointSource> kKeypointSourceNames[] = {
+    {KeypointSource::ModOrb, kDetectorMethodNames[0].name},
+    {KeypointSource::Hessian, kDetectorMethodNames[1].name},
+    {KeypointSource::Orb, "orb"},
+    {KeypointSource::Akaze, "akaze"},
+    {KeypointSource::Brisk, "brisk"},
+    {KeypointSource::Sift, "sift"}};
+static_assert(kDetectorMethodNames[0].value == DetectorMethod::ModOrb &&
+              kDetectorMethodNames[1].value == DetectorMethod::Hessian);
+// Throws std::invalid_argument naming the accepted values.
+inline KeypointSource parseKeypointSource(const std::string& name) {
+  return parseName(name, kKeypointSourceNames, "keypoint source");
+}
 
 struct PrOptions {
   std::string outDir;

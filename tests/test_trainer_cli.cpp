@@ -60,6 +60,12 @@ TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
       {{"--camera", (dir.path / "nocam.yaml").string(), "--out", o}, "nocam.yaml"},
       {{"--out", (dir.path / "missing_out").string()}, "missing_out"},
       {{"--tests", "33", "--out", o}, "multiple of 32"},
+      // Before: -1 became 18446744073709551615 patches and the run exited 0; -32 was reported as
+      // "exceeds the candidates".
+      {{"--patches", "-1", "--out", o}, "error: --patches must be in [1, 200000], got -1\n"},
+      {{"--tests", "-32", "--out", o}, "error: --tests must be a multiple of 32 in [32, 512], got -32\n"},
+      // Before: --out defaulted to "patterns" and failed when run elsewhere.
+      {{"--tests", "64"}, "--out is required"},
       {{"--detector", "sift", "--out", o}, "sift"},
       {{"--patches-file", (dir.path / "none.h5").string(), "--out", o}, "none.h5"},
       {{"--no-such-flag"}, ""},
@@ -72,6 +78,15 @@ TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
     EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
   }
   EXPECT_TRUE(fs::is_empty(out));
+}
+
+TEST(TrainCli, HelpNamesTheProgramAndListsTheChoices) {
+  const CliRun r = runTrain({"--help"});
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("Usage: mdbrief-train [OPTIONS]"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("{orb,akaze,surf}"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("{paper,stability,separation}=separation"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--pool"), std::string::npos) << "every selection option is a flag";
 }
 
 TEST(TrainCli, CriteriaThatNeedPairsRefuseAPatchFileWithout) {
