@@ -4,6 +4,7 @@
 // Values are collected during the parse and applied afterwards, so a bad value is reported as
 // "<flag> must be in [...], got <value>", the message every other surface gives.
 #include <cstdint>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -39,6 +40,7 @@ class OptionFlags {
         case FieldType::Flag: {
           // The flag turns the default around.
           const bool turned = !std::get<bool>(value);
+          if (!turned) help = "turn off (on by default): " + help;
           option = app.add_flag_function(f.flag, [this, i, turned](std::int64_t count) {
             if (count > 0) given_.emplace_back(i, turned);
           });
@@ -60,19 +62,14 @@ class OptionFlags {
           break;
       }
       option->description(help);
-      if (f.type != FieldType::Flag && !std::holds_alternative<std::monostate>(value)) {
-        std::string shown = fieldValueText(value);
-        if (f.type == FieldType::Text || f.type == FieldType::Choice) shown = std::get<std::string>(value);
-        if (f.type != FieldType::TextList && !shown.empty()) option->default_str(shown);
+      if (const auto* i = std::get_if<long long>(&value)) option->default_str(std::to_string(*i));
+      if (const auto* d = std::get_if<double>(&value)) {
+        std::ostringstream shown;  // six digits: a float member's default would show its binary tail
+        shown << *d;
+        option->default_str(shown.str());
       }
+      if (const auto* s = std::get_if<std::string>(&value); s && !s->empty()) option->default_str(*s);
     }
-  }
-
-  // Whether the flag of field `index` was given.
-  bool given(std::size_t index) const {
-    for (const auto& [i, v] : given_)
-      if (i == index) return true;
-    return false;
   }
 
   // `options` with the given flags applied (in command-line order), then checked by `validate`.

@@ -58,7 +58,7 @@ const OptionTable<DetectorOptions>& detectorOptionFields() {
         integerField<O>("threshold", "", "threshold", "--threshold", "FAST/AGAST intensity threshold",
                         R::closed(1, 254), [](auto& o) -> auto& { return o.threshold; }),
         integerField<O>("fallbackThreshold", "", "fallback_threshold", "--fallback-threshold",
-                        "threshold of a level where `threshold` finds too few corners (at most threshold)",
+                        "threshold of a level where the threshold finds too few corners (at most the threshold)",
                         std::function<FieldRange(const O&)>(
                             [](const O& o) { return R::closed(1, std::clamp(o.threshold, 1, 254)); }),
                         [](auto& o) -> auto& { return o.fallbackThreshold; }),
@@ -82,8 +82,8 @@ const OptionTable<DetectorOptions>& detectorOptionFields() {
                         R::closed(1, 1024), [](auto& o) -> auto& { return o.patchSize; }),
         // The orientation disc and the Harris window (plus its Sobel ring) must fit in the margin.
         integerField<O>("borderMargin", "", "border_margin", "--border-margin",
-                        "distance (level pixels) to the border and the camera's invalid area; at least "
-                        "detector_orientation_radius and harris_block_size / 2 + 1",
+                        "distance (level pixels) to the border and the camera's invalid area; at least the "
+                        "detector's orientation radius and half the Harris window + 1",
                         std::function<FieldRange(const O&)>([](const O& o) {
                           return R::closed(std::clamp(std::max(o.orientationRadius, o.harrisBlockSize / 2 + 1), 0, 1024),
                                            1024);
