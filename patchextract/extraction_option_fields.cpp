@@ -55,10 +55,10 @@ const OptionTable<ExtractionOptions>& extractionOptionFields() {
                         "detector budget per image", R::closed(1, 100000),
                         [](auto& o) -> auto& { return o.keypointsPerImage; }),
         flagField<O>("renderThroughCamera", "", "render_through_camera", "--render-through-camera",
-                     "use each photo as a plane seen through --camera (synthetic fisheye images)",
+                     "use each photo as a plane seen through the camera (synthetic fisheye images)",
                      [](auto& o) -> auto& { return o.renderThroughCamera; }),
         integerField<O>("counterparts", "", "counterparts", "--counterparts",
-                        "changed views per image: the matching pairs of --selection stability|separation",
+                        "changed views per image: the matching pairs of the stability and separation criteria",
                         R::closed(0, kMaxCounterparts), [](auto& o) -> auto& { return o.counterparts; }),
     };
     appendNested(t, viewChangeOptionFields(), "viewChange", "", [](auto& o) -> auto& { return o.viewChange; });

@@ -16,7 +16,7 @@ const OptionTable<TrainOptions>& trainOptionFields() {
     appendNested(t, extractionOptionFields(), "extraction", "", [](auto& o) -> auto& { return o.extraction; });
     for (auto& f : t)
       if (f.member == "extraction.counterparts") {
-        f.doc = "changed views per image for the matching pairs; -1 = 1 when --selection needs them, else 0";
+        f.doc = "changed views per image for the matching pairs; -1 = 1 when the selection criterion needs them, else 0";
         f.range = [](const O&) { return R::closed(-1, kMaxCounterparts); };
       }
     const OptionTable<O> rest = {
@@ -44,7 +44,7 @@ const OptionTable<TrainOptions>& trainOptionFields() {
                      "paper, stability: t_c increase per greedy pass", R::openLow(0, 1),
                      [](auto& o) -> auto& { return o.greedy.thresholdStep; }),
         integerField<O>("separation.pool", "", "pool", "--pool",
-                        "separation: candidates considered, the best by 2 var - flip rate (at least --tests)",
+                        "separation: candidates considered, the best by 2 var - flip rate (raised to the tests if fewer)",
                         R::closed(1, static_cast<double>(kCandidateCount)),
                         [](auto& o) -> auto& { return o.separation.pool; }),
         realField<O>("separation.nonMatchingSigmas", "", "non_matching_sigmas", "--non-matching-sigmas",

@@ -58,9 +58,11 @@ class MdBrief : public cv::Feature2D {
   cv::String getDefaultName() const override { return "Feature2D.MdBrief"; }
   bool empty() const override { return false; }
 
-  // Every option of MdBriefOptions (detector and descriptor; the pyramid once). read() keeps
-  // the current value of a missing key and throws std::invalid_argument naming the key for a
-  // bad value (the object is unchanged then).
+  // Every option of MdBriefOptions (detector and descriptor; the pyramid once), by the keys and
+  // sections of mdBriefOptionFields(). read() keeps the current value of a missing key and throws
+  // std::invalid_argument naming the key for a value of the wrong type, and OptionError
+  // "<section>.<key> must be in [...], got <value>" for one out of range (the object is
+  // unchanged then).
   void write(cv::FileStorage& fs) const override;
   void read(const cv::FileNode& node) override;
   using cv::Feature2D::read;
