@@ -2,11 +2,11 @@
 // Hamming distance) when both files have masks, plain Hamming otherwise.
 #include <iostream>
 #include <memory>
-#include <optional>
 
 #include "cli/commands.hpp"
 #include "cli/storage_io.hpp"
 #include "mdbrief/matcher.hpp"
+#include "toolkit/option_flags.hpp"
 
 namespace mdbrief::cli {
 namespace {
@@ -14,14 +14,26 @@ namespace {
 struct MatchArgs {
   std::string query;
   std::string train;
-  float ratio = 0.8f;
+  OptionFlags<MatchOptions> options;  // MatchOptions' field table: --ratio, --cross-check, --max-distance
   bool noRatio = false;
-  bool crossCheck = false;
-  std::optional<float> maxDistance;
   std::string output;
 };
 
+// The command line's defaults: the library's, with Lowe's ratio test on.
+MatchOptions commandDefaults() {
+  MatchOptions o;
+  o.ratio = 0.8f;
+  return o;
+}
+
 void runMatch(const MatchArgs& args) {
+  MatchOptions options;
+  try {
+    options = args.options.apply(commandDefaults(), [](const MatchOptions& o) { validate(o); });
+  } catch (const OptionError& e) {
+    throw InputError(e.what());
+  }
+  if (args.noRatio) options.ratio.reset();
   checkStorageOutput(args.output);
   const Features a = readFeatureFile(args.query);
   const Features b = readFeatureFile(args.train);
@@ -29,10 +41,6 @@ void runMatch(const MatchArgs& args) {
     throw InputError(args.query + " and " + args.train + ": descriptor lengths differ (" +
                      std::to_string(a.descriptors.cols * 8) + " vs " + std::to_string(b.descriptors.cols * 8) +
                      " bits)");
-  MatchOptions options;
-  if (!args.noRatio) options.ratio = args.ratio;
-  options.crossCheck = args.crossCheck;
-  options.maxDistance = args.maxDistance;
   const bool masked = !a.masks.empty() && !b.masks.empty();
   const std::vector<cv::DMatch> matches =
       masked ? matchBruteForceMasked(a.descriptors, a.masks, b.descriptors, b.masks, options)
@@ -66,13 +74,8 @@ void addMatchCommand(CLI::App& app) {
       "bits), in query order; also 'query', 'train' (the input files) and 'masked' (0/1).");
   cmd->add_option("A", args->query, "Query features (extract output)")->required();
   cmd->add_option("B", args->train, "Train features (extract output)")->required();
-  cmd->add_option("--ratio", args->ratio, "Lowe's ratio test: keep a match if best < ratio * second best")
-      ->check(CLI::Range(0.0f, 1.0f))
-      ->capture_default_str();
+  args->options.add(*cmd, matchOptionFields(), commandDefaults());
   cmd->add_flag("--no-ratio", args->noRatio, "Disable the ratio test");
-  cmd->add_flag("--cross-check", args->crossCheck, "Keep mutual nearest neighbours only");
-  cmd->add_option("--max-distance", args->maxDistance, "Keep matches with distance <= D bits")
-      ->check(CLI::NonNegativeNumber);
   cmd->add_option("-o,--output", args->output, "Output FileStorage file (.yml, .yml.gz, .json)")->required();
   cmd->callback([args] { runMatch(*args); });
 }

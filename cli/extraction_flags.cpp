@@ -29,44 +29,26 @@ void requireReadableFile(const std::string& path) {
 
 void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
   cmd.add_option("--camera", flags.camera, "Calibration file (configs/cameras/README.md); required for dbrief/mdbrief");
-  cmd.add_option("--descriptor", flags.descriptor, "Descriptor kind")
-      ->check(CLI::IsMember(namesOf(kDescriptorKindNames)))
-      ->capture_default_str();
-  cmd.add_option("--bits", flags.bits, "Descriptor length in bits: 32..512, a multiple of 32")
-      ->check(CLI::Range(32, 512))
-      ->capture_default_str();
-  cmd.add_flag("--no-orientation", flags.noOrientation, "Do not rotate the tests by the keypoint angle");
-  cmd.add_option("--orientation", flags.orientation,
-                 "dbrief/mdbrief: measure the angle on the tangent plane, or take the detector's")
-      ->check(CLI::IsMember(namesOf(kOrientationSourceNames)))
-      ->capture_default_str();
-  cmd.add_option("--features", flags.features, "Maximum number of keypoints per image")
-      ->check(CLI::Range(1, 1000000))
-      ->capture_default_str();
-  cmd.add_option("--detector", flags.detector,
-                 "Keypoint detector: modorb (FAST corners, ORB's scheme) or hessian (scale-space blobs)")
-      ->check(CLI::IsMember(namesOf(kDetectorMethodNames)))
-      ->capture_default_str();
-  cmd.add_flag("--conformal", flags.conformal,
-               "Detect on the camera's stereographic (conformal) view and map the keypoints back (needs --camera)");
-  cmd.add_option("--form", flags.form, "How dBRIEF/mdBRIEF distort the tests: affine (fast) or paper (eq. 8-11)")
-      ->check(CLI::IsMember(namesOf(kDistortionFormNames)))
-      ->capture_default_str();
-  cmd.add_option("--pattern", flags.pattern, "Test set: a built-in name or a JSON file (default: the built-in default)");
-  cmd.add_option("--support-scale", flags.supportScale,
-                 "The tests' 31-pixel diameter spans this times the keypoint size (1 = cv::ORB's convention)")
-      ->check(CLI::Range(0.1, 20.0))
-      ->capture_default_str();
+  flags.options.add(cmd, mdBriefOptionFields());
   cmd.add_flag("--allow-size-mismatch", flags.allowSizeMismatch,
                "Rescale the calibration to the image size instead of rejecting a different size");
   cmd.add_flag("--strict", flags.strict,
                "Reject a truncated (partly decodable) JPEG or PNG instead of warning and describing what decodes");
 }
 
+MdBriefOptions extractionOptions(const ExtractionFlags& flags) {
+  try {
+    return flags.options.apply(MdBriefOptions{}, [](const MdBriefOptions& o) { validate(o); });
+  } catch (const OptionError& e) {
+    throw InputError(e.what());
+  }
+}
+
 CameraPtr loadCalibration(const ExtractionFlags& flags) {
+  // The options first: a bad flag is reported before any file is read.
+  const DescriptorKind kind = extractionOptions(flags).descriptor.kind;
   if (flags.camera.empty()) {
-    if (usesCamera(parseDescriptorKind(flags.descriptor)))
-      throw InputError("--camera is required for --descriptor " + flags.descriptor);
+    if (usesCamera(kind)) throw InputError("--camera is required for --descriptor " + toString(kind));
     return nullptr;
   }
   requireReadableFile(flags.camera);
@@ -116,21 +98,11 @@ cv::Ptr<MdBrief> makeFeature(const ExtractionFlags& flags, const CameraPtr& cali
                        "); pass --allow-size-mismatch to rescale the calibration");
     camera = camera->resized(imageSize);
   }
-  MdBriefOptions options;
-  options.detector.nfeatures = flags.features;
-  options.detector.method = parseDetectorMethod(flags.detector);
-  options.detector.conformal = flags.conformal;
-  options.descriptor.kind = parseDescriptorKind(flags.descriptor);
-  options.descriptor.bits = flags.bits;
-  options.descriptor.useOrientation = !flags.noOrientation;
-  options.descriptor.orientation = parseOrientationSource(flags.orientation);
-  options.descriptor.form = parseDistortionForm(flags.form);
-  options.descriptor.pattern = flags.pattern;
-  options.descriptor.supportScale = flags.supportScale;
+  const MdBriefOptions options = extractionOptions(flags);
   try {
     return MdBrief::create(camera, options);
   } catch (const std::exception& e) {
-    // Bad --bits (not a multiple of 32) or an unusable --pattern.
+    // An unusable --pattern.
     throw InputError(std::string("invalid descriptor options: ") + e.what());
   }
 }

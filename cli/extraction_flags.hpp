@@ -10,31 +10,29 @@
 
 #include "mdbrief/camera.hpp"
 #include "mdbrief/feature2d.hpp"
+#include "toolkit/option_flags.hpp"
 
 namespace mdbrief::cli {
 
-// Defaults and names come from the library's options structs and enum tables.
+// The detection and description options are MdBriefOptions' field table (mdBriefOptionFields()):
+// every field's flag, doc, range and default come from there.
 struct ExtractionFlags {
   std::string camera;                 // calibration file; required except for --descriptor brief / mbrief
-  std::string descriptor = toString(DescriptorOptions{}.kind);
-  int bits = DescriptorOptions{}.bits;
-  bool noOrientation = !DescriptorOptions{}.useOrientation;
-  std::string orientation = toString(DescriptorOptions{}.orientation);
-  int features = DetectorOptions{}.nfeatures;
-  std::string detector = toString(DetectorOptions{}.method);
-  bool conformal = DetectorOptions{}.conformal;  // detect on the stereographic view
-  std::string form = toString(DescriptorOptions{}.form);
-  std::string pattern = DescriptorOptions{}.pattern;  // registry name or JSON file; empty = default set
-  double supportScale = DescriptorOptions{}.supportScale;
+  OptionFlags<MdBriefOptions> options;
   bool allowSizeMismatch = false;     // rescale the calibration to the image instead of failing
   bool strict = false;                // a truncated image file is an error, not a warning
 };
 
-// Adds --camera, --descriptor, --bits, --no-orientation, --orientation, --features, --detector, --conformal, --form, --pattern,
-// --support-scale, --allow-size-mismatch and --strict to cmd, bound to flags (which must outlive the parse).
+// Adds --camera, every MdBriefOptions flag (--features, --detector, --descriptor, --bits, ...),
+// --allow-size-mismatch and --strict to cmd, bound to flags (which must outlive the parse and
+// stay in place).
 void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags);
 
-// The calibration of flags.camera, or null when none is given (allowed for brief only).
+// The options the flags give, validated. InputError "<flag> must be in [...], got <value>".
+MdBriefOptions extractionOptions(const ExtractionFlags& flags);
+
+// The calibration of flags.camera, or null when none is given (allowed for brief only). Checks
+// the option flags first (extractionOptions).
 CameraPtr loadCalibration(const ExtractionFlags& flags);
 
 // Decoded 8UC1 image. InputError for a missing, empty or undecodable file. A truncated JPEG or

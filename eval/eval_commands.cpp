@@ -190,12 +190,16 @@ void addEvalCommand(CLI::App& app) {
   cmd->add_option("--out", a->pr.outDir, "Output folder for the CSVs")->required();
   cmd->add_flag("--quick", a->quick, "Only the paper's main comparison (no length / test-set study)");
   cmd->add_option("--keypoints-from", a->keypointsFrom,
-                  "Keypoints every method but AKAZE describes: modorb (the library's detector) | orb | akaze | "
-                  "brisk | sift")
+                  "Keypoints every method but AKAZE describes: the library's detector (modorb, hessian) or an "
+                  "OpenCV one")
+      ->check(CLI::IsMember(namesOf(kKeypointSourceNames)))
       ->capture_default_str();
+  const FieldRange supportScale =
+      descriptorOptionFields()[findField(descriptorOptionFields(), "support_scale", &OptionField<DescriptorOptions>::keyword)]
+          .range(DescriptorOptions{});
   cmd->add_option("--support-scales", a->supportScales,
                   "Only the footprint study: dBRIEF-256 and mdBRIEF-256 at these DescriptorOptions::supportScale values")
-      ->check(CLI::Range(0.1, 20.0));
+      ->check(CLI::Range(supportScale.low, supportScale.high));
   cmd->add_option("--test-set", a->testSets,
                   "Only the test-set study, with these sets (registry names or JSON files; repeatable)");
   cmd->callback([a] {

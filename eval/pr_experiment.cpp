@@ -74,16 +74,6 @@ std::vector<MethodSpec> testSetStudyMethods(const std::vector<std::string>& test
   return m;
 }
 
-KeypointSource parseKeypointSource(const std::string& name) {
-  if (name == "modorb") return KeypointSource::ModOrb;
-  if (name == "hessian") return KeypointSource::Hessian;
-  if (name == "orb") return KeypointSource::Orb;
-  if (name == "akaze") return KeypointSource::Akaze;
-  if (name == "brisk") return KeypointSource::Brisk;
-  if (name == "sift") return KeypointSource::Sift;
-  throw std::invalid_argument("unknown keypoint source '" + name + "' (use modorb, hessian, orb, akaze, brisk or sift)");
-}
-
 std::vector<MethodSpec> supportScaleStudyMethods(const std::vector<double>& scales) {
   std::vector<MethodSpec> m;
   for (double scale : scales)

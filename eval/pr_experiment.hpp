@@ -9,6 +9,7 @@
 #include "descriptor_method.hpp"
 #include "eval_datasets.hpp"
 #include "mdbrief/detector.hpp"
+#include "patchextract/keypoint_detectors.hpp"
 
 namespace mdbrief::eval {
 
@@ -17,10 +18,25 @@ struct EvalGroup {
   std::vector<EvalSequence> sequences;
 };
 
-// Whose keypoints every method but AKAZE describes.
+// Whose keypoints every method but AKAZE describes: the library's detector methods or an OpenCV
+// detector. The names the other tables already give (the library's DetectorMethod, the
+// trainer's DetectorKind) are taken from them, so a detector has one spelling everywhere.
 enum class KeypointSource { ModOrb, Hessian, Orb, Akaze, Brisk, Sift };
-// "modorb" | "hessian" | "orb" | "akaze" | "brisk" | "sift"; throws std::invalid_argument naming the accepted values.
-KeypointSource parseKeypointSource(const std::string& name);
+inline constexpr EnumName<KeypointSource> kKeypointSourceNames[] = {
+    {KeypointSource::ModOrb, kDetectorMethodNames[0].name},
+    {KeypointSource::Hessian, kDetectorMethodNames[1].name},
+    {KeypointSource::Orb, train::kDetectorKindNames[0].name},
+    {KeypointSource::Akaze, train::kDetectorKindNames[1].name},
+    {KeypointSource::Brisk, "brisk"},
+    {KeypointSource::Sift, "sift"}};
+static_assert(kDetectorMethodNames[0].value == DetectorMethod::ModOrb &&
+              kDetectorMethodNames[1].value == DetectorMethod::Hessian &&
+              train::kDetectorKindNames[0].value == train::DetectorKind::Orb &&
+              train::kDetectorKindNames[1].value == train::DetectorKind::Akaze);
+// Throws std::invalid_argument naming the accepted values.
+inline KeypointSource parseKeypointSource(const std::string& name) {
+  return parseName(name, kKeypointSourceNames, "keypoint source");
+}
 
 struct PrOptions {
   std::string outDir;

@@ -9,22 +9,6 @@
 
 namespace mdbrief::train {
 
-DetectorKind parseDetector(const std::string& name) {
-  if (name == "orb") return DetectorKind::Orb;
-  if (name == "akaze") return DetectorKind::Akaze;
-  if (name == "surf") return DetectorKind::Surf;
-  throw std::invalid_argument("unknown detector '" + name + "' (use orb, akaze or surf)");
-}
-
-std::string detectorName(DetectorKind kind) {
-  switch (kind) {
-    case DetectorKind::Orb: return "orb";
-    case DetectorKind::Akaze: return "akaze";
-    case DetectorKind::Surf: return "surf";
-  }
-  return "?";
-}
-
 std::vector<cv::KeyPoint> detectKeypoints(const cv::Mat& grey, DetectorKind kind, int maxKeypoints) {
   std::vector<cv::KeyPoint> kps;
   switch (kind) {

@@ -7,13 +7,17 @@
 
 #include <opencv2/core.hpp>
 
+#include "mdbrief/enum_names.hpp"
+
 namespace mdbrief::train {
 
 enum class DetectorKind { Orb, Akaze, Surf };
-
-// "orb" | "akaze" | "surf". Throws std::invalid_argument naming the accepted values.
-DetectorKind parseDetector(const std::string& name);
-std::string detectorName(DetectorKind kind);
+// The names users type (mdbrief/enum_names.hpp).
+inline constexpr EnumName<DetectorKind> kDetectorKindNames[] = {
+    {DetectorKind::Orb, "orb"}, {DetectorKind::Akaze, "akaze"}, {DetectorKind::Surf, "surf"}};
+// Throws std::invalid_argument naming the accepted values.
+inline DetectorKind parseDetector(const std::string& name) { return parseName(name, kDetectorKindNames, "detector"); }
+inline std::string detectorName(DetectorKind kind) { return nameOf(kind, kDetectorKindNames); }
 
 // Up to maxKeypoints keypoints of an 8UC1 image, strongest first (ties by position), each with
 // position, size, orientation and response:

@@ -8,29 +8,17 @@
 #include <unistd.h>
 
 #include "patchextract/patch_extraction.hpp"
-#include "patchextract/view_change_flags.hpp"
+#include "toolkit/option_flags.hpp"
 #include "toolkit/progress_reporter.hpp"
 
 int main(int argc, char** argv) {
   using namespace mdbrief::train;
-  std::vector<std::string> dirs;
-  std::string detector = "orb", out;
-  ExtractionOptions o;
-  CLI::App app{"Extract 32x32 training patches (HDF5) at ORB, AKAZE or SURF keypoints"};
-  app.add_option("--images", dirs, "image folder (repeatable, recursive)")->required();
-  app.add_option("--detector", detector, "orb | akaze | surf")->capture_default_str();
-  app.add_option("--camera", o.cameraPath, "calibration YAML: patches on the tangent plane");
-  app.add_option("--patches", o.patches, "patch budget")->capture_default_str();
-  app.add_option("--seed", o.seed, "seed of the patch choice")->capture_default_str();
-  app.add_option("--keypoints-per-image", o.keypointsPerImage, "detector budget per image")
-      ->capture_default_str();
-  app.add_flag("--render-through-camera", o.renderThroughCamera,
-               "use each photo as a plane seen through --camera (synthetic fisheye images)");
-  app.add_option("--counterparts", o.counterparts,
-                 "changed views per image: stability data for mdbrief-train --selection stability|separation")
-      ->capture_default_str();
-  addViewChangeFlags(app, o.viewChange);
+  std::string out;
   std::vector<std::string> heldOut;
+  mdbrief::OptionFlags<ExtractionOptions> flags;
+  CLI::App app{"Extract 32x32 training patches (HDF5) at ORB, AKAZE or SURF keypoints", "mdbrief-patchextract"};
+  flags.add(app, extractionOptionFields());
+  app.get_option("--images")->required();
   app.add_option("--held-out", heldOut,
                  "file of image digests never to extract from, in addition to the shipped evaluations' images");
   app.add_option("--out", out, "output HDF5 file")->required();
@@ -42,8 +30,7 @@ int main(int argc, char** argv) {
   mdbrief::ProgressReporter progress(std::cout, isatty(fileno(stdout)) != 0);
   try {
     checkPatchSetOutput(out);  // before the extraction, not after it
-    o.detector = parseDetector(detector);
-    for (const auto& d : dirs) o.imageDirs.emplace_back(d);
+    ExtractionOptions o = flags.apply(ExtractionOptions{}, [](const ExtractionOptions& e) { validate(e); });
     for (const auto& file : heldOut) o.heldOut.merge(readHeldOutImages(file));
     ExtractionReport report;
     const PatchSet set = extractPatches(o, report, [&](const char* stage, size_t d, size_t t) {

@@ -249,16 +249,13 @@ std::vector<size_t> allocatePatches(const std::vector<size_t>& available, size_t
 PatchSet extractPatches(const ExtractionOptions& o, ExtractionReport& report,
                         const ExtractionProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
-  if (o.patches == 0) throw std::invalid_argument("patch budget must be positive");
-  if (o.keypointsPerImage < 1) throw std::invalid_argument("keypointsPerImage must be positive");
+  validate(o);
   if (o.renderThroughCamera && o.cameraPath.empty())
     throw std::invalid_argument("rendering through the camera needs a camera");
   if (o.renderThroughCamera && !(o.renderHalfFovDeg > 0 && o.renderHalfFovDeg < 89))
     throw std::invalid_argument("renderHalfFovDeg must be in (0, 89)");
-  if (o.counterparts < 0 || o.counterparts > 8) throw std::invalid_argument("counterparts must be in [0, 8]");
   if (!(o.matchRadius > 0) || !(o.matchSizeRatio >= 1))
     throw std::invalid_argument("matchRadius must be positive and matchSizeRatio at least 1");
-  validate(o.viewChange);
   CameraPtr camera;
   if (!o.cameraPath.empty()) camera = loadCamera(o.cameraPath);
   const std::vector<fs::path> images = listImages(o.imageDirs);

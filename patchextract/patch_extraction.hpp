@@ -43,6 +43,15 @@ struct ExtractionOptions {
   HeldOutImages heldOut = shippedHeldOutImages();
 };
 
+// At most this many changed views per image: each one is a full rendering and detection.
+inline constexpr int kMaxCounterparts = 8;
+
+// The fields of ExtractionOptions that users set (mdbrief/option_fields.hpp); heldOut, the
+// rendering's field of view and the match tolerances are not options.
+const OptionTable<ExtractionOptions>& extractionOptionFields();
+// Throws OptionError naming the first option out of its range.
+void validate(const ExtractionOptions& options);
+
 struct SkippedImage {
   std::string path;
   std::string reason;

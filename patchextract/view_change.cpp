@@ -95,17 +95,6 @@ class RotationChange : public ViewChange {
 
 }  // namespace
 
-void validate(const ViewChangeOptions& o) {
-  auto require = [](bool ok, const std::string& what) {
-    if (!ok) throw std::invalid_argument("view change: " + what);
-  };
-  require(o.maxTiltDeg >= 0 && o.maxTiltDeg <= 70, "maxTiltDeg must be in [0, 70]");
-  require(o.maxRollDeg >= 0 && o.maxRollDeg <= 180, "maxRollDeg must be in [0, 180]");
-  require(o.maxZoom >= 1 && o.maxZoom <= 3, "maxZoom must be in [1, 3]");
-  require(o.maxBlurSigma >= 0 && o.maxBlurSigma <= 5, "maxBlurSigma must be in [0, 5]");
-  require(o.maxNoiseSigma >= 0 && o.maxNoiseSigma <= 50, "maxNoiseSigma must be in [0, 50]");
-}
-
 cv::Mat ViewChange::render(const cv::Mat& source, uint64_t noiseSeed) const {
   CV_Assert(source.type() == CV_8UC1);
   const cv::Size size = viewSize();

@@ -13,6 +13,7 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/camera.hpp"
+#include "mdbrief/option_fields.hpp"
 
 namespace mdbrief::train {
 
@@ -26,7 +27,9 @@ struct ViewChangeOptions {
   double maxNoiseSigma = 3.0;   // additive Gaussian noise sigma, uniform in [0, max] grey levels
 };
 
-// Throws std::invalid_argument naming the option.
+// The fields of ViewChangeOptions (mdbrief/option_fields.hpp).
+const OptionTable<ViewChangeOptions>& viewChangeOptionFields();
+// Throws OptionError naming the option.
 void validate(const ViewChangeOptions& options);
 
 class ViewChange {

@@ -16,6 +16,7 @@
 #include "toolkit/plane_renderer.hpp"
 #include "eval/pipeline_experiment.hpp"
 #include "eval/plane_geometry.hpp"
+#include "eval/pr_experiment.hpp"
 #include "eval/precision_recall.hpp"
 #include "test_data.hpp"
 
@@ -247,6 +248,17 @@ TEST(EvalPrecisionRecall, RotatedViewsOfAPhotoMapByTheirRotations) {
   }
   EXPECT_THROW(exportRotatedViews(dir.path.string(), cv::Mat(100, 100, CV_8UC1, cv::Scalar(0)), cam, 3),
                std::runtime_error);
+}
+
+TEST(KeypointSources, OneSpellingPerDetectorAndTheChoicesListed) {
+  EXPECT_EQ(parseKeypointSource(toString(DetectorMethod::Hessian)), KeypointSource::Hessian);
+  EXPECT_EQ(parseKeypointSource(train::detectorName(train::DetectorKind::Akaze)), KeypointSource::Akaze);
+  try {
+    parseKeypointSource("harris");
+    ADD_FAILURE() << "an unknown keypoint source was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "keypoint source 'harris' is not one of: modorb, hessian, orb, akaze, brisk, sift");
+  }
 }
 
 }  // namespace

@@ -197,7 +197,7 @@ TEST(Criteria, ParseNamesAndRankByMargin) {
     parseSelectionCriterion("boost");
     FAIL();
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("paper, stability or separation"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("is not one of: paper, stability, separation"), std::string::npos);
   }
   // Three tests over 4 patches: 2 alpha (1 - alpha) = 0.5, 0.5, 0.375; flips 3, 0, 0 of 4 pairs.
   TestResponses r(3, 4);

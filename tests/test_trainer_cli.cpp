@@ -63,10 +63,16 @@ TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
       {{"--patches-file", (dir.path / "empty").string(), "--out", o}, "empty: patch file: is a folder"},
       {{"--out", (dir.path / "missing_out").string()}, "missing_out"},
       {{"--tests", "33", "--out", o}, "multiple of 32"},
+      // Before: -1 became 18446744073709551615 patches and the run exited 0; -32 was reported as
+      // "exceeds the candidates".
+      {{"--patches", "-1", "--out", o}, "error: --patches must be in [1, 200000], got -1\n"},
+      {{"--tests", "-32", "--out", o}, "error: --tests must be a multiple of 32 in [32, 512], got -32\n"},
+      // Before: --out defaulted to "patterns" and failed when run elsewhere.
+      {{"--tests", "64"}, "--out is required"},
       {{"--detector", "sift", "--out", o}, "sift"},
       {{"--patches-file", (dir.path / "none.h5").string(), "--out", o}, "none.h5"},
       {{"--no-such-flag"}, ""},
-      {{"--selection", "boosting", "--out", o}, "use paper, stability or separation"},
+      {{"--selection", "boosting", "--out", o}, "boosting not in {paper,stability,separation}"},
       {{"--held-out", (dir.path / "nolist.txt").string(), "--out", o}, "nolist.txt: cannot read the held-out list"},
   };
   for (const auto& [args, message] : cases) {
@@ -104,12 +110,22 @@ TEST(TrainCli, UnwritableOutputsFailBeforeTheExtraction) {
   EXPECT_EQ(mdbrief::testing::temporaryFiles(out), std::vector<std::string>{});
 }
 
+TEST(TrainCli, HelpNamesTheProgramAndListsTheChoices) {
+  const CliRun r = runTrain({"--help"});
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("Usage: mdbrief-train [OPTIONS]"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("{orb,akaze,surf}"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("{paper,stability,separation}=separation"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--pool"), std::string::npos) << "every selection option is a flag";
+}
+
 TEST(TrainCli, CriteriaThatNeedPairsRefuseAPatchFileWithout) {
   TempDir dir("nopairs");
   const fs::path images = smallImageFolder(dir);
   if (fs::is_empty(images)) GTEST_SKIP() << "opencv-doc not installed";
   const fs::path patchFile = dir.path / "plain.h5";
-  ASSERT_EQ(runTrain({"--images", images.string(), "--patches", "300", "--tests", "64", "--name", "plain_64",
+  ASSERT_EQ(runTrain({"--images", images.string(), "--selection", "paper", "--patches", "300", "--tests", "64",
+                      "--name", "plain_64",
                       "--out", dir.path.string(), "--save-patches", patchFile.string()})
                 .code,
             0);
@@ -168,7 +184,8 @@ TEST(TrainCli, SameInputsAndSeedGiveByteIdenticalHeaders) {
   fs::create_directories(dir.path / "b");
   const fs::path patchFile = dir.path / "patches.h5";
   const std::vector<std::string> common = {"--images", images.string(), "--patches", "800",
-                                           "--tests", "64", "--seed", "3", "--name", "tiny_64"};
+                                           "--tests", "64", "--seed", "3", "--name", "tiny_64",
+                                           "--selection", "paper"};
   auto args = common;
   args.insert(args.end(), {"--out", (dir.path / "a").string(), "--save-patches", patchFile.string()});
   const CliRun first = runTrain(args);
@@ -189,7 +206,8 @@ TEST(TrainCli, SameInputsAndSeedGiveByteIdenticalHeaders) {
   ASSERT_EQ(learned.tests.size(), 64u);
   EXPECT_EQ(readPatchSet(patchFile).count(), 800u);
   fs::create_directories(dir.path / "c");
-  const CliRun reuse = runTrain({"--patches-file", patchFile.string(), "--tests", "64", "--name", "tiny_64",
+  const CliRun reuse = runTrain({"--patches-file", patchFile.string(), "--selection", "paper", "--tests", "64",
+                                 "--name", "tiny_64",
                            "--out", (dir.path / "c").string()});
   ASSERT_EQ(reuse.code, 0) << reuse.err;
   const TestSet again = loadTestSetJson((dir.path / "c" / "tiny_64.json").string());

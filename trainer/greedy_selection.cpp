@@ -69,22 +69,6 @@ std::vector<size_t> sortByVariance(const TestResponses& responses) {
   return order;
 }
 
-SelectionCriterion parseSelectionCriterion(const std::string& name) {
-  if (name == "paper") return SelectionCriterion::Paper;
-  if (name == "stability") return SelectionCriterion::Stability;
-  if (name == "separation") return SelectionCriterion::Separation;
-  throw std::invalid_argument("unknown selection criterion '" + name + "' (use paper, stability or separation)");
-}
-
-std::string selectionCriterionName(SelectionCriterion criterion) {
-  switch (criterion) {
-    case SelectionCriterion::Paper: return "paper";
-    case SelectionCriterion::Stability: return "stability";
-    case SelectionCriterion::Separation: return "separation";
-  }
-  return "?";
-}
-
 bool needsCounterparts(SelectionCriterion criterion) { return criterion != SelectionCriterion::Paper; }
 
 std::vector<size_t> sortByCriterion(const TestResponses& responses, SelectionCriterion criterion,

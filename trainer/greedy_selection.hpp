@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "mdbrief/enum_names.hpp"
 #include "trainer/test_responses.hpp"
 
 namespace mdbrief::train {
@@ -32,9 +33,18 @@ enum class SelectionCriterion {
   Separation,
 };
 
-// "paper" | "stability" | "separation". Throws std::invalid_argument naming the accepted values.
-SelectionCriterion parseSelectionCriterion(const std::string& name);
-std::string selectionCriterionName(SelectionCriterion criterion);
+// The names users type (mdbrief/enum_names.hpp).
+inline constexpr EnumName<SelectionCriterion> kSelectionCriterionNames[] = {
+    {SelectionCriterion::Paper, "paper"},
+    {SelectionCriterion::Stability, "stability"},
+    {SelectionCriterion::Separation, "separation"}};
+// Throws std::invalid_argument naming the accepted values.
+inline SelectionCriterion parseSelectionCriterion(const std::string& name) {
+  return parseName(name, kSelectionCriterionNames, "selection criterion");
+}
+inline std::string selectionCriterionName(SelectionCriterion criterion) {
+  return nameOf(criterion, kSelectionCriterionNames);
+}
 bool needsCounterparts(SelectionCriterion criterion);
 
 // Test indices sorted by the criterion, best first, ties by index. flips[d] = pairs on which

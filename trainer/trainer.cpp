@@ -20,7 +20,8 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options, SelectionCriterion criterion,
-                        const Counterparts& counterparts, const TrainingProgress& progress) {
+                        const Counterparts& counterparts, const TrainingProgress& progress,
+                        const SeparationOptions& separation) {
   if (patches.count == 0) throw std::invalid_argument("training: no patches");
   if (needsCounterparts(criterion) && counterparts.patches.count == 0)
     throw std::invalid_argument("training: selection criterion " + selectionCriterionName(criterion) +
@@ -58,7 +59,7 @@ LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options
   t0 = std::chrono::steady_clock::now();
   GreedyResult greedy;
   if (criterion == SelectionCriterion::Separation) {
-    SeparationOptions so;
+    SeparationOptions so = separation;
     so.tests = options.tests;
     so.pool = std::max(options.tests, so.pool);
     std::vector<TestPair> poolTests;

@@ -9,6 +9,7 @@
 #include "toolkit/pattern_writer.hpp"
 #include "mdbrief/test_set.hpp"
 #include "trainer/greedy_selection.hpp"
+#include "trainer/separation_selection.hpp"
 #include "trainer/test_responses.hpp"
 
 namespace mdbrief::train {
@@ -47,13 +48,16 @@ struct Counterparts {
 };
 
 // The candidates are ranked by `criterion` (with the flip rates measured on `counterparts`
-// when it needs them) and kept greedily as the paper does. With pairs, the flip rate of every
-// kept test is reported even for the paper's criterion. Throws std::invalid_argument if the
-// patch set is empty, options.tests exceeds the number of candidates, or the criterion needs
-// pairs and there are none.
+// when it needs them) and kept greedily as the paper does (Paper, Stability), or by forward
+// selection with `separation`'s pool and weights (Separation; its tests come from
+// options.tests, a pool below it is raised to it). With pairs, the flip rate of every kept test
+// is reported even for the paper's criterion. Throws std::invalid_argument if the patch set is
+// empty, options.tests exceeds the number of candidates, or the criterion needs pairs and there
+// are none.
 LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options,
                         SelectionCriterion criterion = SelectionCriterion::Paper,
-                        const Counterparts& counterparts = {}, const TrainingProgress& progress = {});
+                        const Counterparts& counterparts = {}, const TrainingProgress& progress = {},
+                        const SeparationOptions& separation = {});
 
 // Quality of a test set on a patch set: the learning's two criteria.
 struct TestSetQuality {

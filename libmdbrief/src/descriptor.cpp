@@ -162,21 +162,6 @@ Offsets offsetsOf(const TestSet& tests) {
 
 }  // namespace
 
-void validate(const DescriptorOptions& o) {
-  if (o.bits < 32 || o.bits > 512 || o.bits % 32 != 0)
-    throw std::invalid_argument("descriptor option bits=" + std::to_string(o.bits) +
-                                ": must be 32..512 in steps of 32");
-  if (!(o.maskRotationDeg > 0.0 && o.maskRotationDeg < 90.0))
-    throw std::invalid_argument("descriptor option maskRotationDeg must be in (0, 90)");
-  if (!(o.maxIncidenceDeg > 0.0 && o.maxIncidenceDeg < 90.0))
-    throw std::invalid_argument("descriptor option maxIncidenceDeg must be in (0, 90)");
-  if (o.orientationRadius < 4 || o.orientationRadius > 15)
-    throw std::invalid_argument("descriptor option orientationRadius=" + std::to_string(o.orientationRadius) +
-                                ": must be 4..15");
-  if (!(o.supportScale >= 0.1 && o.supportScale <= 20.0))
-    throw std::invalid_argument("descriptor option supportScale must be in [0.1, 20]");
-}
-
 DescriptorExtractor::DescriptorExtractor(CameraPtr camera, DescriptorOptions options)
     : DescriptorExtractor(camera, options,
                           resolveTestSet(options.pattern.empty() ? defaultTestSetName() : options.pattern)) {}

@@ -25,13 +25,6 @@ namespace {
 
 using internal::sizeText;
 
-void requireRange(const char* name, double value, double low, double high) {
-  if (!(value >= low && value <= high))
-    throw std::invalid_argument(std::string("DetectorOptions::") + name + " must be in [" +
-                                std::to_string(low) + ", " + std::to_string(high) + "], got " +
-                                std::to_string(value));
-}
-
 // Corners of one level inside `inner` (level pixels). FAST/AGAST ignore the 3 pixels next
 // to their input's border, so they run on `inner` grown by 3: no work is wasted on the
 // margin and every corner lands inside `inner`.
@@ -70,33 +63,6 @@ std::vector<cv::Mat> distancesToInvalid(const cv::Mat& validMask, const PyramidO
 }
 
 }  // namespace
-
-void validate(const DetectorOptions& options) {
-  requireRange("nfeatures", options.nfeatures, 1, 1e7);
-  requireRange("pyramid.levels", options.pyramid.levels, 1, 32);
-  validate(options.pyramid);
-  requireRange("threshold", options.threshold, 1, 254);
-  requireRange("fallbackThreshold", options.fallbackThreshold, 1, options.threshold);
-  if (options.harrisBlockSize % 2 == 0)
-    throw std::invalid_argument("DetectorOptions::harrisBlockSize must be odd, got " +
-                                std::to_string(options.harrisBlockSize));
-  requireRange("harrisBlockSize", options.harrisBlockSize, 3, 15);
-  requireRange("harrisK", options.harrisK, 0.0, 0.25);
-  // Blobs are extrema over scale on the inner levels: there must be one.
-  if (options.method == DetectorMethod::Hessian && options.pyramid.levels < 3)
-    throw std::invalid_argument("DetectorOptions::pyramid.levels must be >= 3 for the Hessian method, got " +
-                                std::to_string(options.pyramid.levels));
-  requireRange("hessianSigma", options.hessianSigma, 0.5, 8.0);
-  requireRange("hessianThreshold", options.hessianThreshold, 0.0, 1.0);
-  requireRange("orientationRadius", options.orientationRadius, 1, 64);
-  requireRange("patchSize", options.patchSize, 1, 1024);
-  // The orientation disc and the Harris window (plus its Sobel ring) must fit in the margin.
-  const int needed = std::max(options.orientationRadius, options.harrisBlockSize / 2 + 1);
-  if (options.borderMargin < needed)
-    throw std::invalid_argument("DetectorOptions::borderMargin must be >= " + std::to_string(needed) +
-                                " (orientationRadius and harrisBlockSize / 2 + 1), got " +
-                                std::to_string(options.borderMargin));
-}
 
 std::vector<int> featuresPerLevel(int nfeatures, int levels, double scaleFactor) {
   if (nfeatures < 0) throw std::invalid_argument("featuresPerLevel: nfeatures must be >= 0");

@@ -10,58 +10,37 @@
 namespace mdbrief {
 namespace {
 
-// FileNode readers: a missing key keeps `value`; a present key of the wrong type throws.
-std::string keyName(const cv::FileNode& node, const char* key) {
-  return node.name().empty() ? std::string(key) : node.name() + "." + key;
-}
+// The FileStorage spelling of field i: "<section>.<key>".
+std::string storageName(const OptionField<MdBriefOptions>& field) { return std::string(field.section) + "." + field.key(); }
 
-void readInt(const cv::FileNode& node, const char* key, int& value) {
-  const cv::FileNode n = node[key];
-  if (n.empty()) return;
-  if (!n.isInt()) throw std::invalid_argument("MdBrief::read: '" + keyName(node, key) + "' must be an integer");
-  value = static_cast<int>(n);
-}
-
-void readBool(const cv::FileNode& node, const char* key, bool& value) {
-  int v = value ? 1 : 0;
-  readInt(node, key, v);
-  if (v != 0 && v != 1) throw std::invalid_argument("MdBrief::read: '" + keyName(node, key) + "' must be 0 or 1");
-  value = v == 1;
-}
-
-void readDouble(const cv::FileNode& node, const char* key, double& value) {
-  const cv::FileNode n = node[key];
-  if (n.empty()) return;
-  if (!n.isInt() && !n.isReal())
-    throw std::invalid_argument("MdBrief::read: '" + keyName(node, key) + "' must be a number");
-  value = static_cast<double>(n);
-}
-
-void readString(const cv::FileNode& node, const char* key, std::string& value) {
-  const cv::FileNode n = node[key];
-  if (n.empty()) return;
-  if (!n.isString()) throw std::invalid_argument("MdBrief::read: '" + keyName(node, key) + "' must be a string");
-  value = static_cast<std::string>(n);
-}
-
-template <typename Enum>
-void readEnum(const cv::FileNode& node, const char* key, Enum& value, Enum (*parse)(const std::string&)) {
-  std::string s;
-  readString(node, key, s);
-  if (s.empty()) return;
-  try {
-    value = parse(s);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument("MdBrief::read: '" + keyName(node, key) + "': " + e.what());
+// The value of a present key as the field's type wants it; throws naming the key for a wrong type.
+FieldValue readValue(const OptionField<MdBriefOptions>& field, const cv::FileNode& n) {
+  const auto wrongType = [&](const char* wanted) {
+    return std::invalid_argument("MdBrief::read: '" + storageName(field) + "' must be " + wanted);
+  };
+  switch (field.type) {
+    case FieldType::Integer:
+      if (!n.isInt()) throw wrongType("an integer");
+      return static_cast<long long>(static_cast<int>(n));
+    case FieldType::Real:
+      if (!n.isInt() && !n.isReal()) throw wrongType("a number");
+      return static_cast<double>(n);
+    case FieldType::Flag: {
+      if (!n.isInt()) throw wrongType("an integer");
+      const int v = static_cast<int>(n);
+      if (v != 0 && v != 1) throw wrongType("0 or 1");
+      return v == 1;
+    }
+    case FieldType::Text:
+    case FieldType::Choice:
+      if (!n.isString()) throw wrongType("a string");
+      return static_cast<std::string>(n);
+    case FieldType::TextList: break;
   }
+  throw wrongType("a value of a known type");
 }
 
 }  // namespace
-
-void validate(const MdBriefOptions& options) {
-  validate(options.detector);
-  validate(options.descriptor);
-}
 
 cv::Ptr<MdBrief> MdBrief::create(CameraPtr camera, const MdBriefOptions& options) {
   return cv::makePtr<MdBrief>(std::move(camera), options);
@@ -114,75 +93,44 @@ void MdBrief::detectAndComputeWithMasks(cv::InputArray image, cv::InputArray mas
 
 void MdBrief::write(cv::FileStorage& fs) const {
   writeFormat(fs);
-  const DetectorOptions& d = options_.detector;
-  const DescriptorOptions& e = options_.descriptor;
   fs << "name" << getDefaultName();
-  fs << "pyramid" << "{";
-  fs << "levels" << d.pyramid.levels << "scaleFactor" << d.pyramid.scaleFactor;
-  fs << "firstLevel" << d.pyramid.firstLevel;
-  fs << "smoothingKernel" << d.pyramid.smoothingKernel << "smoothingSigma" << d.pyramid.smoothingSigma;
-  fs << "}";
-  fs << "detector" << "{";
-  fs << "method" << toString(d.method);
-  fs << "nfeatures" << d.nfeatures << "corners" << toString(d.corners) << "threshold" << d.threshold;
-  fs << "fallbackThreshold" << d.fallbackThreshold << "harrisBlockSize" << d.harrisBlockSize;
-  fs << "harrisK" << d.harrisK << "spread" << static_cast<int>(d.spread);
-  fs << "hessianSigma" << d.hessianSigma << "hessianThreshold" << d.hessianThreshold;
-  fs << "orientationRadius" << d.orientationRadius << "patchSize" << d.patchSize;
-  fs << "borderMargin" << d.borderMargin << "conformal" << static_cast<int>(d.conformal);
-  fs << "}";
-  fs << "descriptor" << "{";
-  fs << "kind" << toString(e.kind) << "bits" << e.bits << "pattern" << e.pattern;
-  fs << "useOrientation" << static_cast<int>(e.useOrientation) << "orientation" << toString(e.orientation);
-  fs << "orientationRadius" << e.orientationRadius << "form" << toString(e.form);
-  fs << "sampling" << toString(e.sampling) << "maskRotationDeg" << e.maskRotationDeg;
-  fs << "maxIncidenceDeg" << e.maxIncidenceDeg << "supportScale" << e.supportScale;
-  fs << "}";
+  const OptionTable<MdBriefOptions>& table = mdBriefOptionFields();
+  for (const char* section : {"pyramid", "detector", "descriptor"}) {
+    fs << section << "{";
+    for (const OptionField<MdBriefOptions>& field : table) {
+      if (std::string(field.section) != section) continue;
+      const FieldValue value = field.get(options_);
+      fs << field.key();
+      if (const auto* i = std::get_if<long long>(&value)) fs << static_cast<int>(*i);
+      else if (const auto* d = std::get_if<double>(&value)) fs << *d;
+      else if (const auto* b = std::get_if<bool>(&value)) fs << static_cast<int>(*b);
+      else fs << std::get<std::string>(value);
+    }
+    fs << "}";
+  }
 }
 
 void MdBrief::read(const cv::FileNode& node) {
-  std::string name;
-  readString(node, "name", name);
-  if (!name.empty() && name != getDefaultName())
-    throw std::invalid_argument("MdBrief::read: the node holds '" + name + "', not " + getDefaultName());
+  const cv::FileNode nameNode = node["name"];
+  if (!nameNode.empty()) {
+    if (!nameNode.isString()) throw std::invalid_argument("MdBrief::read: 'name' must be a string");
+    const std::string name = static_cast<std::string>(nameNode);
+    if (!name.empty() && name != getDefaultName())
+      throw std::invalid_argument("MdBrief::read: the node holds '" + name + "', not " + getDefaultName());
+  }
 
+  // A missing key keeps the current value.
   MdBriefOptions o = options_;
-  const cv::FileNode p = node["pyramid"];
-  PyramidOptions& pyramid = o.detector.pyramid;
-  readInt(p, "levels", pyramid.levels);
-  readDouble(p, "scaleFactor", pyramid.scaleFactor);
-  readInt(p, "firstLevel", pyramid.firstLevel);
-  readInt(p, "smoothingKernel", pyramid.smoothingKernel);
-  readDouble(p, "smoothingSigma", pyramid.smoothingSigma);
-
-  const cv::FileNode d = node["detector"];
-  readEnum(d, "method", o.detector.method, &parseDetectorMethod);
-  readInt(d, "nfeatures", o.detector.nfeatures);
-  readEnum(d, "corners", o.detector.corners, &parseCornerDetector);
-  readInt(d, "threshold", o.detector.threshold);
-  readInt(d, "fallbackThreshold", o.detector.fallbackThreshold);
-  readInt(d, "harrisBlockSize", o.detector.harrisBlockSize);
-  readDouble(d, "harrisK", o.detector.harrisK);
-  readBool(d, "spread", o.detector.spread);
-  readBool(d, "conformal", o.detector.conformal);
-  readDouble(d, "hessianSigma", o.detector.hessianSigma);
-  readDouble(d, "hessianThreshold", o.detector.hessianThreshold);
-  readInt(d, "orientationRadius", o.detector.orientationRadius);
-  readInt(d, "patchSize", o.detector.patchSize);
-  readInt(d, "borderMargin", o.detector.borderMargin);
-
-  const cv::FileNode e = node["descriptor"];
-  readEnum(e, "kind", o.descriptor.kind, &parseDescriptorKind);
-  readInt(e, "bits", o.descriptor.bits);
-  readString(e, "pattern", o.descriptor.pattern);
-  readBool(e, "useOrientation", o.descriptor.useOrientation);
-  readEnum(e, "orientation", o.descriptor.orientation, &parseOrientationSource);
-  readInt(e, "orientationRadius", o.descriptor.orientationRadius);
-  readEnum(e, "form", o.descriptor.form, &parseDistortionForm);
-  readEnum(e, "sampling", o.descriptor.sampling, &parseSampling);
-  readDouble(e, "maskRotationDeg", o.descriptor.maskRotationDeg);
-  readDouble(e, "maxIncidenceDeg", o.descriptor.maxIncidenceDeg);
-  readDouble(e, "supportScale", o.descriptor.supportScale);
+  const OptionTable<MdBriefOptions>& table = mdBriefOptionFields();
+  try {
+    for (size_t i = 0; i < table.size(); ++i) {
+      const cv::FileNode n = node[table[i].section][table[i].key()];
+      if (!n.empty()) setField(table, i, o, readValue(table[i], n), storageName(table[i]));
+    }
+    validate(o);
+  } catch (const OptionError& e) {
+    throw OptionError(e.field(), storageName(table[e.field()]), e.problem());
+  }
 
   // Build first, assign after: a bad file leaves the object as it was.
   MdBrief updated(camera_, o);

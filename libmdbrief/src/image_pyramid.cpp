@@ -10,25 +10,6 @@
 
 namespace mdbrief {
 
-void validate(const PyramidOptions& options) {
-  if (options.levels < 1)
-    throw std::invalid_argument("PyramidOptions::levels must be >= 1, got " +
-                                std::to_string(options.levels));
-  // Exactly 1 would make every level a copy of the input; ORB requires > 1 as well.
-  if (!(options.scaleFactor > 1.0) || !std::isfinite(options.scaleFactor))
-    throw std::invalid_argument("PyramidOptions::scaleFactor must be a finite number > 1, got " +
-                                std::to_string(options.scaleFactor));
-  if (options.firstLevel < 0 || options.firstLevel >= options.levels)
-    throw std::invalid_argument("PyramidOptions::firstLevel must be in [0, levels), got " +
-                                std::to_string(options.firstLevel));
-  if (options.smoothingKernel < 1 || options.smoothingKernel % 2 == 0)
-    throw std::invalid_argument("PyramidOptions::smoothingKernel must be odd and >= 1, got " +
-                                std::to_string(options.smoothingKernel));
-  if (!(options.smoothingSigma > 0.0) || !std::isfinite(options.smoothingSigma))
-    throw std::invalid_argument("PyramidOptions::smoothingSigma must be a finite number > 0, got " +
-                                std::to_string(options.smoothingSigma));
-}
-
 cv::Mat toGrey(const cv::Mat& image) {
   if (image.empty()) throw std::invalid_argument("toGrey: the image is empty");
   switch (image.type()) {

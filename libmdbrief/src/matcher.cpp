@@ -19,17 +19,6 @@
 
 namespace mdbrief {
 
-void validate(const MatchOptions& options) {
-  if (options.ratio && !(*options.ratio > 0.f && *options.ratio <= 1.f)) {
-    throw std::invalid_argument("MatchOptions::ratio must be in (0, 1], got " +
-                                std::to_string(*options.ratio));
-  }
-  if (options.maxDistance && !(*options.maxDistance >= 0.f)) {
-    throw std::invalid_argument("MatchOptions::maxDistance must be >= 0, got " +
-                                std::to_string(*options.maxDistance));
-  }
-}
-
 namespace {
 
 using namespace matcher_kernels;

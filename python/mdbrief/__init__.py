@@ -14,7 +14,7 @@ without the GIL.
 import cv2  # noqa: F401  (the keypoint and match types the module returns)
 
 from ._mdbrief import (Camera, MdBrief, TestSet, default_pattern, limit_simd_level, load_camera, load_pattern,
-                       match, patterns, simd_level, supported_simd_level, train)
+                       match, option_fields, patterns, simd_level, supported_simd_level, train)
 
 __all__ = ["Camera", "MdBrief", "TestSet", "default_pattern", "limit_simd_level", "load_camera", "load_pattern",
-           "match", "patterns", "simd_level", "supported_simd_level", "train"]
+           "match", "option_fields", "patterns", "simd_level", "supported_simd_level", "train"]

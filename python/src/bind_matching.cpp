@@ -4,6 +4,7 @@
 #include "bindings.hpp"
 #include "conversions.hpp"
 #include "mdbrief/matcher.hpp"
+#include "option_keywords.hpp"
 
 namespace mdbrief::python {
 
@@ -19,6 +20,11 @@ void bindMatching(py::module_& m) {
         options.crossCheck = crossCheck;
         options.maxDistance = maxDistance;
         options.parallel = parallel;
+        try {
+          validate(options);
+        } catch (const OptionError& e) {
+          raiseForKeyword(matchOptionFields(), e);
+        }
         py::object keep1, keep2, keepM1, keepM2;
         const cv::Mat query = descriptorsFromArray(d1, "d1", keep1);
         const cv::Mat train = descriptorsFromArray(d2, "d2", keep2);

@@ -1,14 +1,15 @@
-// Test sets: the compiled-in ones, JSON files, and off-line learning through mdbrief-train
-// itself (trainer/train_cli.hpp), so Python gets the tool's outputs and determinism.
+// Test sets: the compiled-in ones, JSON files, and off-line learning through the trainer's
+// typed API (trainer/training.hpp), the one mdbrief-train runs, so Python gets the tool's
+// outputs and determinism.
 #include <filesystem>
-#include <regex>
 #include <sstream>
 
 #include "bindings.hpp"
 #include "conversions.hpp"
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/patterns.hpp"
-#include "trainer/train_cli.hpp"
+#include "option_keywords.hpp"
+#include "trainer/training.hpp"
 
 namespace mdbrief::python {
 namespace {
@@ -49,78 +50,71 @@ struct TemporaryFolder {
   }
 };
 
-std::vector<std::string> stringList(const py::handle& value, const char* argument) {
-  if (value.is_none()) return {};
-  if (py::isinstance<py::str>(value) || py::isinstance(value, py::module_::import("pathlib").attr("PurePath")))
-    return {py::str(value)};
-  std::vector<std::string> out;
-  for (const py::handle item : value) out.push_back(py::str(item));
-  if (out.empty()) throw py::value_error(std::string(argument) + " is empty");
-  return out;
+[[noreturn]] void raiseFileNotFound(const char* what, const std::string& path) {
+  PyErr_SetObject(PyExc_FileNotFoundError, py::make_tuple(2, what, path).ptr());
+  throw py::error_already_set();
 }
 
-TestSet train(const py::handle& images, const std::string& detector, const py::handle& camera, int patches, int tests,
-              int seed, const std::string& selection, const std::optional<std::string>& name,
-              const std::optional<std::string>& out, const std::optional<std::string>& patchesFile,
-              int keypointsPerImage, bool renderThroughCamera, const py::handle& heldOut, bool makeDefault,
-              bool verbose) {
+// mdbrief.train(**options): TrainOptions from the keywords of its field table, plus `verbose`;
+// camera may also be an mdbrief.Camera (saved to a temporary calibration file).
+TestSet train(const py::kwargs& kwargs) {
   TemporaryFolder temp;
-  std::vector<std::string> args{"--detector", detector, "--patches", std::to_string(patches), "--tests",
-                                std::to_string(tests), "--seed", std::to_string(seed), "--selection", selection,
-                                "--keypoints-per-image", std::to_string(keypointsPerImage)};
-  for (const std::string& folder : stringList(images, "images")) {
+  py::dict options;
+  bool verbose = false;
+  for (const auto& [key, value] : kwargs) {
+    const std::string name = py::str(key);
+    if (name == "verbose") {
+      if (!py::isinstance<py::bool_>(value)) throw py::type_error("verbose must be True or False");
+      verbose = value.cast<bool>();
+    } else if (name == "camera" && py::isinstance<Camera>(value)) {
+      const std::string path = (temp.path / "camera.yaml").string();
+      saveCamera(value.cast<const Camera&>(), path);
+      options[key] = path;
+    } else if (!value.is_none()) {  // None: the option's default
+      options[key] = value;
+    }
+  }
+  const train::TrainOptions o = optionsFromKeywords(train::trainOptionFields(), py::kwargs(options), "train",
+                                                    [](const train::TrainOptions& t) {
+                                                      validateFields(train::trainOptionFields(), t, "TrainOptions");
+                                                    });
+  // Missing inputs are FileNotFoundError, as Python's own file functions raise.
+  for (const auto& folder : o.extraction.imageDirs) {
     std::error_code ec;
-    if (!fs::is_directory(folder, ec)) {
-      PyErr_SetObject(PyExc_FileNotFoundError, py::make_tuple(2, "No such image folder", folder).ptr());
-      throw py::error_already_set();
-    }
-    args.insert(args.end(), {"--images", folder});
+    if (!fs::is_directory(folder, ec)) raiseFileNotFound("No such image folder", folder.string());
   }
-  if (!camera.is_none()) {
-    std::string path;
-    if (py::isinstance<Camera>(camera)) {
-      path = (temp.path / "camera.yaml").string();
-      saveCamera(camera.cast<const Camera&>(), path);
-    } else {
-      path = py::str(camera);
-      requireFile(path);
-    }
-    args.insert(args.end(), {"--camera", path});
-  }
-  if (patchesFile) {
-    requireFile(*patchesFile);
-    args.insert(args.end(), {"--patches-file", *patchesFile});
-  }
-  for (const std::string& file : stringList(heldOut, "held_out")) {
-    requireFile(file);
-    args.insert(args.end(), {"--held-out", file});
-  }
-  if (name) args.insert(args.end(), {"--name", *name});
-  if (renderThroughCamera) args.push_back("--render-through-camera");
-  if (makeDefault) {
-    if (!out) throw py::value_error("make_default needs out (a patterns folder whose registry it changes)");
-    args.push_back("--make-default");
-  }
-  args.insert(args.end(), {"--out", out ? *out : temp.path.string()});
+  if (!o.extraction.cameraPath.empty()) requireFile(o.extraction.cameraPath);
+  if (!o.patchesFile.empty()) requireFile(o.patchesFile);
+  for (const std::string& file : o.heldOutFiles) requireFile(file);
 
-  std::ostringstream log, err;
-  int code = 0;
-  {
-    py::gil_scoped_release release;
-    code = train::runTrainCli(args, log, err);
+  train::TrainResult result;
+  std::ostringstream log;
+  try {
+    try {
+      py::gil_scoped_release release;
+      result = train::train(o);
+    } catch (const OptionError& e) {
+      raiseForKeyword(train::trainOptionFields(), e);
+    }
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
   }
-  if (verbose) py::print(log.str(), py::arg("end") = "");
-  if (code != 0) {
-    std::string message = err.str();
-    while (!message.empty() && message.back() == '\n') message.pop_back();
-    throw py::value_error(message.rfind("error: ", 0) == 0 ? message.substr(7) : message);
+  if (verbose) {
+    train::printTrainSummary(o, result, log);
+    py::print(log.str(), py::arg("end") = "");
   }
-  // The tool names its header in the summary: "tests kept: N -> <folder>/<name>.hpp".
-  std::smatch found;
-  const std::string text = log.str();
-  if (!std::regex_search(text, found, std::regex("tests kept: \\d+ -> (.*)\\.hpp\n")))
-    throw std::runtime_error("mdbrief-train did not report its output");
-  return loadTestSetJson(found[1].str() + ".json");
+  return TestSet{result.pattern.name, result.pattern.tests, result.pattern.trainingImages};
+}
+
+std::string trainDoc() {
+  return "train(**options)\n\n"
+         "Off-line learning, as mdbrief-train runs it (docs/training.md); the same options and seed give the\n"
+         "same test set, byte for byte. Returns the TestSet. With out (a patterns folder), also writes\n"
+         "<name>.hpp, <name>.json and registry.hpp there. camera: a calibration path or an mdbrief.Camera.\n"
+         "verbose=True prints mdbrief-train's summary. The options and their defaults (None = the default):\n\n" +
+         keywordDoc(train::trainOptionFields(), train::TrainOptions{}) +
+         "\nRaises FileNotFoundError for a missing folder or file, ValueError naming the keyword, its range\n"
+         "and the value for a bad value, and TypeError for an unknown keyword.";
 }
 
 }  // namespace
@@ -151,19 +145,7 @@ void bindPatterns(py::module_& m) {
   m.def("load_pattern", &loadPattern, py::arg("name_or_path"),
         "A compiled-in set by name, or a JSON test set file (as mdbrief-train writes). The same\n"
         "string works as MdBrief(camera, pattern=...).");
-  m.def("train", &train, py::arg("images") = py::none(), py::arg("detector") = "orb", py::arg("camera") = py::none(),
-        py::arg("patches") = 20000, py::arg("tests") = 512, py::arg("seed") = 1, py::arg("selection") = "paper",
-        py::arg("name") = py::none(), py::arg("out") = py::none(), py::arg("patches_file") = py::none(),
-        py::arg("keypoints_per_image") = 1000, py::arg("render_through_camera") = false,
-        py::arg("held_out") = py::none(), py::arg("make_default") = false, py::arg("verbose") = false,
-        R"doc(
-Off-line learning, as mdbrief-train runs it (docs/training.md); the same arguments and seed give
-the same test set, byte for byte. images: folder(s) of photos (default: the tool's); detector:
-'orb', 'akaze' or 'surf'; camera: an mdbrief.Camera or a calibration path (patches on the
-tangent plane); selection: 'paper', 'stability' or 'separation'. out: a patterns folder to write
-<name>.hpp, <name>.json and registry.hpp into (None: only return the set). Returns the TestSet.
-Raises FileNotFoundError for a missing folder or file and ValueError with the tool's message
-otherwise.)doc");
+  m.def("train", &train, trainDoc().c_str());
 }
 
 }  // namespace mdbrief::python

@@ -10,6 +10,7 @@ namespace py = pybind11;
 void bindCamera(py::module_& m);
 void bindFeatures(py::module_& m);
 void bindMatching(py::module_& m);
+void bindOptions(py::module_& m);
 void bindPatterns(py::module_& m);
 void bindSimdLevel(py::module_& m);
 

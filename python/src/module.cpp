@@ -6,6 +6,7 @@ PYBIND11_MODULE(_mdbrief, m) {
   mdbrief::python::bindCamera(m);
   mdbrief::python::bindFeatures(m);
   mdbrief::python::bindMatching(m);
+  mdbrief::python::bindOptions(m);
   mdbrief::python::bindPatterns(m);
   mdbrief::python::bindSimdLevel(m);
 }

@@ -113,7 +113,8 @@ def test_training_is_deterministic_and_writes_what_the_tool_writes(tmp_path):
     assert np.array_equal(first.tests, again.tests)
     assert first.training_images and first.training_images == again.training_images
     header = (tmp_path / "out" / "tiny_64.hpp").read_text()
-    assert "--seed 3 --selection paper --tests 64 --name tiny_64" in header
+    # The default criterion is the shipped sets' (configs/training/*.toml).
+    assert "--seed 3 --counterparts 1 --selection separation --tests 64 --name tiny_64" in header
     assert np.array_equal(mdbrief.load_pattern(str(tmp_path / "out" / "tiny_64.json")).tests, first.tests)
     other = mdbrief.train(images=str(images), patches=800, tests=64, seed=4)
     assert not np.array_equal(other.tests, first.tests)

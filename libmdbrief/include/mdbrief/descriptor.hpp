@@ -16,6 +16,7 @@
 #include "mdbrief/camera.hpp"
 #include "mdbrief/enum_names.hpp"
 #include "mdbrief/image_pyramid.hpp"
+#include "mdbrief/option_fields.hpp"
 #include "mdbrief/test_set.hpp"
 
 namespace mdbrief {
@@ -121,7 +122,9 @@ struct DescriptorOptions {
   double supportScale = 1.0;
 };
 
-// Throws std::invalid_argument with a message naming the option if the options are unusable.
+// The fields of DescriptorOptions (option_fields.hpp).
+const OptionTable<DescriptorOptions>& descriptorOptionFields();
+// Throws OptionError naming the first option out of its field's range.
 void validate(const DescriptorOptions& options);
 
 class DescriptorExtractor {

@@ -28,6 +28,7 @@
 #include "mdbrief/camera.hpp"
 #include "mdbrief/enum_names.hpp"
 #include "mdbrief/image_pyramid.hpp"
+#include "mdbrief/option_fields.hpp"
 
 namespace mdbrief {
 
@@ -89,7 +90,9 @@ struct DetectorOptions {
   bool conformal = false;
 };
 
-// Throws std::invalid_argument naming the option if the options are unusable.
+// The fields of DetectorOptions, the pyramid's included as "pyramid.<member>" (option_fields.hpp).
+const OptionTable<DetectorOptions>& detectorOptionFields();
+// Throws OptionError naming the first option out of its field's range.
 void validate(const DetectorOptions& options);
 
 // Features per level, as cv::ORB distributes them: level k gets a share proportional to

@@ -24,7 +24,11 @@ struct MdBriefOptions {
   DescriptorOptions descriptor;
 };
 
-// Throws std::invalid_argument naming the option: the detector's and descriptor's own checks.
+// The fields of MdBriefOptions: the detector's ("detector.<member>", the pyramid's in FileStorage
+// section "pyramid") and the descriptor's ("descriptor.<member>"). FileStorage, the Python
+// keywords and the command line's detection flags all read this table.
+const OptionTable<MdBriefOptions>& mdBriefOptionFields();
+// Throws OptionError naming the first option out of its field's range.
 void validate(const MdBriefOptions& options);
 
 class MdBrief : public cv::Feature2D {
@@ -54,9 +58,11 @@ class MdBrief : public cv::Feature2D {
   cv::String getDefaultName() const override { return "Feature2D.MdBrief"; }
   bool empty() const override { return false; }
 
-  // Every option of MdBriefOptions (detector and descriptor; the pyramid once). read() keeps
-  // the current value of a missing key and throws std::invalid_argument naming the key for a
-  // bad value (the object is unchanged then).
+  // Every option of MdBriefOptions (detector and descriptor; the pyramid once), by the keys and
+  // sections of mdBriefOptionFields(). read() keeps the current value of a missing key and throws
+  // std::invalid_argument naming the key for a value of the wrong type, and OptionError
+  // "<section>.<key> must be in [...], got <value>" for one out of range (the object is
+  // unchanged then).
   void write(cv::FileStorage& fs) const override;
   void read(const cv::FileNode& node) override;
   using cv::Feature2D::read;

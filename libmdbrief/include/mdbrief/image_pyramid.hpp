@@ -9,6 +9,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "mdbrief/option_fields.hpp"
+
 namespace mdbrief {
 
 struct PyramidOptions {
@@ -22,7 +24,9 @@ struct PyramidOptions {
   double smoothingSigma = 2.0;
 };
 
-// Throws std::invalid_argument naming the option if the options are unusable.
+// The fields of PyramidOptions (option_fields.hpp): names, docs and accepted values.
+const OptionTable<PyramidOptions>& pyramidOptionFields();
+// Throws OptionError naming the first option out of its field's range.
 void validate(const PyramidOptions& options);
 
 class ImagePyramid {

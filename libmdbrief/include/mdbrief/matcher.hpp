@@ -10,6 +10,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "mdbrief/option_fields.hpp"
+
 namespace mdbrief {
 
 struct MatchOptions {
@@ -22,13 +24,16 @@ struct MatchOptions {
   // Costs a second pass. Default off.
   bool crossCheck = false;
   // Keep a match only if distance <= maxDistance (bits; for masked matching the scaled masked
-  // distance of masked_hamming.hpp). Must be >= 0. Unset (default) = off.
+  // distance of masked_hamming.hpp). Must be in [0, 512] (no distance exceeds the longest
+  // descriptor). Unset (default) = off.
   std::optional<float> maxDistance;
   // Spread queries over TBB workers; results are identical either way. Default on.
   bool parallel = true;
 };
 
-// Throws std::invalid_argument naming the option if it is out of range.
+// The fields of MatchOptions (option_fields.hpp).
+const OptionTable<MatchOptions>& matchOptionFields();
+// Throws OptionError naming the first option out of its field's range.
 void validate(const MatchOptions& options);
 
 // One match per query that passes the enabled tests, in query order: queryIdx = query row,

@@ -1,0 +1,95 @@
+#pragma once
+// Command-line flags from an options struct's field table (mdbrief/option_fields.hpp): one flag
+// per field that has one, its help the field's doc with its range or choices and the default.
+// Values are collected during the parse and applied afterwards, so a bad value is reported as
+// "<flag> must be in [...], got <value>", the message every other surface gives.
+#include <cstdint>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "mdbrief/option_fields.hpp"
+
+namespace mdbrief {
+
+template <typename Options>
+class OptionFlags {
+ public:
+  // Adds the flags to app. The object must outlive the parse and stay where it is (the flags
+  // write into it).
+  void add(CLI::App& app, const OptionTable<Options>& table, const Options& defaults = {}) {
+    table_ = &table;
+    for (std::size_t i = 0; i < table.size(); ++i) {
+      const OptionField<Options>& f = table[i];
+      if (!f.flag) continue;
+      const FieldValue value = f.get(defaults);
+      std::string help = f.doc;
+      CLI::Option* option = nullptr;
+      switch (f.type) {
+        case FieldType::Integer:
+          option = app.add_option_function<long long>(f.flag, [this, i](const long long& v) { given_.emplace_back(i, v); });
+          help += "; " + f.range(defaults).text(true);
+          break;
+        case FieldType::Real:
+          option = app.add_option_function<double>(f.flag, [this, i](const double& v) { given_.emplace_back(i, v); });
+          help += "; " + f.range(defaults).text(false);
+          break;
+        case FieldType::Flag: {
+          // The flag turns the default around.
+          const bool turned = !std::get<bool>(value);
+          if (!turned) help = "turn off (on by default): " + help;
+          option = app.add_flag_function(f.flag, [this, i, turned](std::int64_t count) {
+            if (count > 0) given_.emplace_back(i, turned);
+          });
+          break;
+        }
+        case FieldType::Text:
+          option = app.add_option_function<std::string>(f.flag,
+                                                        [this, i](const std::string& v) { given_.emplace_back(i, v); });
+          break;
+        case FieldType::TextList:
+          option = app.add_option_function<std::vector<std::string>>(
+              f.flag, [this, i](const std::vector<std::string>& v) { given_.emplace_back(i, v); });
+          help += " (repeatable)";
+          break;
+        case FieldType::Choice:
+          option = app.add_option_function<std::string>(f.flag,
+                                                        [this, i](const std::string& v) { given_.emplace_back(i, v); })
+                       ->check(CLI::IsMember(f.choices));
+          break;
+      }
+      option->description(help);
+      if (const auto* i = std::get_if<long long>(&value)) option->default_str(std::to_string(*i));
+      if (const auto* d = std::get_if<double>(&value)) {
+        std::ostringstream shown;  // six digits: a float member's default would show its binary tail
+        shown << *d;
+        option->default_str(shown.str());
+      }
+      if (const auto* s = std::get_if<std::string>(&value); s && !s->empty()) option->default_str(*s);
+    }
+  }
+
+  // `options` with the given flags applied (in command-line order), then checked by `validate`.
+  // Throws OptionError named by the flag.
+  template <typename Validate>
+  Options apply(Options options, Validate validate) const {
+    const OptionTable<Options>& table = *table_;
+    const auto flagOf = [&](std::size_t i) { return std::string(table[i].flag ? table[i].flag : table[i].keyword); };
+    try {
+      for (const auto& [i, v] : given_) setField(table, i, options, v, flagOf(i));
+      validate(options);
+    } catch (const OptionError& e) {
+      throw OptionError(e.field(), flagOf(e.field()), e.problem());
+    }
+    return options;
+  }
+
+ private:
+  const OptionTable<Options>* table_ = nullptr;
+  std::vector<std::pair<std::size_t, FieldValue>> given_;
+};
+
+}  // namespace mdbrief
