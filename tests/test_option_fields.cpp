@@ -77,7 +77,9 @@ TEST(OptionFields, EveryRuntimeTableHasUniqueSpellingsAndDefaultsInRange) {
     std::set<std::string> keywords, flags, members;
     for (const auto& f : table) {
       EXPECT_TRUE(keywords.insert(f.keyword).second) << name << ": keyword " << f.keyword;
-      if (f.flag) EXPECT_TRUE(flags.insert(f.flag).second) << name << ": flag " << f.flag;
+      if (f.flag) {
+        EXPECT_TRUE(flags.insert(f.flag).second) << name << ": flag " << f.flag;
+      }
       EXPECT_TRUE(members.insert(f.member).second) << name << ": member " << f.member;
       EXPECT_FALSE(fieldProblem(f, defaults)) << name << "." << f.member << " default out of its range";
     }

@@ -177,7 +177,7 @@ TrainResult train(const TrainOptions& s, const TrainProgress& progress) {
                                (learned.flipRate.empty() ? "" : " flip " + fixed(learned.flipRate[i], 2)));
   if (!s.out.empty()) {
     writePattern(doc, s.out, {true, s.makeDefault});
-    for (const std::string file : {name + ".hpp", name + ".json", std::string("registry.hpp")})
+    for (const std::string& file : {name + ".hpp", name + ".json", std::string("registry.hpp")})
       result.written.push_back(fs::path(s.out) / file);
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
