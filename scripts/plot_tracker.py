@@ -2,11 +2,13 @@
 """Draws the tracker benchmark (`mdbrief-eval tracker`, tracker_summary.csv) as one PNG: per data
 set, for each pipeline at its shown ratio, the share of pairs whose homography fit is right
 within 3 px and within 1 px, the precision of the kept matches and the mean average precision,
-with the keypoints per image and the correct matches per pair written above the bars.
+with the keypoints per image and the correct matches per pair written above the bars. With
+--md, also regenerates the section "## Tracker benchmark (generated)" of that markdown file.
 
-Usage: scripts/plot_tracker.py SUMMARY_CSV OUT_PNG. Needs Debian's python3-matplotlib
-(/usr/bin/python3).
+Usage: scripts/plot_tracker.py SUMMARY_CSV OUT_PNG [--md docs/RESULTS.md]. Needs Debian's
+python3-matplotlib (/usr/bin/python3).
 """
+import argparse
 import csv
 import os
 import sys
@@ -22,13 +24,45 @@ METRICS = [("homography_right_3px", "fit right, 3 px"), ("homography_right_1px",
 COLORS = ["#1b9e77", "#66c2a5", "#d95f02", "#7570b3"]
 
 
+SECTION = "## Tracker benchmark (generated)"
+
+
+def pct(value):
+    return "-" if float(value) < 0 else "%.0f %%" % (100 * float(value))
+
+
+def section(groups, figure):
+    """The tables of the section: every pipeline at its shown ratio, per data set."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from plot_results import md_table  # noqa: E402 (the sibling script's table format)
+    header = ["pipeline", "ratio", "mean AP", "PR AUC", "repeatability", "correct / pair", "precision",
+              "H right 3 px", "H right 1 px", "H inliers", "E right 3 px", "E right 1 px"]
+    text = [SECTION, "",
+            "Written by `scripts/tracker.sh` (`mdbrief-eval tracker`, then `scripts/plot_tracker.py`): every",
+            "pipeline on its own keypoints at its shown ratio (its own for the library's presets, otherwise",
+            "the best of the sweep by right fits); what the columns mean is in \"Real images: what a tracker",
+            "keeps\". Figure: `%s`." % figure, ""]
+    for group, members in groups.items():
+        text += ["### %s (%s pairs)" % (group, members[0]["pairs"]), ""]
+        rows = [[m["pipeline"], m["ratio"], "%.3f" % float(m["mean_ap"]), "%.3f" % float(m["pr_auc"]),
+                 "%.3f" % float(m["repeatability"]), "%.1f" % float(m["correct_per_pair"]),
+                 "%.3f" % float(m["precision"]), pct(m["homography_right_3px"]), pct(m["homography_right_1px"]),
+                 "%.1f" % float(m["homography_inliers"]), pct(m["essential_right_3px"]),
+                 pct(m["essential_right_1px"])] for m in members]
+        text += [md_table(header, rows), ""]
+    return "\n".join(text)
+
+
 def main():
-    if len(sys.argv) != 3:
-        sys.exit(__doc__)
-    with open(sys.argv[1], newline="") as f:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("summary")
+    ap.add_argument("png")
+    ap.add_argument("--md", help="markdown file whose generated section is rewritten")
+    args = ap.parse_args()
+    with open(args.summary, newline="") as f:
         rows = [r for r in csv.DictReader(f) if r["shown"] == "1"]
     if not rows:
-        sys.exit(f"{sys.argv[1]}: no rows")
+        sys.exit(f"{args.summary}: no rows")
     groups = OrderedDict()
     for r in rows:
         groups.setdefault(r["group"], []).append(r)
@@ -49,11 +83,16 @@ def main():
         ax.grid(axis="y", alpha=0.3)
         ax.set_title("%s (%s pairs)" % (group, members[0]["pairs"]), fontsize=10)
     axes[0, 0].legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8)
-    os.makedirs(os.path.dirname(os.path.abspath(sys.argv[2])), exist_ok=True)
-    tmp = sys.argv[2] + ".tmp.png"
+    os.makedirs(os.path.dirname(os.path.abspath(args.png)), exist_ok=True)
+    tmp = args.png + ".tmp.png"
     fig.savefig(tmp, dpi=90, bbox_inches="tight")
-    os.replace(tmp, sys.argv[2])
-    print(f"{sys.argv[2]}: {len(groups)} data sets")
+    os.replace(tmp, args.png)
+    print(f"{args.png}: {len(groups)} data sets")
+    if args.md:
+        from plot_results import update_markdown  # noqa: E402
+        figure = os.path.relpath(os.path.abspath(args.png), os.path.dirname(os.path.abspath(args.md)))
+        update_markdown(args.md, {SECTION: section(groups, figure)})
+        print(f"{args.md}: {SECTION}")
 
 
 if __name__ == "__main__":
