@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   app.add_option("--patches", o.patches, "patch budget")->capture_default_str();
   app.add_option("--seed", o.seed, "seed of the patch choice")->capture_default_str();
   app.add_option("--keypoints-per-image", o.keypointsPerImage, "detector budget per image")
+      ->check(CLI::Range(1, kMaxKeypointsPerImage))
       ->capture_default_str();
   app.add_flag("--render-through-camera", o.renderThroughCamera,
                "use each photo as a plane seen through --camera (synthetic fisheye images)");

@@ -250,7 +250,9 @@ PatchSet extractPatches(const ExtractionOptions& o, ExtractionReport& report,
                         const ExtractionProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   if (o.patches == 0) throw std::invalid_argument("patch budget must be positive");
-  if (o.keypointsPerImage < 1) throw std::invalid_argument("keypointsPerImage must be positive");
+  if (o.keypointsPerImage < 1 || o.keypointsPerImage > kMaxKeypointsPerImage)
+    throw std::invalid_argument("keypointsPerImage must be in [1, " + std::to_string(kMaxKeypointsPerImage) + "], got " +
+                                std::to_string(o.keypointsPerImage));
   if (o.renderThroughCamera && o.cameraPath.empty())
     throw std::invalid_argument("rendering through the camera needs a camera");
   if (o.renderThroughCamera && !(o.renderHalfFovDeg > 0 && o.renderHalfFovDeg < 89))

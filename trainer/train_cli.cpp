@@ -116,6 +116,7 @@ int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::os
   app.add_option("--patches-file", s.patchesFile, "reuse an HDF5 patch set (mdbrief-patchextract)");
   app.add_option("--save-patches", s.savePatches, "also write the extracted patches (HDF5)");
   app.add_option("--keypoints-per-image", s.keypointsPerImage, "detector budget per image")
+      ->check(CLI::Range(1, kMaxKeypointsPerImage))
       ->capture_default_str();
   app.add_flag("--render-through-camera", s.renderThroughCamera,
                "use each photo as a plane seen through --camera (synthetic fisheye images)");
