@@ -10,6 +10,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 #include <yaml-cpp/yaml.h>
+#include <zlib.h>
 
 #include "cli/commands.hpp"
 #include "mdbrief/internal/atomic_file.hpp"
@@ -84,6 +85,40 @@ cv::KeyPoint keypointFrom(const std::vector<YAML::Node>& v, const std::string& w
                       static_cast<float>(number(v[4], where)), integer(v[5], where), integer(v[6], where));
 }
 
+// The bytes gzread() gives for `path` (its decompressed text), counted up to limit + 1; a file
+// that cannot be opened or a damaged stream stops the count (cv::FileStorage then reports it).
+std::uintmax_t decompressedBytes(const std::string& path, std::uintmax_t limit) {
+  gzFile in = gzopen(path.c_str(), "rb");
+  if (!in) return 0;  // cv::FileStorage reports it
+  std::vector<char> buffer(1 << 16);
+  std::uintmax_t total = 0;
+  int n = 0;
+  while (total <= limit && (n = gzread(in, buffer.data(), static_cast<unsigned>(buffer.size()))) > 0) total += n;
+  gzclose(in);
+  return total;
+}
+
+std::string mebibytes(std::uintmax_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
+
+// Refuses text over the parser's limit before it is parsed (a 10-million-keypoint file ran
+// yaml-cpp out of memory after minutes).
+void checkTextSize(const std::string& path, const std::string& ext) {
+  std::error_code ec;
+  if (ext == ".yml" || ext == ".yaml" || ext == ".json") {
+    const std::uintmax_t bytes = fs::file_size(path, ec);
+    if (!ec && bytes > kMaxYamlCppTextBytes)
+      throw InputError(path + ": " + std::to_string(bytes) + " bytes, over the " + mebibytes(kMaxYamlCppTextBytes) +
+                       " a YAML or JSON file may have (.xml or .gz files may hold up to " +
+                       mebibytes(kMaxOpenCvTextBytes) + " of text)");
+    return;
+  }
+  const bool compressed = ext.size() > 3 && ext.compare(ext.size() - 3, 3, ".gz") == 0;
+  const std::uintmax_t bytes = compressed ? decompressedBytes(path, kMaxOpenCvTextBytes) : fs::file_size(path, ec);
+  if (!ec && bytes > kMaxOpenCvTextBytes)
+    throw InputError(path + ": over the " + mebibytes(kMaxOpenCvTextBytes) + " of text an .xml or .gz file may hold" +
+                     (compressed ? " once decompressed" : ""));
+}
+
 void checkFolder(const fs::path& path) {
   const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   std::error_code ec;
@@ -153,6 +188,7 @@ StorageReader::StorageReader(const std::string& path) : path_(path), parsed_(std
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw InputError(path + ": no such file");
   const std::string ext = storageExtension(path);
+  checkTextSize(path, ext);
   if (ext == ".yml" || ext == ".yaml" || ext == ".json") {
     std::ifstream in(path, std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
