@@ -1,8 +1,11 @@
 #include "cli/extraction_flags.hpp"
 
 #include <cmath>
+#include <algorithm>
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
+#include <sstream>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -16,6 +19,26 @@ namespace mdbrief::cli {
 namespace {
 
 using internal::sizeText;
+
+// Below this share of the image the calibration leaves almost nothing to describe (a focal
+// length of 1e-9 px puts every pixel at 90 degrees): the run gives few or no keypoints, so it says why.
+constexpr double kFewPercentOfTheImage = 0.05;
+
+// The share of a grid of at most 64 x 64 pixels where a keypoint can be described: valid for
+// the camera and, when the descriptor uses the camera model, within maxIncidenceDeg of its axis.
+double describableShare(const Camera& camera, bool withinIncidence) {
+  const double minCos = std::cos(DescriptorOptions{}.maxIncidenceDeg * CV_PI / 180.0);
+  const cv::Size size = camera.imageSize();
+  const int nx = std::min(size.width, 64), ny = std::min(size.height, 64);
+  int usable = 0;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const cv::Point2d p((i + 0.5) * size.width / nx - 0.5, (j + 0.5) * size.height / ny - 0.5);
+      cv::Vec3d ray;
+      usable += camera.isValid(p) && (!withinIncidence || (camera.pixelToBearing(p, ray) && ray[2] > minCos));
+    }
+  return static_cast<double>(usable) / (nx * ny);
+}
 
 void requireReadableFile(const std::string& path) {
   std::error_code ec;
@@ -63,19 +86,33 @@ void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
 }
 
 CameraPtr loadCalibration(const ExtractionFlags& flags) {
+  const bool modelled = usesCamera(parseDescriptorKind(flags.descriptor));
   if (flags.camera.empty()) {
-    if (usesCamera(parseDescriptorKind(flags.descriptor)))
-      throw InputError("--camera is required for --descriptor " + flags.descriptor);
+    if (modelled) throw InputError("--camera is required for --descriptor " + flags.descriptor);
+    // The library ignores the option without a camera: the output would be that of a run without it.
+    if (flags.conformal) throw InputError("--conformal needs --camera (the stereographic view is the camera's)");
     return nullptr;
   }
   requireReadableFile(flags.camera);
+  CameraPtr camera;
   try {
-    return loadCamera(flags.camera);
+    camera = loadCamera(flags.camera);
   } catch (const std::exception& e) {
     const std::string what = e.what();
     // loadCamera's messages already start with the path.
     throw InputError(what.rfind(flags.camera, 0) == 0 ? what : flags.camera + ": " + what);
   }
+  if (const double share = describableShare(*camera, modelled); share < kFewPercentOfTheImage) {
+    std::ostringstream text;
+    text << std::fixed << std::setprecision(1) << 100.0 * share;
+    std::cerr << "warning: " << flags.camera << ": keypoints can be described on " << text.str() << " % of the "
+              << sizeText(camera->imageSize()) << " image (the camera's valid area"
+              << (modelled ? ", rays within " + std::to_string(static_cast<int>(DescriptorOptions{}.maxIncidenceDeg)) +
+                                 " degrees of the optical axis"
+                           : std::string())
+              << "); expect few or no keypoints\n";
+  }
+  return camera;
 }
 
 cv::Mat loadImage(const std::string& path, bool strict) {

@@ -34,7 +34,9 @@ struct ExtractionFlags {
 // --support-scale, --allow-size-mismatch and --strict to cmd, bound to flags (which must outlive the parse).
 void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags);
 
-// The calibration of flags.camera, or null when none is given (allowed for brief only).
+// The calibration of flags.camera, or null when none is given (allowed for brief and mbrief,
+// without --conformal). Warns on stderr, naming the file, when the camera leaves a few percent
+// of the image or less where keypoints can be described.
 CameraPtr loadCalibration(const ExtractionFlags& flags);
 
 // Decoded 8UC1 image. InputError for a missing, empty or undecodable file. A truncated JPEG or

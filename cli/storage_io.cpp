@@ -278,7 +278,7 @@ cv::Mat StorageReader::matrix(const std::string& key) const {
   if (dt.size() != 1 || kCodes.find(dt[0]) == std::string::npos)
     throw InputError(where + ": dt '" + dt + "' is not a single-channel type (u, c, w, s, i, f, d)");
   const int type = kTypes[kCodes.find(dt[0])];
-  if (rows * cols == 0) return out;
+  if (rows * cols == 0) return cv::Mat(rows, cols, type);  // the shape tells N x 0 from 0 x 0
   cv::Mat values(rows, cols, CV_64F);
   for (int i = 0; i < rows * cols; ++i)
     values.at<double>(i / cols, i % cols) = number(data[static_cast<size_t>(i)], where + ", value " + std::to_string(i));
@@ -303,8 +303,10 @@ Features readFeatureFile(const std::string& path) {
   f.masks = storage.matrix("masks");
   f.keypoints = storage.keypoints("keypoints");
   const cv::Mat& d = f.descriptors;
-  if (!d.empty() && (d.type() != CV_8UC1 || d.cols % 4 != 0 || d.cols > 64))
-    throw InputError(path + ": 'descriptors' must be N x bytes CV_8U with bytes a multiple of 4 in [4, 64]");
+  // 0 x 0 and 0 x bytes hold no descriptors; N x 0 holds descriptors of no bits.
+  if (d.rows > 0 && (d.type() != CV_8UC1 || d.cols < 4 || d.cols % 4 != 0 || d.cols > 64))
+    throw InputError(path + ": 'descriptors' must be N x bytes CV_8U with bytes a multiple of 4 in [4, 64], got " +
+                     std::to_string(d.rows) + " x " + std::to_string(d.cols));
   if (!f.masks.empty() && (f.masks.type() != CV_8UC1 || f.masks.size() != d.size()))
     throw InputError(path + ": 'masks' must have the size and type of 'descriptors'");
   if (!f.keypoints.empty() && static_cast<int>(f.keypoints.size()) != d.rows)
