@@ -9,9 +9,11 @@
 
 #include "patchextract/patch_extraction.hpp"
 #include "patchextract/view_change_flags.hpp"
+#include "toolkit/opencv_log.hpp"
 #include "toolkit/progress_reporter.hpp"
 
 int main(int argc, char** argv) {
+  mdbrief::silenceOpenCvLogUnlessAsked();
   using namespace mdbrief::train;
   std::vector<std::string> dirs;
   std::string detector = "orb", out;

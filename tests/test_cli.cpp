@@ -3,6 +3,8 @@
 // message naming the file or flag at fault).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -462,6 +464,20 @@ TEST_F(CliTest, MatchRejectsBadFeatureFiles) {
   expectOneLineNaming(run({"match", path("nodesc.yml"), path("a.yml"), "-o", path("m.yml")}), path("nodesc.yml"));
   expectOneLineNaming(run({"match", path("a.yml"), path("long.yml"), "-o", path("m.yml")}), path("long.yml"));
   EXPECT_FALSE(fs::exists(path("m.yml")));
+}
+
+// OpenCV logged "[ERROR:0@0.035] ... Can't open file: '/proc/.o.tmp<pid>-0.yml' in write mode"
+// before the tool's message, naming the temporary file. /proc takes no new file, even from root.
+TEST_F(CliTest, OpenCvLogsNothingBeforeTheToolsMessage) {
+  REQUIRE_IMAGE(image, "view.png");
+  if (!fs::is_directory("/proc/self")) GTEST_SKIP() << "no /proc";
+  ::unsetenv("OPENCV_LOG_LEVEL");
+  for (const std::string& out : std::vector<std::string>{"/proc/o.yml", "/proc/o.yml.gz"}) {
+    const Result r = run({"extract", "--camera", kCamera, image, "-o", out});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_EQ(r.err.rfind("mdbrief: " + out + ": ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
 }
 
 // --conformal without a camera was ignored: the output was byte-identical to a run without it.
