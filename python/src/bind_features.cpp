@@ -60,6 +60,13 @@ Keyword enumField(const char* name, const char* cppField, Access access, Enum (*
           }};
 }
 
+// A registry name or a file: str, bytes or os.PathLike (pathFrom), read back as str.
+template <typename Access>
+Keyword pathField(const char* name, const char* cppField, Access access) {
+  return {name, cppField, [access](const MdBriefOptions& o) { return py::object(pathText(access(o))); },
+          [access, name](MdBriefOptions& o, const py::handle& v) { access(o) = pathFrom(v, name); }};
+}
+
 // The pyramid of detector and descriptor (MdBriefOptions::detector.pyramid).
 template <typename T, typename Access>
 Keyword pyramidField(const char* name, const char* cppField, Access access) {
@@ -93,7 +100,7 @@ const std::vector<Keyword>& keywords() {
       field<bool>("conformal", "conformal", [](auto& o) -> auto& { return o.detector.conformal; }),
       enumField("descriptor", "kind", [](auto& o) -> auto& { return o.descriptor.kind; }, &parseDescriptorKind),
       field<int>("bits", "bits", [](auto& o) -> auto& { return o.descriptor.bits; }),
-      field<std::string>("pattern", "pattern", [](auto& o) -> auto& { return o.descriptor.pattern; }),
+      pathField("pattern", "pattern", [](auto& o) -> auto& { return o.descriptor.pattern; }),
       field<bool>("use_orientation", "useOrientation", [](auto& o) -> auto& { return o.descriptor.useOrientation; }),
       enumField("orientation", "orientation", [](auto& o) -> auto& { return o.descriptor.orientation; },
                 &parseOrientationSource),
@@ -109,13 +116,17 @@ const std::vector<Keyword>& keywords() {
 }
 
 // validate() names C++ fields; the user wrote Python keywords. Name the keyword whose field the
-// message mentions (the longest match, so "DetectorOptions::orientationRadius" beats
-// "orientationRadius").
+// message mentions first: the option at fault leads, and fields named later say why
+// ("borderMargin must be >= 15 (orientationRadius and harrisBlockSize / 2 + 1)"). At the same
+// place the longest match wins, so "DetectorOptions::orientationRadius" beats "orientationRadius".
 [[noreturn]] void raiseNamingKeyword(const std::string& message) {
   const Keyword* best = nullptr;
-  for (const Keyword& k : keywords())
-    if (message.find(k.field) != std::string::npos && (!best || std::strlen(k.field) > std::strlen(best->field)))
-      best = &k;
+  size_t bestAt = std::string::npos;
+  for (const Keyword& k : keywords()) {
+    const size_t at = message.find(k.field);
+    if (at == std::string::npos) continue;
+    if (!best || at < bestAt || (at == bestAt && std::strlen(k.field) > std::strlen(best->field))) best = &k, bestAt = at;
+  }
   throw py::value_error(best ? std::string(best->name) + ": " + message : message);
 }
 

@@ -25,7 +25,8 @@ py::array_t<int8_t> testsArray(const TestSet& set) {
   return out;
 }
 
-TestSet loadPattern(const std::string& nameOrPath) {
+TestSet loadPattern(const py::handle& argument) {
+  const std::string nameOrPath = pathFrom(argument, "name_or_path");
   const auto names = builtinTestSetNames();
   if (std::find(names.begin(), names.end(), nameOrPath) == names.end()) requireFile(nameOrPath);
   try {
@@ -49,31 +50,32 @@ struct TemporaryFolder {
   }
 };
 
-std::vector<std::string> stringList(const py::handle& value, const char* argument) {
+// One path or an iterable of paths (pathFrom), as file system bytes.
+std::vector<std::string> pathList(const py::handle& value, const char* argument) {
   if (value.is_none()) return {};
-  if (py::isinstance<py::str>(value) || py::isinstance(value, py::module_::import("pathlib").attr("PurePath")))
-    return {py::str(value)};
+  if (isPath(value)) return {pathFrom(value, argument)};
   std::vector<std::string> out;
-  for (const py::handle item : value) out.push_back(py::str(item));
+  for (const py::handle item : value) out.push_back(pathFrom(item, argument));
   if (out.empty()) throw py::value_error(std::string(argument) + " is empty");
   return out;
 }
 
 TestSet train(const py::handle& images, const std::string& detector, const py::handle& camera, int patches, int tests,
               int seed, const std::string& selection, const std::optional<std::string>& name,
-              const std::optional<std::string>& out, const std::optional<std::string>& patchesFile,
-              int keypointsPerImage, bool renderThroughCamera, const py::handle& heldOut, bool makeDefault,
-              bool verbose) {
+              const py::handle& outArgument, const py::handle& patchesFileArgument, int keypointsPerImage,
+              bool renderThroughCamera, const py::handle& heldOut, bool makeDefault, bool verbose) {
+  const std::optional<std::string> out =
+      outArgument.is_none() ? std::nullopt : std::optional<std::string>(pathFrom(outArgument, "out"));
+  const std::optional<std::string> patchesFile =
+      patchesFileArgument.is_none() ? std::nullopt
+                                    : std::optional<std::string>(pathFrom(patchesFileArgument, "patches_file"));
   TemporaryFolder temp;
   std::vector<std::string> args{"--detector", detector, "--patches", std::to_string(patches), "--tests",
                                 std::to_string(tests), "--seed", std::to_string(seed), "--selection", selection,
                                 "--keypoints-per-image", std::to_string(keypointsPerImage)};
-  for (const std::string& folder : stringList(images, "images")) {
+  for (const std::string& folder : pathList(images, "images")) {
     std::error_code ec;
-    if (!fs::is_directory(folder, ec)) {
-      PyErr_SetObject(PyExc_FileNotFoundError, py::make_tuple(2, "No such image folder", folder).ptr());
-      throw py::error_already_set();
-    }
+    if (!fs::is_directory(folder, ec)) raiseFileNotFound(folder, "No such image folder");
     args.insert(args.end(), {"--images", folder});
   }
   if (!camera.is_none()) {
@@ -82,7 +84,7 @@ TestSet train(const py::handle& images, const std::string& detector, const py::h
       path = (temp.path / "camera.yaml").string();
       saveCamera(camera.cast<const Camera&>(), path);
     } else {
-      path = py::str(camera);
+      path = pathFrom(camera, "camera");
       requireFile(path);
     }
     args.insert(args.end(), {"--camera", path});
@@ -91,7 +93,7 @@ TestSet train(const py::handle& images, const std::string& detector, const py::h
     requireFile(*patchesFile);
     args.insert(args.end(), {"--patches-file", *patchesFile});
   }
-  for (const std::string& file : stringList(heldOut, "held_out")) {
+  for (const std::string& file : pathList(heldOut, "held_out")) {
     requireFile(file);
     args.insert(args.end(), {"--held-out", file});
   }
@@ -149,8 +151,8 @@ void bindPatterns(py::module_& m) {
   m.def("patterns", &builtinTestSetNames, "Names of the compiled-in test sets, sorted.");
   m.def("default_pattern", &defaultTestSetName, "The set MdBrief uses when pattern is ''.");
   m.def("load_pattern", &loadPattern, py::arg("name_or_path"),
-        "A compiled-in set by name, or a JSON test set file (as mdbrief-train writes). The same\n"
-        "string works as MdBrief(camera, pattern=...).");
+        "A compiled-in set by name, or a JSON test set file (str, bytes or os.PathLike, as\n"
+        "mdbrief-train writes it). The same works as MdBrief(camera, pattern=...).");
   m.def("train", &train, py::arg("images") = py::none(), py::arg("detector") = "orb", py::arg("camera") = py::none(),
         py::arg("patches") = 20000, py::arg("tests") = 512, py::arg("seed") = 1, py::arg("selection") = "paper",
         py::arg("name") = py::none(), py::arg("out") = py::none(), py::arg("patches_file") = py::none(),
@@ -161,7 +163,8 @@ Off-line learning, as mdbrief-train runs it (docs/training.md); the same argumen
 the same test set, byte for byte. images: folder(s) of photos (default: the tool's); detector:
 'orb', 'akaze' or 'surf'; camera: an mdbrief.Camera or a calibration path (patches on the
 tangent plane); selection: 'paper', 'stability' or 'separation'. out: a patterns folder to write
-<name>.hpp, <name>.json and registry.hpp into (None: only return the set). Returns the TestSet.
+<name>.hpp, <name>.json and registry.hpp into (None: only return the set). Paths may be str,
+bytes or os.PathLike (images and held_out: one, or a list). Returns the TestSet.
 Raises FileNotFoundError for a missing folder or file and ValueError with the tool's message
 otherwise.)doc");
 }
