@@ -1,7 +1,7 @@
 #include "cli/extraction_flags.hpp"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
