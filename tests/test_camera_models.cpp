@@ -127,8 +127,9 @@ TEST(CameraModels, ExtremeRayLengthsGiveAFinitePixelOrNone) {
     for (const double length : {1e-300, 1e-160, 1e160, 1e300, 1.7e308})
       for (const cv::Vec3d& ray : {cv::Vec3d(1, 1, 1), cv::Vec3d(0, 0, 1), cv::Vec3d(0.3, -0.2, 1)}) {
         cv::Point2d p;
-        if (c.camera->bearingToPixel(ray * (length / cv::norm(ray, cv::NORM_INF)), p))
+        if (c.camera->bearingToPixel(ray * (length / cv::norm(ray, cv::NORM_INF)), p)) {
           EXPECT_TRUE(std::isfinite(p.x) && std::isfinite(p.y)) << length << " " << ray << " -> " << p;
+        }
       }
   }
 }
