@@ -5,6 +5,7 @@
 #include <opencv2/core.hpp>
 
 #include "cli/commands.hpp"
+#include "toolkit/opencv_log.hpp"
 
 namespace mdbrief::cli {
 namespace {
@@ -19,6 +20,7 @@ std::string oneLine(std::string text) {
 }  // namespace
 
 int runCli(int argc, char** argv, const std::vector<CommandAdder>& commands) {
+  silenceOpenCvLogUnlessAsked();
   CLI::App app{"Binary descriptors (BRIEF, dBRIEF, mdBRIEF) for calibrated fisheye and wide-angle cameras.",
                "mdbrief"};
   app.require_subcommand(1);

@@ -22,7 +22,7 @@ using CommandAdder = std::function<void(CLI::App&)>;
 
 // Parses argv and runs the chosen subcommand. Returns the process exit code: 0 on success
 // (and for --help), 2 for bad usage or bad input (one line on stderr), 1 for an unexpected
-// internal error.
+// internal error. OpenCV's log is silenced first (toolkit/opencv_log.hpp).
 int runCli(int argc, char** argv, const std::vector<CommandAdder>& commands);
 
 void addExtractCommand(CLI::App& app);

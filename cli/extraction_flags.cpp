@@ -1,8 +1,12 @@
 #include "cli/extraction_flags.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
+#include <optional>
+#include <sstream>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -17,6 +21,27 @@ namespace mdbrief::cli {
 namespace {
 
 using internal::sizeText;
+
+// Below this share of the image the calibration leaves almost nothing to describe (a focal
+// length of 1e-9 px puts every pixel at 90 degrees): the run gives few or no keypoints, so it says why.
+constexpr double kFewPercentOfTheImage = 0.05;
+
+// The share of a grid of at most 64 x 64 pixels where a keypoint can be described: valid for
+// the camera and, when maxIncidenceDeg is given (descriptors that use the camera model), within
+// that angle of its axis.
+double describableShare(const Camera& camera, std::optional<double> maxIncidenceDeg) {
+  const double minCos = maxIncidenceDeg ? std::cos(*maxIncidenceDeg * CV_PI / 180.0) : 0.0;
+  const cv::Size size = camera.imageSize();
+  const int nx = std::min(size.width, 64), ny = std::min(size.height, 64);
+  int usable = 0;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const cv::Point2d p((i + 0.5) * size.width / nx - 0.5, (j + 0.5) * size.height / ny - 0.5);
+      cv::Vec3d ray;
+      usable += camera.isValid(p) && (!maxIncidenceDeg || (camera.pixelToBearing(p, ray) && ray[2] > minCos));
+    }
+  return static_cast<double>(usable) / (nx * ny);
+}
 
 void requireReadableFile(const std::string& path) {
   if (const std::string problem = internal::inputFileProblem(path); !problem.empty())
@@ -46,19 +71,38 @@ MdBriefOptions extractionOptions(const ExtractionFlags& flags) {
 
 CameraPtr loadCalibration(const ExtractionFlags& flags) {
   // The options first: a bad flag is reported before any file is read.
-  const DescriptorKind kind = extractionOptions(flags).descriptor.kind;
+  const MdBriefOptions options = extractionOptions(flags);
+  const DescriptorKind kind = options.descriptor.kind;
+  const bool modelled = usesCamera(kind);
   if (flags.camera.empty()) {
-    if (usesCamera(kind)) throw InputError("--camera is required for --descriptor " + toString(kind));
+    if (modelled) throw InputError("--camera is required for --descriptor " + toString(kind));
+    // The library ignores the option without a camera: the output would be that of a run without it.
+    if (options.detector.conformal)
+      throw InputError("--conformal needs --camera (the stereographic view is the camera's)");
     return nullptr;
   }
   requireReadableFile(flags.camera);
+  CameraPtr camera;
   try {
-    return loadCamera(flags.camera);
+    camera = loadCamera(flags.camera);
   } catch (const std::exception& e) {
     const std::string what = e.what();
     // loadCamera's messages already start with the path.
     throw InputError(what.rfind(flags.camera, 0) == 0 ? what : flags.camera + ": " + what);
   }
+  const double maxIncidenceDeg = options.descriptor.maxIncidenceDeg;
+  const std::optional<double> incidenceBound = modelled ? std::optional<double>(maxIncidenceDeg) : std::nullopt;
+  if (const double share = describableShare(*camera, incidenceBound); share < kFewPercentOfTheImage) {
+    std::ostringstream percent;
+    percent << std::fixed << std::setprecision(1) << 100.0 * share;
+    std::ostringstream text;
+    text << "warning: " << flags.camera << ": keypoints can be described on " << percent.str() << " % of the "
+         << sizeText(camera->imageSize()) << " image (the camera's valid area";
+    if (modelled) text << ", rays within " << maxIncidenceDeg << " degrees of the optical axis";
+    text << "); expect few or no keypoints\n";
+    std::cerr << text.str();
+  }
+  return camera;
 }
 
 cv::Mat loadImage(const std::string& path, bool strict) {

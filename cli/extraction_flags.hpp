@@ -31,8 +31,10 @@ void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags);
 // The options the flags give, validated. InputError "<flag> must be in [...], got <value>".
 MdBriefOptions extractionOptions(const ExtractionFlags& flags);
 
-// The calibration of flags.camera, or null when none is given (allowed for brief only). Checks
-// the option flags first (extractionOptions).
+// The calibration of flags.camera, or null when none is given (allowed for brief and mbrief,
+// without --conformal). Checks the option flags first (extractionOptions). Warns on stderr,
+// naming the file, when the camera leaves a few percent of the image or less where keypoints
+// can be described.
 CameraPtr loadCalibration(const ExtractionFlags& flags);
 
 // Decoded 8UC1 image. InputError for a missing, empty or undecodable file. A truncated JPEG or

@@ -10,6 +10,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 #include <yaml-cpp/yaml.h>
+#include <zlib.h>
 
 #include "cli/commands.hpp"
 #include "cli/gzip_compression.hpp"
@@ -84,6 +85,40 @@ cv::KeyPoint keypointFrom(const std::vector<YAML::Node>& v, const std::string& w
   return cv::KeyPoint(static_cast<float>(number(v[0], where)), static_cast<float>(number(v[1], where)),
                       static_cast<float>(number(v[2], where)), static_cast<float>(number(v[3], where)),
                       static_cast<float>(number(v[4], where)), integer(v[5], where), integer(v[6], where));
+}
+
+// The bytes gzread() gives for `path` (its decompressed text), counted up to limit + 1; a file
+// that cannot be opened or a damaged stream stops the count (cv::FileStorage then reports it).
+std::uintmax_t decompressedBytes(const std::string& path, std::uintmax_t limit) {
+  gzFile in = gzopen(path.c_str(), "rb");
+  if (!in) return 0;  // cv::FileStorage reports it
+  std::vector<char> buffer(1 << 16);
+  std::uintmax_t total = 0;
+  int n = 0;
+  while (total <= limit && (n = gzread(in, buffer.data(), static_cast<unsigned>(buffer.size()))) > 0) total += n;
+  gzclose(in);
+  return total;
+}
+
+std::string mebibytes(std::uintmax_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
+
+// Refuses text over the parser's limit before it is parsed (a 10-million-keypoint file ran
+// yaml-cpp out of memory after minutes).
+void checkTextSize(const std::string& path, const std::string& ext) {
+  std::error_code ec;
+  if (ext == ".yml" || ext == ".yaml" || ext == ".json") {
+    const std::uintmax_t bytes = fs::file_size(path, ec);
+    if (!ec && bytes > kMaxYamlCppTextBytes)
+      throw InputError(path + ": " + std::to_string(bytes) + " bytes, over the " + mebibytes(kMaxYamlCppTextBytes) +
+                       " a YAML or JSON file may have (.xml or .gz files may hold up to " +
+                       mebibytes(kMaxOpenCvTextBytes) + " of text)");
+    return;
+  }
+  const bool compressed = endsWith(ext, ".gz");
+  const std::uintmax_t bytes = compressed ? decompressedBytes(path, kMaxOpenCvTextBytes) : fs::file_size(path, ec);
+  if (!ec && bytes > kMaxOpenCvTextBytes)
+    throw InputError(path + ": over the " + mebibytes(kMaxOpenCvTextBytes) + " of text an .xml or .gz file may hold" +
+                     (compressed ? " once decompressed" : ""));
 }
 
 // The atomic writer's checks (folder, a regular file or none, writable) as an InputError.
@@ -162,6 +197,7 @@ StorageReader::StorageReader(const std::string& path) : path_(path), parsed_(std
   if (const std::string problem = internal::inputFileProblem(path); !problem.empty())
     throw InputError(path + ": " + problem);
   const std::string ext = storageExtension(path);
+  checkTextSize(path, ext);
   if (ext == ".yml" || ext == ".yaml" || ext == ".json") {
     std::ifstream in(path, std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -251,7 +287,7 @@ cv::Mat StorageReader::matrix(const std::string& key) const {
   if (dt.size() != 1 || kCodes.find(dt[0]) == std::string::npos)
     throw InputError(where + ": dt '" + dt + "' is not a single-channel type (u, c, w, s, i, f, d)");
   const int type = kTypes[kCodes.find(dt[0])];
-  if (rows * cols == 0) return out;
+  if (rows * cols == 0) return cv::Mat(rows, cols, type);  // the shape tells N x 0 from 0 x 0
   cv::Mat values(rows, cols, CV_64F);
   for (int i = 0; i < rows * cols; ++i)
     values.at<double>(i / cols, i % cols) = number(data[static_cast<size_t>(i)], where + ", value " + std::to_string(i));
@@ -276,8 +312,10 @@ Features readFeatureFile(const std::string& path) {
   f.masks = storage.matrix("masks");
   f.keypoints = storage.keypoints("keypoints");
   const cv::Mat& d = f.descriptors;
-  if (!d.empty() && (d.type() != CV_8UC1 || d.cols % 4 != 0 || d.cols > 64))
-    throw InputError(path + ": 'descriptors' must be N x bytes CV_8U with bytes a multiple of 4 in [4, 64]");
+  // 0 x 0 and 0 x bytes hold no descriptors; N x 0 holds descriptors of no bits.
+  if (d.rows > 0 && (d.type() != CV_8UC1 || d.cols < 4 || d.cols % 4 != 0 || d.cols > 64))
+    throw InputError(path + ": 'descriptors' must be N x bytes CV_8U with bytes a multiple of 4 in [4, 64], got " +
+                     std::to_string(d.rows) + " x " + std::to_string(d.cols));
   if (!f.masks.empty() && (f.masks.type() != CV_8UC1 || f.masks.size() != d.size()))
     throw InputError(path + ": 'masks' must have the size and type of 'descriptors'");
   if (!f.keypoints.empty() && static_cast<int>(f.keypoints.size()) != d.rows)

@@ -3,6 +3,7 @@
 // .yaml, .json, .xml, optionally .gz) and images. Writes are atomic: a temporary file in the
 // target folder renamed over the target, so a failed run never leaves a half-written output.
 // Every failure is an InputError naming the file.
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -25,11 +26,19 @@ void checkImageOutput(const std::filesystem::path& path);
 void writeStorageAtomically(const std::filesystem::path& path, const std::function<void(cv::FileStorage&)>& write);
 void writeImageAtomically(const std::filesystem::path& path, const cv::Mat& image);
 
+// The largest text StorageReader parses, by parser: a yaml-cpp node takes far more memory than
+// an OpenCV one, so YAML and JSON are held to less than XML and .gz (whose decompressed text
+// counts). Above the limit the file is refused before it is parsed (docs/RESULTS.md
+// "Input size limits").
+inline constexpr std::uintmax_t kMaxYamlCppTextBytes = std::uintmax_t{8} << 20;
+inline constexpr std::uintmax_t kMaxOpenCvTextBytes = std::uintmax_t{256} << 20;
+
 // An existing FileStorage file opened for reading its top-level nodes. OpenCV 4.6's YAML parser
 // loops forever on some damaged files (fuzz/regressions/keypoints), so YAML and JSON never reach
 // it: they are parsed by yaml-cpp (JSON is YAML) after two checks, no NUL byte and flow brackets
 // nested at most 64 deep (yaml-cpp recurses once per level). XML and .gz files go to
-// cv::FileStorage. Every failure is an InputError naming the file and the node.
+// cv::FileStorage. Text over the limits above is refused unparsed. Every failure is an
+// InputError naming the file and the node.
 class StorageReader {
  public:
   explicit StorageReader(const std::string& path);

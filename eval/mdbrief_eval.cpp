@@ -4,8 +4,10 @@
 #include <iostream>
 
 #include "eval_commands.hpp"
+#include "toolkit/opencv_log.hpp"
 
 int main(int argc, char** argv) {
+  mdbrief::silenceOpenCvLogUnlessAsked();
   CLI::App app{"Reproduction of the mdBRIEF paper's experiments", "mdbrief-eval"};
   app.require_subcommand(1);
   mdbrief::eval::addSimCommand(app);

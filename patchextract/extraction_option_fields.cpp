@@ -50,9 +50,10 @@ const OptionTable<ExtractionOptions>& extractionOptionFields() {
                         [](auto& o) -> auto& { return o.patches; }),
         integerField<O>("seed", "", "seed", "--seed", "seed of the patch choice",
                         R::closed(0, std::numeric_limits<uint32_t>::max()), [](auto& o) -> auto& { return o.seed; }),
-        // More than any detector finds on a photo; the pool's keypoints are held per image.
+        // The detectors reserve room for the whole budget up front (INT_MAX reserved 26 GB in
+        // OpenCV's), and the pool's keypoints are held per image.
         integerField<O>("keypointsPerImage", "", "keypoints_per_image", "--keypoints-per-image",
-                        "detector budget per image", R::closed(1, 100000),
+                        "detector budget per image", R::closed(1, kMaxKeypointsPerImage),
                         [](auto& o) -> auto& { return o.keypointsPerImage; }),
         flagField<O>("renderThroughCamera", "", "render_through_camera", "--render-through-camera",
                      "use each photo as a plane seen through the camera (synthetic fisheye images)",

@@ -8,10 +8,12 @@
 #include <unistd.h>
 
 #include "patchextract/patch_extraction.hpp"
+#include "toolkit/opencv_log.hpp"
 #include "toolkit/option_flags.hpp"
 #include "toolkit/progress_reporter.hpp"
 
 int main(int argc, char** argv) {
+  mdbrief::silenceOpenCvLogUnlessAsked();
   using namespace mdbrief::train;
   std::string out;
   std::vector<std::string> heldOut;

@@ -14,13 +14,18 @@
 
 namespace mdbrief::train {
 
+// The largest detector budget per image (the upper bound of its field in
+// extractionOptionFields()): the detectors reserve room for the whole budget up front, and no
+// image has more corners than this.
+inline constexpr int kMaxKeypointsPerImage = 1'000'000;
+
 struct ExtractionOptions {
   std::vector<std::filesystem::path> imageDirs;  // searched recursively
   DetectorKind detector = DetectorKind::Orb;
   size_t patches = 20000;        // budget; fewer when the images do not have that many keypoints
   uint32_t seed = 1;             // drives the choice of keypoints within each image
   std::string cameraPath;        // calibration (mdbrief/camera_io.hpp); empty = perspective
-  int keypointsPerImage = 1000;  // detector budget per image, the pool patches are drawn from
+  int keypointsPerImage = 1000;  // detector budget per image, the pool patches are drawn from; 1..kMaxKeypointsPerImage
   // Fisheye training without fisheye photos: each image becomes the texture of a
   // fronto-parallel plane seen through the camera (renderPlane, 2x2 supersampling), its width
   // spanning +-renderHalfFovDeg, and keypoints are detected on that rendering. Needs cameraPath.

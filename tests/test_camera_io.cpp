@@ -296,6 +296,17 @@ TEST_F(BrokenFiles, ErrorsNameTheFileAndTheKey) {
   expectError("does_not_exist_dir/x.yaml", "", "camera file: no such file");
 }
 
+// A 2 GB file took 12.6 GB of memory in yaml-cpp before std::bad_alloc: anything over 1 MiB is
+// refused unparsed; a valid calibration padded to exactly 1 MiB still loads.
+TEST_F(BrokenFiles, FilesOverOneMebibyteAreRefusedUnparsed) {
+  const std::string camera = kPinholeHead + "fx: 377\nfy: 377\ncx: 380\ncy: 240\n#";
+  const std::string padded = camera + std::string((1 << 20) - camera.size() - 1, 'x') + "\n";
+  ASSERT_EQ(padded.size(), 1u << 20);
+  std::ofstream(dir_ / "limit.yaml") << padded;
+  EXPECT_EQ(loadCamera((dir_ / "limit.yaml").string())->modelName(), "pinhole");
+  expectError("over.yaml", padded + " ", "larger than 1 MiB");
+}
+
 // Files that parse but describe no lens: the error names the parameters and their values.
 TEST_F(BrokenFiles, NonsenseModelsAreRejected) {
   const std::string kbHead = "model: kannala_brandt\nwidth: 752\nheight: 480\nfx: 461\nfy: 460\ncx: 366\ncy: 249\n";

@@ -119,6 +119,21 @@ TEST(CameraModels, RaysOutsideTheModelAreRejected) {
   EXPECT_FALSE(OcamCamera(lafidaParams()).bearingToPixel({0, 0, -1}, p));
 }
 
+// A ray's length is free, but its squared components overflow or underflow at the extremes:
+// a model may then give no pixel, never an infinite or NaN one reported as a pixel.
+TEST(CameraModels, ExtremeRayLengthsGiveAFinitePixelOrNone) {
+  for (const NamedCamera& c : allCameras()) {
+    SCOPED_TRACE(c.name);
+    for (const double length : {1e-300, 1e-160, 1e160, 1e300, 1.7e308})
+      for (const cv::Vec3d& ray : {cv::Vec3d(1, 1, 1), cv::Vec3d(0, 0, 1), cv::Vec3d(0.3, -0.2, 1)}) {
+        cv::Point2d p;
+        if (c.camera->bearingToPixel(ray * (length / cv::norm(ray, cv::NORM_INF)), p)) {
+          EXPECT_TRUE(std::isfinite(p.x) && std::isfinite(p.y)) << length << " " << ray << " -> " << p;
+        }
+      }
+  }
+}
+
 TEST(CameraModels, PinholePrincipalPointAndClosedForm) {
   const PinholeCamera cam(CameraIntrinsics{640, 480, 500.0, 400.0, 320.0, 240.0});
   cv::Vec3d b;

@@ -3,6 +3,8 @@
 // message naming the file or flag at fault).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -558,6 +560,81 @@ TEST_F(CliTest, InputsThatAreNotFilesAreNamedForWhatTheyAre) {
     expectOneLineNaming(r, message);
     EXPECT_EQ(r.err.find("no such file"), std::string::npos) << r.err;
   }
+}
+
+// OpenCV logged "[ERROR:0@0.035] ... Can't open file: '/proc/.o.tmp<pid>-0.yml' in write mode"
+// before the tool's message, naming the temporary file. /proc takes no new file, even from root.
+TEST_F(CliTest, OpenCvLogsNothingBeforeTheToolsMessage) {
+  REQUIRE_IMAGE(image, "view.png");
+  if (!fs::is_directory("/proc/self")) GTEST_SKIP() << "no /proc";
+  ::unsetenv("OPENCV_LOG_LEVEL");
+  for (const std::string& out : std::vector<std::string>{"/proc/o.yml", "/proc/o.yml.gz"}) {
+    const Result r = run({"extract", "--camera", kCamera, image, "-o", out});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_EQ(r.err.rfind("mdbrief: " + out + ": ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+}
+
+// --conformal without a camera was ignored: the output was byte-identical to a run without it.
+TEST_F(CliTest, ConformalWithoutACameraIsRefused) {
+  REQUIRE_IMAGE(image, "view.png");
+  for (const char* command : {"extract", "draw"}) {
+    const std::string out = path(std::string(command) == "draw" ? "o.png" : "o.yml");
+    expectOneLineNaming(run({command, "--descriptor", "brief", "--conformal", image, "-o", out}), "--conformal");
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
+// A camera that leaves almost nothing describable gave 0 keypoints and exit 0 with no word: the
+// run still succeeds, with a warning naming the calibration. A usable camera gives none.
+TEST_F(CliTest, CameraWithAlmostNoDescribableAreaIsWarnedAbout) {
+  REQUIRE_IMAGE(image, "view.png");
+  const Result usable = run({"extract", "--camera", kCamera, image, "-o", path("o.yml")});
+  ASSERT_EQ(usable.code, 0) << usable.err;
+  EXPECT_EQ(usable.err.find("warning"), std::string::npos) << usable.err;
+  // Every pixel of a 1e-9 px focal length is at 90 degrees from the axis: nothing for dBRIEF.
+  std::ofstream(path("tiny_focal.yaml")) << "model: pinhole\nwidth: 754\nheight: 480\nfx: 1e-9\nfy: 1e-9\n"
+                                            "cx: 377\ncy: 240\n";
+  // An image circle of 20 pixels, about 0.3 % of the image.
+  std::ifstream camIn(kCamera);
+  std::string cam((std::istreambuf_iterator<char>(camIn)), std::istreambuf_iterator<char>());
+  cam.replace(cam.find("valid_radius: "), 14, "valid_radius: 20 #");
+  std::ofstream(path("tiny_circle.yaml")) << cam;
+  for (const std::string& camera : {path("tiny_focal.yaml"), path("tiny_circle.yaml")}) {
+    const Result r = run({"extract", "--camera", camera, image, "-o", path("o.yml")});
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("warning: " + camera + ": keypoints can be described on 0."), std::string::npos) << r.err;
+  }
+  // The incidence bound is the run's own (--max-incidence-deg), not the default's.
+  const Result narrow = run({"extract", "--camera", kCamera, "--max-incidence-deg", "5", image, "-o", path("o.yml")});
+  EXPECT_EQ(narrow.code, 0) << narrow.err;
+  EXPECT_NE(narrow.err.find("warning: " + kCamera + ": keypoints can be described on "), std::string::npos)
+      << narrow.err;
+  EXPECT_NE(narrow.err.find("rays within 5 degrees of the optical axis"), std::string::npos) << narrow.err;
+  // BRIEF does not use the model: the pinhole's whole image is describable.
+  const Result brief = run({"extract", "--descriptor", "brief", "--camera", path("tiny_focal.yaml"), image, "-o",
+                            path("o.yml")});
+  EXPECT_EQ(brief.code, 0) << brief.err;
+  EXPECT_EQ(brief.err.find("warning"), std::string::npos) << brief.err;
+}
+
+// Descriptors of no bytes matched every pair at distance 0 (exit 0); a file of no descriptors
+// (an image without keypoints) stays valid.
+TEST_F(CliTest, MatchRefusesDescriptorsOfNoBytes) {
+  for (const char* name : {"none.yml", "none.xml", "none.yml.gz"}) {
+    {
+      cv::FileStorage storage(path(name), cv::FileStorage::WRITE);
+      storage << "descriptors" << cv::Mat(5, 0, CV_8UC1);
+    }
+    expectOneLineNaming(run({"match", path(name), path(name), "-o", path("m.yml")}), "got 5 x 0");
+  }
+  EXPECT_FALSE(fs::exists(path("m.yml")));
+  {
+    cv::FileStorage storage(path("empty.yml"), cv::FileStorage::WRITE);
+    storage << "descriptors" << cv::Mat();
+  }
+  EXPECT_EQ(run({"match", path("empty.yml"), path("empty.yml"), "-o", path("m.yml")}).code, 0);
 }
 
 }  // namespace

@@ -128,6 +128,35 @@ TEST(Brief, KeypointsFromOutsideAreDescribedBySizeOrDropped) {
   EXPECT_EQ(kps[1].octave, -3);
 }
 
+// A footprint under one input pixel compares one interpolated value with itself: all zeros,
+// all stable, and two such keypoints anywhere would match at distance 0. They are dropped.
+TEST(Brief, KeypointsWhoseFootprintIsUnderOnePixelAreDropped) {
+  const TestSet tests = randomTests(256, 5);
+  const ImagePyramid pyramid(horizontalRamp(), PyramidOptions{});
+  for (const DescriptorKind kind : {DescriptorKind::Brief, DescriptorKind::MaskedBrief}) {
+    for (const double supportScale : {1.0, 4.0}) {
+      auto o = briefOptions(256);
+      o.kind = kind;
+      o.supportScale = supportScale;
+      const auto footprint = [&](double pixels) { return static_cast<float>(pixels / supportScale); };
+      std::vector<cv::KeyPoint> kps{
+          cv::KeyPoint(100, 100, 1e-30f, 0, 1, 0),            // dropped
+          cv::KeyPoint(110, 100, footprint(0.99), 0, 1, 0),   // dropped
+          cv::KeyPoint(120, 100, footprint(1.0), 0, 1, 0),    // kept
+          cv::KeyPoint(130, 100, footprint(31.0), 0, 1, 0),   // kept
+      };
+      cv::Mat desc, masks;
+      DescriptorExtractor(nullptr, o, tests).compute(pyramid, kps, desc, masks);
+      ASSERT_EQ(kps.size(), 2u) << toString(kind) << " supportScale " << supportScale;
+      EXPECT_EQ(kps[0].pt.x, 120.f);
+      EXPECT_EQ(kps[1].pt.x, 130.f);
+      EXPECT_TRUE(DescriptorExtractor(nullptr, o, tests)
+                      .testPositions(pyramid, cv::KeyPoint(100, 100, 1e-30f, 0, 1, 0))
+                      .empty());
+    }
+  }
+}
+
 // The same keypoint at sizes s and 1.2 s samples a footprint 1.2 x wider, whichever levels the
 // two sizes fall on; supportScale scales it the same way.
 TEST(Brief, FootprintIsProportionalToTheKeypointSize) {

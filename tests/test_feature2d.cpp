@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <limits>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/features2d.hpp>
@@ -83,6 +84,29 @@ TEST(MdBriefFeature2D, DetectThenComputeEqualsDetectAndCompute) {
   EXPECT_EQ(da.type(), CV_8UC1);
   EXPECT_EQ(cv::norm(da, db, cv::NORM_HAMMING), 0.0);
   for (size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a[i].pt, b[i].pt);
+}
+
+// The level follows the size (DescriptorOptions::supportScale), so the octave a keypoint comes
+// with, from another detector or none, changes nothing; an extreme one must not overflow either.
+TEST(MdBriefFeature2D, GivenKeypointsAreDescribedByTheirSizeWhateverTheirOctave) {
+  const CameraPtr camera = fisheyeCamera();
+  const cv::Mat image = fisheyeImage(*camera);
+  if (image.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  const cv::Ptr<MdBrief> f = MdBrief::create(camera);
+  std::vector<cv::KeyPoint> detected;
+  cv::Mat expected;
+  f->detectAndCompute(image, cv::noArray(), detected, expected);
+  int above0 = 0;
+  for (const auto& k : detected) above0 += k.octave > 0;
+  ASSERT_GT(above0, 100);
+  for (const int octave : {0, -5, std::numeric_limits<int>::max(), std::numeric_limits<int>::min()}) {
+    std::vector<cv::KeyPoint> given = detected;
+    for (auto& k : given) k.octave = octave;
+    cv::Mat d;
+    f->compute(image, given, d);
+    ASSERT_EQ(given.size(), detected.size()) << "octave " << octave;
+    EXPECT_EQ(cv::norm(d, expected, cv::NORM_HAMMING), 0.0) << "octave " << octave;
+  }
 }
 
 TEST(MdBriefFeature2D, MasksOnlyForMdBriefAndAlignedWithKeypoints) {

@@ -352,6 +352,15 @@ void expectInvalid(F&& f, const std::string& expectedInMessage) {
   }
 }
 
+// N x 0 is not "no descriptors" but N descriptors of no bits: every pair would match at 0.
+TEST(Matcher, RowsOfNoBytesAreRefused) {
+  const cv::Mat none(5, 0, CV_8UC1), d32(5, 32, CV_8UC1, cv::Scalar(0));
+  expectInvalid([&] { mdbrief::matchBruteForce(none, none); }, "query: descriptor width");
+  expectInvalid([&] { mdbrief::matchBruteForce(d32, none); }, "train: descriptor width");
+  expectInvalid([&] { mdbrief::matchBruteForceMasked(none, none, none, none); }, "query: descriptor width");
+  EXPECT_TRUE(mdbrief::matchBruteForce(cv::Mat(0, 0, CV_8UC1), d32).empty());
+}
+
 TEST(Matcher, InvalidInputsThrow) {
   const cv::Mat d32(5, 32, CV_8UC1, cv::Scalar(0));
   const cv::Mat d16(5, 16, CV_8UC1, cv::Scalar(0));

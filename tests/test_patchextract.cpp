@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numeric>
 
 #include <gtest/gtest.h>
@@ -167,6 +168,21 @@ TEST(Extraction, SpreadsOverImagesSkipsBrokenFilesAndIsDeterministic) {
   ExtractionReport r3;
   const PatchSet c = extractPatches(o, r3);
   EXPECT_NE(a.pixels, c.pixels) << "another seed picks other keypoints";
+}
+
+TEST(Extraction, KeypointBudgetIsBoundedBeforeAnyImageIsRead) {
+  ExtractionOptions o;
+  o.imageDirs = {"/nonexistent"};
+  for (const int budget : {0, kMaxKeypointsPerImage + 1, std::numeric_limits<int>::max()}) {
+    o.keypointsPerImage = budget;
+    ExtractionReport r;
+    try {
+      extractPatches(o, r);
+      ADD_FAILURE() << budget << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("keypointsPerImage"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(PatchFile, RoundTripAndBrokenFiles) {

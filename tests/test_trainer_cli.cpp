@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "mdbrief/patterns.hpp"
+#include "patchextract/patch_extraction.hpp"
 #include "patchextract/patch_set.hpp"
 #include "patchextract/image_digest.hpp"
 #include "test_data.hpp"
@@ -117,6 +118,18 @@ TEST(TrainCli, HelpNamesTheProgramAndListsTheChoices) {
   EXPECT_NE(r.out.find("{orb,akaze,surf}"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("{paper,stability,separation}=separation"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("--pool"), std::string::npos) << "every selection option is a flag";
+}
+
+// The detectors reserve room for the whole budget: INT_MAX asked OpenCV for 26 GB.
+TEST(TrainCli, KeypointBudgetBeyondTheLimitIsRefusedBeforeAnyImageIsRead) {
+  TempDir dir("budget");
+  const std::string o = dir.path.string();
+  for (const std::string& budget : std::vector<std::string>{"2147483647", std::to_string(kMaxKeypointsPerImage + 1), "0", "-5"}) {
+    const CliRun r = runTrain({"--images", (dir.path / "missing").string(), "--keypoints-per-image", budget, "--out", o});
+    EXPECT_EQ(r.code, 2) << budget;
+    EXPECT_NE(r.err.find("--keypoints-per-image"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("missing"), std::string::npos) << "checked before the images: " << r.err;
+  }
 }
 
 TEST(TrainCli, CriteriaThatNeedPairsRefuseAPatchFileWithout) {

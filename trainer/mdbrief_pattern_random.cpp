@@ -6,10 +6,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include "toolkit/opencv_log.hpp"
 #include "toolkit/pattern_writer.hpp"
 #include "trainer/random_pattern.hpp"
 
 int main(int argc, char** argv) {
+  mdbrief::silenceOpenCvLogUnlessAsked();
   mdbrief::train::RandomPatternOptions options;
   std::filesystem::path out = "patterns";
   bool makeDefault = false;

@@ -453,14 +453,21 @@ std::shared_ptr<Camera> loadOcamText(const std::string& path, const std::string&
   return makeOcam(path, p);
 }
 
+// A calibration is a few hundred bytes. Reading stops one byte past the limit, so a huge file
+// (a 2 GB one took 12.6 GB in yaml-cpp before std::bad_alloc) or an endless one is refused at once.
+constexpr std::size_t kMaxCameraFileBytes = std::size_t{1} << 20;
+
 std::string readText(const std::string& path) {
   if (const std::string problem = internal::inputFileProblem(path); !problem.empty())
     throw std::runtime_error(path + ": camera file: " + problem);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot open camera file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  std::string text(kMaxCameraFileBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxCameraFileBytes)
+    throw std::runtime_error(path + ": larger than 1 MiB, which no calibration file is");
+  return text;
 }
 
 }  // namespace

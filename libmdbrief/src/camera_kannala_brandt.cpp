@@ -64,7 +64,7 @@ bool KannalaBrandtCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel)
   }
   const double s = thetaD(t) / r;
   pixel = {k.fx * b[0] * s + k.cx, k.fy * b[1] * s + k.cy};
-  return true;
+  return std::isfinite(pixel.x) && std::isfinite(pixel.y);  // b near DBL_MAX: fx * b[0] overflows
 }
 
 bool KannalaBrandtCamera::isValid(const cv::Point2d& pixel) const {

@@ -222,14 +222,16 @@ constexpr double kReferenceSize = 31.0;
 // Where a keypoint is sampled: the pyramid level whose scale is nearest (in log) to the
 // footprint's, and the footprint relative to that level (1 when it is the level's own).
 struct Support {
-  int level = -1;  // -1: the size is not a positive finite number
+  int level = -1;  // -1: the size is not finite or the footprint is under one pixel
   double fraction = 1.0;
 };
 
-// The tests' 31-pixel diameter spans supportScale * size level-0 pixels.
+// The tests' 31-pixel diameter spans supportScale * size input pixels.
 Support supportOf(float size, double supportScale, const std::vector<double>& scales) {
   const double s = supportScale * static_cast<double>(size) / kReferenceSize;
-  if (!(s > 0.0) || !std::isfinite(s)) return {};
+  // Under one pixel every test compares nearly the same interpolated value: all zeros, all
+  // stable, and any two such keypoints would match at distance 0.
+  if (!(s * kReferenceSize >= 1.0) || !std::isfinite(s)) return {};
   Support out;
   double best = std::numeric_limits<double>::infinity();
   for (int k = 0; k < static_cast<int>(scales.size()); ++k)
@@ -433,12 +435,16 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
 void DescriptorExtractor::compute(const cv::Mat& image, std::vector<cv::KeyPoint>& keypoints,
                                   cv::OutputArray descriptors, cv::OutputArray masks,
                                   const PyramidOptions& pyramidOptions) const {
-  validate(pyramidOptions);  // pyramidScales() needs at least one level
-  int levels = 1;
-  const std::vector<double> scales = pyramidScales(pyramidOptions);
-  for (const auto& kp : keypoints) levels = std::max(levels, supportOf(kp.size, options_.supportScale, scales).level + 1);
-  const ImagePyramid pyramid(image, pyramidOptions, levels);
+  const ImagePyramid pyramid(image, pyramidOptions, levelsFor(keypoints, pyramidOptions));
   compute(pyramid, keypoints, descriptors, masks);
+}
+
+int DescriptorExtractor::levelsFor(const std::vector<cv::KeyPoint>& keypoints, const PyramidOptions& pyramid) const {
+  validate(pyramid);  // pyramidScales() needs at least one level
+  int levels = 1;
+  const std::vector<double> scales = pyramidScales(pyramid);
+  for (const auto& kp : keypoints) levels = std::max(levels, supportOf(kp.size, options_.supportScale, scales).level + 1);
+  return levels;
 }
 
 std::vector<std::pair<cv::Point2f, cv::Point2f>> DescriptorExtractor::testPositions(

@@ -1,6 +1,5 @@
 #include "mdbrief/feature2d.hpp"
 
-#include <algorithm>
 #include <stdexcept>
 #include <utility>
 
@@ -68,12 +67,9 @@ void MdBrief::detectAndComputeWithMasks(cv::InputArray image, cv::InputArray mas
   const bool describe = descriptors.needed() || masks.needed();
   if (useProvidedKeypoints && !describe) return;
 
-  // One pyramid for both steps; describing given keypoints only needs the levels they use.
-  int levels = -1;
-  if (useProvidedKeypoints) {
-    levels = 1;
-    for (const auto& kp : keypoints) levels = std::max(levels, kp.octave + 1);
-  }
+  // One pyramid for both steps; describing given keypoints only needs the levels their sizes
+  // fall on (their octave is not read: it may come from another detector's pyramid).
+  const int levels = useProvidedKeypoints ? extractor_.levelsFor(keypoints, options_.detector.pyramid) : -1;
   const ImagePyramid pyramid(img, options_.detector.pyramid, levels);  // converts colour input
   // A descriptor that re-measures the angle overwrites the detector's: skip measuring it twice.
   if (!useProvidedKeypoints)

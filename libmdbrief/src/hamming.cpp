@@ -8,7 +8,7 @@
 namespace mdbrief {
 
 void validateDescriptorMatrix(const cv::Mat& m, const std::string& name) {
-  if (m.empty()) return;
+  if (m.rows == 0) return;  // no descriptors (0 x 0 or 0 x bytes); N x 0 is refused below
   if (m.type() != CV_8UC1) {
     throw std::invalid_argument(name + ": descriptors must be CV_8UC1, got " +
                                 cv::typeToString(m.type()));

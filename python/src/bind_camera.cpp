@@ -39,11 +39,25 @@ py::array_t<double> pixelToBearing(const Camera& camera, const py::handle& pixel
   });
 }
 
+// The models square a ray's components, which overflows or underflows at the extremes of double
+// (Camera::bearingToPixel): such a ray is scaled to a largest component of 1, which keeps its
+// direction. Others are passed unchanged, so the pixels are the C++ library's bit for bit.
+bool scaledRay(const double* b, cv::Vec3d& ray) {
+  const double largest = std::max({std::abs(b[0]), std::abs(b[1]), std::abs(b[2])});
+  // NaN compares false, so the largest component alone does not show one.
+  if (!(largest > 0) || !std::isfinite(largest) || std::isnan(b[0]) || std::isnan(b[1]) || std::isnan(b[2]))
+    return false;
+  ray = cv::Vec3d(b[0], b[1], b[2]);
+  // Divided one by one: cv::Vec's /= multiplies by 1 / largest, infinite for a subnormal ray.
+  if (largest > 1e150 || largest < 1e-150) ray = cv::Vec3d(b[0] / largest, b[1] / largest, b[2] / largest);
+  return true;
+}
+
 py::array_t<double> bearingToPixel(const Camera& camera, const py::handle& bearings) {
   return mapPoints<3, 2>(bearings, "bearings", [&](const double* b, double* out) {
-    const cv::Vec3d ray(b[0], b[1], b[2]);
+    cv::Vec3d ray;
     cv::Point2d pixel;
-    if (!(cv::norm(ray) > 0) || !camera.bearingToPixel(ray, pixel)) return false;
+    if (!scaledRay(b, ray) || !camera.bearingToPixel(ray, pixel)) return false;
     out[0] = pixel.x, out[1] = pixel.y;
     return true;
   });
@@ -78,7 +92,7 @@ Create one with mdbrief.load_camera(path).)doc")
            "(N, 2) pixels -> (N, 3) unit bearings; a row of NaN where the model has no inverse.\n"
            "A single (2,) pixel gives a (3,) bearing.")
       .def("bearing_to_pixel", &bearingToPixel, py::arg("bearings"),
-           "(N, 3) rays (any non-zero length) -> (N, 2) pixels; a row of NaN where the model\n"
+           "(N, 3) rays (any finite non-zero length) -> (N, 2) pixels; a row of NaN where the model\n"
            "cannot project the ray. The pixel may lie outside the image: see is_valid.")
       .def("is_valid", &isValid, py::arg("pixels"),
            "(N, 2) pixels -> (N,) bool: inside the image and the lens' usable area.")
@@ -89,8 +103,8 @@ Create one with mdbrief.load_camera(path).)doc")
           "to_yaml", [](const Camera& c) { return cameraToYaml(c); },
           "The calibration in the project's YAML schema (configs/cameras/README.md).")
       .def(
-          "save", [](const Camera& c, const std::string& path) { saveCamera(c, path); }, py::arg("path"),
-          "Writes to_yaml() to path atomically.")
+          "save", [](const Camera& c, const py::handle& path) { saveCamera(c, pathFrom(path, "path")); },
+          py::arg("path"), "Writes to_yaml() to path (str, bytes or os.PathLike) atomically.")
       .def("__repr__", [](const Camera& c) {
         return "<mdbrief.Camera " + c.modelName() + " " + std::to_string(c.imageSize().width) + "x" +
                std::to_string(c.imageSize().height) + ">";
@@ -98,7 +112,8 @@ Create one with mdbrief.load_camera(path).)doc")
 
   m.def(
       "load_camera",
-      [](const std::string& path) -> std::shared_ptr<Camera> {
+      [](const py::handle& pathArgument) -> std::shared_ptr<Camera> {
+        const std::string path = pathFrom(pathArgument, "path");
         requireFile(path);
         try {
           return loadCamera(path);
@@ -107,9 +122,9 @@ Create one with mdbrief.load_camera(path).)doc")
         }
       },
       py::arg("path"), R"doc(
-Reads a calibration, recognising the format from the content: the project's YAML, OCamCalib's
-calib_results.txt, or a fisheye-calib-adapter YAML. Raises FileNotFoundError for a missing file
-and ValueError naming the key for a bad one.)doc");
+Reads a calibration (path: str, bytes or os.PathLike), recognising the format from the content:
+the project's YAML, OCamCalib's calib_results.txt, or a fisheye-calib-adapter YAML. Raises
+FileNotFoundError for a missing file and ValueError naming the key for a bad one.)doc");
 }
 
 }  // namespace mdbrief::python

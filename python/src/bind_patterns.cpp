@@ -26,7 +26,8 @@ py::array_t<int8_t> testsArray(const TestSet& set) {
   return out;
 }
 
-TestSet loadPattern(const std::string& nameOrPath) {
+TestSet loadPattern(const py::handle& argument) {
+  const std::string nameOrPath = pathFrom(argument, "name_or_path");
   const auto names = builtinTestSetNames();
   if (std::find(names.begin(), names.end(), nameOrPath) == names.end()) requireFile(nameOrPath);
   try {
@@ -49,11 +50,6 @@ struct TemporaryFolder {
     fs::remove_all(path, ec);
   }
 };
-
-[[noreturn]] void raiseFileNotFound(const char* what, const std::string& path) {
-  PyErr_SetObject(PyExc_FileNotFoundError, py::make_tuple(2, what, path).ptr());
-  throw py::error_already_set();
-}
 
 // mdbrief.train(**options): TrainOptions from the keywords of its field table, plus `verbose`;
 // camera may also be an mdbrief.Camera (saved to a temporary calibration file).
@@ -81,7 +77,7 @@ TestSet train(const py::kwargs& kwargs) {
   // Missing inputs are FileNotFoundError, as Python's own file functions raise.
   for (const auto& folder : o.extraction.imageDirs) {
     std::error_code ec;
-    if (!fs::is_directory(folder, ec)) raiseFileNotFound("No such image folder", folder.string());
+    if (!fs::is_directory(folder, ec)) raiseFileNotFound(folder.string(), "No such image folder");
   }
   if (!o.extraction.cameraPath.empty()) requireFile(o.extraction.cameraPath);
   if (!o.patchesFile.empty()) requireFile(o.patchesFile);
@@ -111,6 +107,7 @@ std::string trainDoc() {
          "Off-line learning, as mdbrief-train runs it (docs/training.md); the same options and seed give the\n"
          "same test set, byte for byte. Returns the TestSet. With out (a patterns folder), also writes\n"
          "<name>.hpp, <name>.json and registry.hpp there. camera: a calibration path or an mdbrief.Camera.\n"
+         "Paths may be str, bytes or os.PathLike (images and held_out: one, or a list).\n"
          "verbose=True prints mdbrief-train's summary. The options and their defaults (None = the default):\n\n" +
          keywordDoc(train::trainOptionFields(), train::TrainOptions{}) +
          "\nRaises FileNotFoundError for a missing folder or file, ValueError naming the keyword, its range\n"
@@ -143,8 +140,8 @@ void bindPatterns(py::module_& m) {
   m.def("patterns", &builtinTestSetNames, "Names of the compiled-in test sets, sorted.");
   m.def("default_pattern", &defaultTestSetName, "The set MdBrief uses when pattern is ''.");
   m.def("load_pattern", &loadPattern, py::arg("name_or_path"),
-        "A compiled-in set by name, or a JSON test set file (as mdbrief-train writes). The same\n"
-        "string works as MdBrief(camera, pattern=...).");
+        "A compiled-in set by name, or a JSON test set file (str, bytes or os.PathLike, as\n"
+        "mdbrief-train writes it). The same works as MdBrief(camera, pattern=...).");
   m.def("train", &train, trainDoc().c_str());
 }
 

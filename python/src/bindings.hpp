@@ -13,5 +13,7 @@ void bindMatching(py::module_& m);
 void bindOptions(py::module_& m);
 void bindPatterns(py::module_& m);
 void bindSimdLevel(py::module_& m);
+// Registers the module's translation of C++ exceptions (exception_translation.cpp).
+void translateExceptions();
 
 }  // namespace mdbrief::python

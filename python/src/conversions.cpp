@@ -23,6 +23,10 @@ py::array asArray(const py::handle& object, const char* argument) {
   return py::reinterpret_borrow<py::array>(object);
 }
 
+// cv::Mat has no read-only form; the library only reads its inputs, so a read-only array's
+// memory is shared as it is.
+uint8_t* sharedData(const py::array_t<uint8_t, py::array::c_style>& a) { return const_cast<uint8_t*>(a.data()); }
+
 // dtype is checked first: a float image converted silently would describe other pixels.
 py::array_t<uint8_t, py::array::c_style> uint8Array(const py::handle& object, const char* argument) {
   const py::array a = asArray(object, argument);
@@ -54,7 +58,7 @@ cv::Mat imageFromArray(const py::handle& object, const char* argument, py::objec
   }
   keep = a;
   return cv::Mat(static_cast<int>(a.shape(0)), static_cast<int>(a.shape(1)),
-                 CV_8UC(grey ? 1 : static_cast<int>(a.shape(2))), a.mutable_data());
+                 CV_8UC(grey ? 1 : static_cast<int>(a.shape(2))), sharedData(a));
 }
 
 cv::Mat descriptorsFromArray(const py::handle& object, const char* argument, py::object& keep) {
@@ -62,7 +66,7 @@ cv::Mat descriptorsFromArray(const py::handle& object, const char* argument, py:
   if (a.ndim() != 2) throw py::value_error(std::string(argument) + " must have shape (N, bytes), got " + shapeText(a));
   keep = a;
   if (a.shape(0) == 0) return cv::Mat(0, static_cast<int>(a.shape(1)), CV_8UC1);
-  return cv::Mat(static_cast<int>(a.shape(0)), static_cast<int>(a.shape(1)), CV_8UC1, a.mutable_data());
+  return cv::Mat(static_cast<int>(a.shape(0)), static_cast<int>(a.shape(1)), CV_8UC1, sharedData(a));
 }
 
 py::array_t<uint8_t> arrayFromMat(const cv::Mat& mat, int cols) {
@@ -100,8 +104,13 @@ std::vector<cv::KeyPoint> keypointsFromPython(const py::handle& sequence, const 
     out[i] = cv2Type && Py_TYPE(k.ptr()) == cv2Type ? Cv2Value<cv::KeyPoint>::read(k.ptr())
                                                      : keypointFromAttributes(k.ptr(), ok);
     if (!ok) {
+      const std::string where = std::string(argument) + "[" + std::to_string(i) + "]";
+      if (PyErr_ExceptionMatches(PyExc_OverflowError)) {
+        const py::error_already_set range;
+        throw py::value_error(where + "." + std::string(py::str(range.value())));
+      }
       PyErr_Clear();
-      throw py::type_error(std::string(argument) + "[" + std::to_string(i) + "] is not a cv2.KeyPoint");
+      throw py::type_error(where + " is not a cv2.KeyPoint");
     }
   }
   return out;
@@ -156,6 +165,33 @@ py::array matchesToArray(const std::vector<cv::DMatch>& matches) {
   return out;
 }
 
+bool isPath(const py::handle& object) {
+  static const py::handle pathLike = py::object(py::module_::import("os").attr("PathLike")).release();
+  return py::isinstance<py::str>(object) || py::isinstance<py::bytes>(object) || py::isinstance(object, pathLike);
+}
+
+std::string pathFrom(const py::handle& object, const char* argument) {
+  static const py::handle fsencode = py::object(py::module_::import("os").attr("fsencode")).release();
+  if (!isPath(object))
+    throw py::type_error(std::string(argument) + " must be a path (str, bytes or os.PathLike), got " +
+                         std::string(py::str(py::type::handle_of(object).attr("__name__"))));
+  std::string path = py::bytes(fsencode(object));
+  if (path.find('\0') != std::string::npos)
+    throw py::value_error(std::string(argument) + " holds a NUL byte, which no file name can hold");
+  return path;
+}
+
+py::str pathText(const std::string& path) {
+  PyObject* text = PyUnicode_DecodeFSDefaultAndSize(path.data(), static_cast<py::ssize_t>(path.size()));
+  if (!text) throw py::error_already_set();
+  return py::reinterpret_steal<py::str>(text);
+}
+
+void raiseFileNotFound(const std::string& path, const char* reason) {
+  PyErr_SetObject(PyExc_FileNotFoundError, py::make_tuple(2, reason, pathText(path)).ptr());
+  throw py::error_already_set();
+}
+
 void requireFile(const std::string& path) {
   const std::string problem = internal::inputFileProblem(path);
   if (problem.empty()) return;
@@ -163,7 +199,7 @@ void requireFile(const std::string& path) {
   // IsADirectoryError, PermissionError; a FIFO or a device is a plain OSError.
   struct stat info {};
   const int error = ::stat(path.c_str(), &info) != 0 ? errno : S_ISDIR(info.st_mode) ? EISDIR : EINVAL;
-  PyErr_SetObject(PyExc_OSError, py::make_tuple(error, problem, path).ptr());
+  PyErr_SetObject(PyExc_OSError, py::make_tuple(error, problem, pathText(path)).ptr());
   throw py::error_already_set();
 }
 

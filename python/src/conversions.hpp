@@ -14,11 +14,13 @@ namespace mdbrief::python {
 namespace py = pybind11;
 
 // A uint8 image, (H, W) grey or (H, W, 3|4) BGR(A), as a cv::Mat that shares the array's memory
-// (the array is made C-contiguous first if it is not; `keep` holds it alive). None or an empty
-// array only where `allowNone` (then an empty Mat).
+// (the array is made C-contiguous first if it is not; `keep` holds it alive). Read-only arrays
+// are taken as they are: the library never writes its inputs. None or an empty array only where
+// `allowNone` (then an empty Mat).
 cv::Mat imageFromArray(const py::handle& object, const char* argument, py::object& keep, bool allowNone = false);
 
-// (N, bytes) uint8 descriptors or masks, as a cv::Mat sharing the memory (`keep` holds it).
+// (N, bytes) uint8 descriptors or masks, as a cv::Mat sharing the memory (`keep` holds it;
+// read-only arrays too, as for images).
 cv::Mat descriptorsFromArray(const py::handle& object, const char* argument, py::object& keep);
 
 // A copy of a CV_8UC1 matrix as an (N, cols) uint8 array; an empty matrix gives shape (0, cols).
@@ -29,15 +31,27 @@ py::array_t<uint8_t> arrayFromMat(const cv::Mat& mat, int cols);
 py::array_t<double, py::array::c_style> pointsFromArray(const py::handle& object, int k, const char* argument,
                                                         bool& single);
 
-// cv2.KeyPoint objects (anything with pt, size, angle, response, octave, class_id) and back.
+// cv2.KeyPoint objects (anything with pt, size, angle, response, octave, class_id) and back. An
+// octave or class_id outside the C int range raises ValueError naming the keypoint.
 std::vector<cv::KeyPoint> keypointsFromPython(const py::handle& sequence, const char* argument);
 py::list keypointsToPython(const std::vector<cv::KeyPoint>& keypoints);
 py::list matchesToPython(const std::vector<cv::DMatch>& matches);
 // The same as a structured array: query_idx, train_idx (int32), distance (float32).
 py::array matchesToArray(const std::vector<cv::DMatch>& matches);
 
-// Raises OSError naming the path and the reason unless it is an existing regular file:
-// FileNotFoundError when nothing is there, IsADirectoryError for a folder.
+// A path argument (str, bytes or os.PathLike) as the file system's bytes (os.fsencode). Raises
+// TypeError for anything else and ValueError for a path holding a NUL byte, which the C++ side
+// would cut there.
+std::string pathFrom(const py::handle& object, const char* argument);
+// Whether pathFrom takes `object` as one path (not as a sequence of them).
+bool isPath(const py::handle& object);
+// A path back as str, decoded as the file system spells it (os.fsdecode): any bytes decode.
+py::str pathText(const std::string& path);
+
+// Raises OSError naming the path (as pathText gives it) and the reason unless it is an existing
+// regular file: FileNotFoundError when nothing is there, IsADirectoryError for a folder.
 void requireFile(const std::string& path);
+// Raises FileNotFoundError (`reason`, with the path as pathText gives it as its filename).
+[[noreturn]] void raiseFileNotFound(const std::string& path, const char* reason);
 
 }  // namespace mdbrief::python

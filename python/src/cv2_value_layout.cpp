@@ -1,5 +1,6 @@
 #include "cv2_value_layout.hpp"
 
+#include <climits>
 #include <cstring>
 #include <new>
 
@@ -65,16 +66,28 @@ PyTypeObject* probedType() {
   return type;
 }
 
-// Attribute `name` of o converted by `convert` (PyFloat_AsDouble, or PyLong_AsLong, which
-// refuses a float octave or class_id); ok turns false on the first failure.
-template <typename R>
-R attribute(PyObject* o, const char* name, bool& ok, R (*convert)(PyObject*)) {
+// Number attribute `name` of o; ok turns false on the first failure, with the Python error set.
+double floatAttribute(PyObject* o, const char* name, bool& ok) {
   PyObject* v = ok ? PyObject_GetAttrString(o, name) : nullptr;
-  if (!v) return ok = false, R{};
-  const R r = convert(v);
+  if (!v) return ok = false, 0.0;
+  const double r = PyFloat_AsDouble(v);
   Py_DECREF(v);
   if (PyErr_Occurred()) ok = false;
   return r;
+}
+
+// Int attribute `name` of o (a float is refused with TypeError). A value outside the C int range
+// is an OverflowError naming the attribute and the value: a cast would wrap 2**32 + 3 to 3.
+int intAttribute(PyObject* o, const char* name, bool& ok) {
+  PyObject* v = ok ? PyObject_GetAttrString(o, name) : nullptr;
+  if (!v) return ok = false, 0;
+  int overflow = 0;
+  const long r = PyLong_AsLongAndOverflow(v, &overflow);
+  if (!PyErr_Occurred() && (overflow != 0 || r < INT_MIN || r > INT_MAX))
+    PyErr_Format(PyExc_OverflowError, "%s = %R is outside the range of a C int", name, v);
+  Py_DECREF(v);
+  if (PyErr_Occurred()) ok = false;
+  return static_cast<int>(r);
 }
 
 }  // namespace
@@ -114,21 +127,21 @@ cv::KeyPoint keypointFromAttributes(PyObject* o, bool& ok) {
   k.pt.x = static_cast<float>(PyFloat_AsDouble(PyTuple_GET_ITEM(pt, 0)));
   k.pt.y = static_cast<float>(PyFloat_AsDouble(PyTuple_GET_ITEM(pt, 1)));
   Py_DECREF(pt);
-  k.size = static_cast<float>(attribute(o, "size", ok, PyFloat_AsDouble));
-  k.angle = static_cast<float>(attribute(o, "angle", ok, PyFloat_AsDouble));
-  k.response = static_cast<float>(attribute(o, "response", ok, PyFloat_AsDouble));
-  k.octave = static_cast<int>(attribute(o, "octave", ok, PyLong_AsLong));
-  k.class_id = static_cast<int>(attribute(o, "class_id", ok, PyLong_AsLong));
+  k.size = static_cast<float>(floatAttribute(o, "size", ok));
+  k.angle = static_cast<float>(floatAttribute(o, "angle", ok));
+  k.response = static_cast<float>(floatAttribute(o, "response", ok));
+  k.octave = intAttribute(o, "octave", ok);
+  k.class_id = intAttribute(o, "class_id", ok);
   if (PyErr_Occurred()) ok = false;
   return k;
 }
 
 cv::DMatch matchFromAttributes(PyObject* o, bool& ok) {
   cv::DMatch m;
-  m.queryIdx = static_cast<int>(attribute(o, "queryIdx", ok, PyLong_AsLong));
-  m.trainIdx = static_cast<int>(attribute(o, "trainIdx", ok, PyLong_AsLong));
-  m.imgIdx = static_cast<int>(attribute(o, "imgIdx", ok, PyLong_AsLong));
-  m.distance = static_cast<float>(attribute(o, "distance", ok, PyFloat_AsDouble));
+  m.queryIdx = intAttribute(o, "queryIdx", ok);
+  m.trainIdx = intAttribute(o, "trainIdx", ok);
+  m.imgIdx = intAttribute(o, "imgIdx", ok);
+  m.distance = static_cast<float>(floatAttribute(o, "distance", ok));
   return m;
 }
 

@@ -2,6 +2,7 @@
 #include "bindings.hpp"
 
 PYBIND11_MODULE(_mdbrief, m) {
+  mdbrief::python::translateExceptions();
   m.doc() = "mdbrief: distorted binary descriptors (BRIEF, dBRIEF, mdBRIEF) for calibrated fisheye cameras.";
   mdbrief::python::bindCamera(m);
   mdbrief::python::bindFeatures(m);

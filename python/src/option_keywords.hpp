@@ -10,22 +10,15 @@
 #include <type_traits>
 
 #include "bindings.hpp"
+#include "conversions.hpp"
 #include "mdbrief/option_fields.hpp"
 
 namespace mdbrief::python {
 
-// Whether `value` is a str or an os.PathLike (pathlib.Path).
-inline bool isPathText(const py::handle& value) {
-  return py::isinstance<py::str>(value) || py::hasattr(value, "__fspath__");
-}
-
-inline std::string pathText(const py::handle& value) {
-  return py::str(py::module_::import("os").attr("fspath")(value));
-}
-
 // The keyword's value as the field's type: TypeError for a wrong kind of object (bool is a
 // Python int: refused for numbers, and numbers for flags), ValueError naming the keyword and
-// the field's range for an integer beyond any C++ integer.
+// the field's range for an integer beyond any C++ integer. Text fields (files, folders, names)
+// take any path: str, bytes or os.PathLike (pathFrom, which refuses a NUL byte).
 template <typename Options>
 FieldValue keywordValue(const OptionField<Options>& field, const Options& options, const py::handle& value) {
   const std::string name = field.keyword;
@@ -49,18 +42,17 @@ FieldValue keywordValue(const OptionField<Options>& field, const Options& option
       if (!isBool) throw py::type_error(name + " must be True or False");
       return value.cast<bool>();
     case FieldType::Text:
-      if (!isPathText(value)) throw py::type_error(name + " must be a str");
-      return pathText(value);
+      return pathFrom(value, field.keyword);
     case FieldType::Choice:
       if (!py::isinstance<py::str>(value)) throw py::type_error(name + " must be a str");
       return value.cast<std::string>();
     case FieldType::TextList: {
-      if (isPathText(value)) return std::vector<std::string>{pathText(value)};
-      if (!py::isinstance<py::iterable>(value)) throw py::type_error(name + " must be a str, a path or a list of them");
+      if (isPath(value)) return std::vector<std::string>{pathFrom(value, field.keyword)};
+      if (!py::isinstance<py::iterable>(value)) throw py::type_error(name + " must be a path or a list of them");
       std::vector<std::string> items;
       for (const py::handle item : value) {
-        if (!isPathText(item)) throw py::type_error(name + " must be a str, a path or a list of them");
-        items.push_back(pathText(item));
+        if (!isPath(item)) throw py::type_error(name + " must be a path or a list of them");
+        items.push_back(pathFrom(item, field.keyword));
       }
       if (items.empty()) throw py::value_error(name + " is empty");
       return items;
@@ -97,13 +89,22 @@ Options optionsFromKeywords(const OptionTable<Options>& table, const py::kwargs&
   return options;
 }
 
+// Text as the file system spells it (pathText), so any path a keyword took reads back.
 inline py::object keywordObject(const FieldValue& value) {
   return std::visit(
       [](const auto& v) -> py::object {
-        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, std::monostate>) {
           return py::none();
-        else
+        } else if constexpr (std::is_same_v<T, std::string>) {
+          return pathText(v);
+        } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+          py::list items;
+          for (const std::string& item : v) items.append(pathText(item));
+          return std::move(items);
+        } else {
           return py::cast(v);
+        }
       },
       value);
 }

@@ -24,7 +24,9 @@ class Camera {
   virtual bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const = 0;
   // Bearing (any non-zero length) -> pixel. Returns false where the model cannot project the
   // ray (behind a perspective camera, beyond the fisheye's field of view). The pixel may lie
-  // outside the image; isValid() tells whether it is usable.
+  // outside the image; isValid() tells whether it is usable. Lengths whose squared components
+  // overflow or underflow (above about 1e154, below about 1e-154) may give false, never a
+  // non-finite pixel: scale such rays towards 1 first, as the Python binding does.
   virtual bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const = 0;
 
   // True when the pixel is inside the image and inside the lens' usable area (image circle,

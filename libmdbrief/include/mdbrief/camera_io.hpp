@@ -20,7 +20,8 @@ namespace mdbrief {
 // both cases (checked on the data: it vanishes at theta = -pi/2 for either file).
 // Throws std::runtime_error whose message starts with the path and names the offending key
 // (missing, not a number, NaN/inf, non-positive size, wrong polynomial length, unknown model or
-// key, unparsable file).
+// key, unparsable file), or says the file is over 1 MiB (refused unparsed: calibrations are a
+// few hundred bytes).
 std::shared_ptr<Camera> loadCamera(const std::string& path);
 
 // The camera in the project's YAML schema (OCam: forward polynomial with a0 < 0, and the

@@ -5,7 +5,7 @@
 // Output layout: descriptors and masks are N x (bits / 8) CV_8U matrices, row i for keypoint i.
 // Bit order: test d is bit (d % 8) of byte (d / 8), least significant bit first (as cv::ORB),
 // so the first n tests of a longer set give exactly the first n/8 bytes.
-// Test d is 1 when I(p1) < I(p2) on the smoothed pyramid level of the keypoint's octave.
+// Test d is 1 when I(p1) < I(p2) on the smoothed pyramid level the keypoint's size selects.
 // Mask bit d (mdBRIEF, masked BRIEF) is 1 when test d is stable: the same outcome for the test
 // set rotated by 0, +maskRotationDeg and -maskRotationDeg.
 #include <string>
@@ -137,9 +137,10 @@ class DescriptorExtractor {
   // Samples on the levels of `pyramid` (the detector's, when detection and description share it).
   // Keypoints: level-0 pixels, angle in degrees (cv::KeyPoint's convention, -1 = none), size
   // as DescriptorOptions::supportScale describes (octave is not read). Keypoints whose size is
-  // not a positive finite number are dropped. Keypoints whose tests cannot all be sampled inside the image and
-  // the camera's valid area are removed from `keypoints` (as cv::Feature2D::compute does), so
-  // rows stay aligned. descriptors and masks may be cv::noArray(); masks is filled only for
+  // not finite, or whose footprint (supportScale * size) is under one input pixel, are dropped:
+  // their tests would all compare the same interpolated value. Keypoints whose tests cannot all
+  // be sampled inside the image and the camera's valid area are removed from `keypoints` (as
+  // cv::Feature2D::compute does), so rows stay aligned. descriptors and masks may be cv::noArray(); masks is filled only for
   // MdBrief and MaskedBrief (otherwise released).
   // With OrientationSource::TangentPlane (dBRIEF/mdBRIEF) the kept keypoints' angle becomes
   // the re-measured one.
@@ -148,6 +149,10 @@ class DescriptorExtractor {
   // Same, building the levels the keypoints need of a pyramid of `image` with `pyramid`'s options.
   void compute(const cv::Mat& image, std::vector<cv::KeyPoint>& keypoints, cv::OutputArray descriptors,
                cv::OutputArray masks = cv::noArray(), const PyramidOptions& pyramid = {}) const;
+
+  // The depth (at least 1) of a pyramid with `pyramid`'s options that holds every level compute()
+  // samples these keypoints on (each keypoint's level follows its size, not its octave).
+  int levelsFor(const std::vector<cv::KeyPoint>& keypoints, const PyramidOptions& pyramid) const;
 
   int descriptorBytes() const { return options_.bits / 8; }
   // True when compute() replaces the keypoints' angles with its own measurement (dBRIEF and

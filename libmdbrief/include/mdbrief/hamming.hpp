@@ -17,8 +17,8 @@ namespace mdbrief {
 inline constexpr int kMinDescriptorBytes = 4;
 inline constexpr int kMaxDescriptorBytes = 64;
 
-// Throws std::invalid_argument naming `name` unless m is empty or a CV_8UC1 matrix whose width
-// is a multiple of 4 in [4, 64] bytes.
+// Throws std::invalid_argument naming `name` unless m has no rows (0 x 0 or 0 x bytes) or is a
+// CV_8UC1 matrix whose width is a multiple of 4 in [4, 64] bytes (so N x 0 is refused).
 void validateDescriptorMatrix(const cv::Mat& m, const std::string& name);
 
 // Hamming distance of two rows of `bytes` bytes. Unchecked hot-path form: `bytes` must be a

@@ -39,8 +39,8 @@ void validate(const MatchOptions& options);
 // One match per query that passes the enabled tests, in query order: queryIdx = query row,
 // trainIdx = train row, distance = Hamming distance in bits, imgIdx = 0.
 // query and train: N x bytes CV_8UC1, the same width, a multiple of 4 in [4, 64] (read once per
-// call). Empty query or train gives no matches. Throws std::invalid_argument naming the
-// argument otherwise.
+// call). A query or train without rows gives no matches; rows of no bytes (N x 0) are refused.
+// Throws std::invalid_argument naming the argument otherwise.
 std::vector<cv::DMatch> matchBruteForce(cv::InputArray query, cv::InputArray train, const MatchOptions& options = {});
 
 // The same with the masked Hamming distance: queryMasks and trainMasks have the sizes of query
