@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "patchextract/patch_extraction.hpp"
+#include "patchextract/placement_flags.hpp"
 #include "patchextract/view_change_flags.hpp"
 #include "toolkit/progress_reporter.hpp"
 
@@ -30,6 +31,8 @@ int main(int argc, char** argv) {
                  "changed views per image: stability data for mdbrief-train --selection stability|separation")
       ->capture_default_str();
   addViewChangeFlags(app, o.viewChange);
+  PlacementFlags placement;
+  addPlacementFlags(app, placement);
   std::vector<std::string> heldOut;
   app.add_option("--held-out", heldOut,
                  "file of image digests never to extract from, in addition to the shipped evaluations' images");
@@ -42,6 +45,7 @@ int main(int argc, char** argv) {
   mdbrief::ProgressReporter progress(std::cout, isatty(fileno(stdout)) != 0);
   try {
     o.detector = parseDetector(detector);
+    o.placement = placementOf(placement);
     for (const auto& d : dirs) o.imageDirs.emplace_back(d);
     for (const auto& file : heldOut) o.heldOut.merge(readHeldOutImages(file));
     ExtractionReport report;

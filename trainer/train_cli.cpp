@@ -13,6 +13,7 @@
 
 #include "toolkit/pattern_writer.hpp"
 #include "patchextract/patch_extraction.hpp"
+#include "patchextract/placement_flags.hpp"
 #include "patchextract/view_change_flags.hpp"
 #include "trainer/candidate_tests.hpp"
 #include "toolkit/progress_reporter.hpp"
@@ -41,6 +42,7 @@ struct TrainSettings {
   std::string selection = "paper";
   int counterparts = -1;        // -1: 1 when the criterion needs pairs, else 0
   ViewChangeOptions viewChange;
+  PlacementFlags placement;
   GreedyOptions greedy;
   std::vector<std::string> heldOut;  // extra held-out lists
 };
@@ -60,6 +62,9 @@ std::string recordedCommand(const TrainSettings& s) {
     if (s.renderThroughCamera) c << " --render-through-camera";
     c << " --patches " << s.patches << " --seed " << s.seed;
     if (s.keypointsPerImage != 1000) c << " --keypoints-per-image " << s.keypointsPerImage;
+    const PlacementFlags p;
+    if (s.placement.form != p.form) c << " --form " << s.placement.form;
+    if (s.placement.orientation != p.orientation) c << " --orientation " << s.placement.orientation;
     if (s.counterparts > 0) {
       const ViewChangeOptions d;
       const auto& v = s.viewChange;
@@ -84,11 +89,11 @@ std::string fixed(double v, int digits) {
   return buf;
 }
 
-// How the counterparts were made, as the patch set records it.
-std::string pairSource(const PatchSet& patches) {
-  for (const auto& [key, value] : patches.attributes)
-    if (key == "counterparts") return value;
-  return "counterparts of a patch file";
+// A setting of the extraction as the patch set records it, or `missing`.
+std::string patchAttribute(const PatchSet& patches, const std::string& key, const std::string& missing) {
+  for (const auto& [k, value] : patches.attributes)
+    if (k == key) return value;
+  return missing;
 }
 
 double peakMemoryMiB() {
@@ -135,6 +140,7 @@ int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::os
   app.add_option("--counterparts", s.counterparts,
                  "changed views per image for the stability data (default: 1 if --selection needs it, else 0)");
   addViewChangeFlags(app, s.viewChange);
+  addPlacementFlags(app, s.placement);
 
   app.set_config("--config", "", "read these options from a TOML/INI file (configs/training/)");
 
@@ -155,8 +161,10 @@ int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::os
     if (s.tests > kCandidateCount) throw std::invalid_argument("--tests exceeds the candidates");
     if (!fs::is_directory(s.out))
       throw std::invalid_argument(s.out + ": output folder does not exist");
-    if (!s.patchesFile.empty() && (!s.images.empty() || !s.camera.empty()))
-      throw std::invalid_argument("--patches-file cannot be combined with --images or --camera");
+    const bool placementSet =
+        s.placement.form != PlacementFlags{}.form || s.placement.orientation != PlacementFlags{}.orientation;
+    if (!s.patchesFile.empty() && (!s.images.empty() || !s.camera.empty() || placementSet))
+      throw std::invalid_argument("--patches-file cannot be combined with --images, --camera, --form or --orientation");
     if (!s.camera.empty() && !fs::is_regular_file(s.camera))
       throw std::invalid_argument(s.camera + ": calibration file does not exist");
     const DetectorKind detector = parseDetector(s.detector);
@@ -189,6 +197,7 @@ int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::os
       eo.counterparts = s.counterparts;
       for (const auto& file : s.heldOut) eo.heldOut.merge(readHeldOutImages(file));
       eo.viewChange = s.viewChange;
+      eo.placement = placementOf(s.placement);
       patches = extractPatches(eo, report, [&](const char* stage, size_t d, size_t t) {
         progress.update(stage, d, t);
       });
@@ -235,6 +244,7 @@ int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::os
         "Patches: " + std::to_string(patches.count()) + ", detector " + s.detector + ", camera " +
             (s.camera.empty() ? "none (perspective)" : s.camera) + ", seed " + std::to_string(s.seed) +
             ", source " + source + ".",
+        "Placement: " + patchAttribute(patches, "placement", "not recorded in the patch file") + ".",
         "Data digest (FNV-1a 64 of the patch pixels): " + patchDigest(matrix) + ".",
         "Candidates: " + std::to_string(learned.candidates) + " (32x32 patch without its border, 3 < d < 29); " +
             "selection " + s.selection +
@@ -242,7 +252,10 @@ int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::os
                                       fixed(learned.finalThreshold, 1)
                                 : std::string()) +
             ".",
-        "Matching pairs: " + std::to_string(learned.pairs) + (learned.pairs > 0 ? " (" + pairSource(patches) + ")" : "") + ".",
+        "Matching pairs: " + std::to_string(learned.pairs) +
+            (learned.pairs > 0 ? " (" + patchAttribute(patches, "counterparts", "counterparts of a patch file") + ")"
+                               : "") +
+            ".",
         "Per test: mean = fraction of patches where the test is 1; max corr = highest",
         "correlation |2/P sum|t_i - t_j| - 1| with another test of this set" +
             std::string(learned.flipRate.empty() ? "." : "; flip = fraction of matching pairs where it differs.")};
