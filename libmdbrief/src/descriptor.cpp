@@ -70,12 +70,12 @@ void sampleDescriptor(const cv::Mat& img, const int* x, const int* y, int nTests
 // The tests' first points, then their second points.
 Offsets offsetsOf(const TestSet& tests) {
   const size_t n = tests.tests.size();
-  Offsets q{std::vector<double>(2 * n), std::vector<double>(2 * n)};
+  std::vector<double> x(2 * n), y(2 * n);
   for (size_t d = 0; d < n; ++d) {
     const TestPair& t = tests.tests[d];
-    q.x[d] = t.x1, q.y[d] = t.y1, q.x[n + d] = t.x2, q.y[n + d] = t.y2;
+    x[d] = t.x1, y[d] = t.y1, x[n + d] = t.x2, y[n + d] = t.y2;
   }
-  return q;
+  return {std::move(x), std::move(y)};
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 #include "mdbrief/internal/patch_sampling.hpp"
 
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include "mdbrief/test_set.hpp"
 #include "test_placement.hpp"
@@ -13,13 +15,13 @@ using namespace placement;
 
 // Every offset of the patch, row-major: (i - 16, j - 16) for pixel (i, j).
 Offsets patchGrid() {
-  Offsets grid;
+  std::vector<double> x, y;
   for (int j = 0; j < kPatchSize; ++j)
     for (int i = 0; i < kPatchSize; ++i) {
-      grid.x.push_back(i - kPatchHalf);
-      grid.y.push_back(j - kPatchHalf);
+      x.push_back(i - kPatchHalf);
+      y.push_back(j - kPatchHalf);
     }
-  return grid;
+  return {std::move(x), std::move(y)};
 }
 
 // The bilinear weights sum to kSub^2: rounded to the nearest grey level.

@@ -1,9 +1,11 @@
 #include "test_placement.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <utility>
 
 #include "mdbrief/internal/patch_sampling.hpp"
 #include "mdbrief/tangent_plane.hpp"
@@ -32,6 +34,18 @@ struct Placement {
   const TangentPlaneFrame* frame = nullptr;  // paper form
   double scale = 1.0;        // octave scale (level-0 px per level px)
 };
+
+// Whether every offset, placed affinely, can be sampled in a width x height level: the corners
+// of the offsets' box decide when they are inside, the points themselves otherwise.
+bool affineInside(const Placement& pl, const Offsets& q, const SamplingKernels& kernels, const int* x, const int* y,
+                  int width, int height) {
+  const auto& m = pl.map;
+  int cx[4], cy[4];
+  kernels.affineCoordinate(pl.centre.x, m(0, 0), m(0, 1), q.boxX.data(), q.boxY.data(), cx, 4);
+  kernels.affineCoordinate(pl.centre.y, m(1, 0), m(1, 1), q.boxX.data(), q.boxY.data(), cy, 4);
+  return kernels.allInside(cx, cy, 4, width, height) ||
+         kernels.allInside(x, y, static_cast<int>(q.x.size()), width, height);
+}
 
 // Fills x, y with quantised level coordinates. False if a point cannot be projected or lies
 // absurdly far outside any image.
@@ -174,6 +188,14 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
 
 }  // namespace
 
+Offsets::Offsets(std::vector<double> xs, std::vector<double> ys) : x(std::move(xs)), y(std::move(ys)) {
+  if (x.empty()) return;
+  const auto [x0, x1] = std::minmax_element(x.begin(), x.end());
+  const auto [y0, y1] = std::minmax_element(y.begin(), y.end());
+  boxX = {*x0, *x1, *x0, *x1};
+  boxY = {*y0, *y0, *y1, *y1};
+}
+
 Support supportOf(float size, double supportScale, const std::vector<double>& scales) {
   const double s = supportScale * static_cast<double>(size) / internal::kReferenceKeypointSize;
   if (!(s > 0.0) || !std::isfinite(s)) return {};
@@ -214,8 +236,7 @@ Disc orientationDisc(const DescriptorOptions& o) {
     for (int u = -radius; u <= radius; u += kDiscStep)
       if (u * u + v * v <= radius * radius) d.u.push_back(u), d.v.push_back(v);
   while (d.u.size() % 8) d.u.push_back(0), d.v.push_back(0);
-  d.offsets.x.assign(d.u.begin(), d.u.end());
-  d.offsets.y.assign(d.v.begin(), d.v.end());
+  d.offsets = Offsets({d.u.begin(), d.u.end()}, {d.v.begin(), d.v.end()});
   return d;
 }
 
@@ -231,8 +252,11 @@ int placeChecked(const DescriptorOptions& o, const Camera* camera, const Offsets
   for (int r = 0; r < count; ++r) {
     int* x = &points.x[static_cast<size_t>(n) * r];
     int* y = &points.y[static_cast<size_t>(n) * r];
-    if (!placeOffsets(placements[r], camera, offsets, kernels, x, y) ||
-        !kernels.allInside(x, y, n, img.cols, img.rows) || (camera && !cornersValid(placements[r], *camera)))
+    const Placement& pl = placements[r];
+    if (!placeOffsets(pl, camera, offsets, kernels, x, y) ||
+        !(pl.affine ? affineInside(pl, offsets, kernels, x, y, img.cols, img.rows)
+                    : kernels.allInside(x, y, n, img.cols, img.rows)) ||
+        (camera && !cornersValid(pl, *camera)))
       return 0;
   }
   return count;

@@ -4,6 +4,7 @@
 // offsets to level coordinates (BRIEF, the Affine form) or their projection through the camera
 // (the Paper form), and the checks that drop a keypoint. compute(), testPositions() and the
 // training patches (mdbrief/internal/patch_sampling.hpp) all place through placeChecked().
+#include <array>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -17,7 +18,13 @@ namespace mdbrief::placement {
 
 // Points of the offset frame (test_set.hpp) as doubles, structure of arrays.
 struct Offsets {
+  Offsets() = default;
+  Offsets(std::vector<double> x, std::vector<double> y);
   std::vector<double> x, y;
+  // The corners of the points' bounding box. An affine placement, rounded as the kernels round
+  // it, is monotonic in each offset coordinate, so when the corners land inside the level every
+  // point does: four points decide the bounds check of almost every keypoint.
+  std::array<double, 4> boxX{}, boxY{};
 };
 
 // Where a keypoint is sampled: the pyramid level whose scale is nearest (in log) to the
