@@ -61,6 +61,13 @@ const OptionTable<ExtractionOptions>& extractionOptionFields() {
         integerField<O>("counterparts", "", "counterparts", "--counterparts",
                         "changed views per image: the matching pairs of the stability and separation criteria",
                         R::closed(0, kMaxCounterparts), [](auto& o) -> auto& { return o.counterparts; }),
+        // The descriptor's own placement by default; another learns a set for a descriptor run
+        // with it.
+        choiceField<O>("placement.form", "", "form", "--form", "patches placed as dBRIEF/mdBRIEF with this DistortionForm",
+                       kDistortionFormNames, [](auto& o) -> auto& { return o.placement.form; }),
+        choiceField<O>("placement.orientation", "", "orientation", "--orientation",
+                       "patches oriented as dBRIEF/mdBRIEF with this OrientationSource (keypoint: the detector's angle)",
+                       kOrientationSourceNames, [](auto& o) -> auto& { return o.placement.orientation; }),
     };
     appendNested(t, viewChangeOptionFields(), "viewChange", "", [](auto& o) -> auto& { return o.viewChange; });
     return t;

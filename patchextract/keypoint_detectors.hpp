@@ -1,7 +1,7 @@
 #pragma once
 // The detectors patches can be extracted at (paper: "ORB, AKAZE and SURF"), with the size each
-// one's keypoints get in the patch (see patch_sampler.hpp: a patch spans `patch diameter`
-// level-0 pixels, 31 being ORB's level 0).
+// one's keypoints get in the patch (a patch spans `patch diameter` level-0 pixels, 31 being
+// ORB's level 0: DescriptorOptions::supportScale 1).
 #include <string>
 #include <vector>
 

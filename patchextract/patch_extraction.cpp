@@ -12,6 +12,7 @@
 
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/image_pyramid.hpp"
+#include "mdbrief/internal/patch_sampling.hpp"
 #include "mdbrief/internal/size_text.hpp"
 #include "mdbrief/test_set.hpp"
 #include "patchextract/patch_sampler.hpp"
@@ -79,13 +80,16 @@ cv::Mat renderThrough(const Camera& camera, const cv::Mat& photo, double halfFov
   return renderPlane(camera, CameraPose{}, scene, ro);
 }
 
+// The keypoints whose whole patch can be sampled (camera: null = the photo camera).
 std::vector<cv::KeyPoint> detectUsable(const cv::Mat& grey, const ExtractionOptions& o, const CameraPtr& camera) {
   const ImagePyramid pyramid(grey, PyramidOptions{});
   std::vector<cv::KeyPoint> detected = detectKeypoints(grey, o.detector, o.keypointsPerImage);
   for (auto& kp : detected) kp.size = static_cast<float>(patchDiameter(o.detector, kp));
   std::vector<cv::KeyPoint> usable;
+  uint8_t patch[kPatchSize * kPatchSize];
+  float angle;
   for (const auto& kp : detected)
-    if (patchFits(pyramid, kp, camera.get())) usable.push_back(kp);
+    if (samplePatch(o.placement, camera.get(), pyramid, kp, patch, angle)) usable.push_back(kp);
   return usable;
 }
 
@@ -97,7 +101,7 @@ uint64_t viewSeed(uint32_t seed, size_t image, int view) {
 // True when the whole footprint of a view keypoint sees the source image (not the empty border
 // of the warped view): its corners, with the rotation's margin, map back inside.
 bool footprintSeesSource(const ViewChange& change, const cv::KeyPoint& kp, cv::Size sourceSize) {
-  const double r = kp.size / kReferenceKeypointSize * kPatchHalf * std::sqrt(2.0) + 1;
+  const double r = kp.size / internal::kReferenceKeypointSize * kPatchHalf * std::sqrt(2.0) + 1;
   for (int k = 0; k < 8; ++k) {
     const double a = k * CV_PI / 4;
     cv::Point2d s;
@@ -114,7 +118,7 @@ int findCounterpart(const ViewChange& change, const cv::KeyPoint& kp, const std:
   cv::Point2d q;
   const double zoom = change.localZoom(kp.pt);
   if (!(zoom > 0) || !change.toView(kp.pt, q)) return -1;
-  const double size = kp.size * zoom, radius = o.matchRadius * size / kReferenceKeypointSize;
+  const double size = kp.size * zoom, radius = o.matchRadius * size / internal::kReferenceKeypointSize;
   const double maxLogRatio = std::log(o.matchSizeRatio);
   int best = -1;
   double bestDist = radius * radius;
@@ -193,6 +197,20 @@ std::string counterpartAttribute(const ExtractionOptions& o) {
   return s.str();
 }
 
+std::string placementAttribute(const DescriptorOptions& p) {
+  std::ostringstream s;
+  s << "as " << toString(p.kind) << " compute() samples rotation 0: form " << toString(p.form) << ", orientation ";
+  if (!p.useOrientation)
+    s << "none";
+  else if (usesCamera(p.kind) && p.orientation == OrientationSource::TangentPlane)
+    s << "tangent-plane (radius " << p.orientationRadius << ")";
+  else
+    s << "keypoint";
+  s << ", support scale " << p.supportScale << ", max incidence " << p.maxIncidenceDeg << " deg, sampling "
+    << toString(p.sampling) << "; uncalibrated images through the photo camera (pinhole, f = image width)";
+  return s.str();
+}
+
 }  // namespace
 
 std::vector<fs::path> listImages(const std::vector<fs::path>& dirs) {
@@ -256,6 +274,7 @@ PatchSet extractPatches(const ExtractionOptions& o, ExtractionReport& report,
     throw std::invalid_argument("renderHalfFovDeg must be in (0, 89)");
   if (!(o.matchRadius > 0) || !(o.matchSizeRatio >= 1))
     throw std::invalid_argument("matchRadius must be positive and matchSizeRatio at least 1");
+  validate(o.placement);
   CameraPtr camera;
   if (!o.cameraPath.empty()) camera = loadCamera(o.cameraPath);
   const std::vector<fs::path> images = listImages(o.imageDirs);
@@ -326,16 +345,18 @@ PatchSet extractPatches(const ExtractionOptions& o, ExtractionReport& report,
         const cv::KeyPoint& kp = pools[i].usable[rank];
         const size_t slot = offset[i] + k;
         // Fails only if the file changed since the first pass.
-        failed[i] = !samplePatch(pyramid, kp, pools[i].camera.get(),
-                                 set.pixels.data() + slot * kPatchSize * kPatchSize);
-        set.records[slot] = {static_cast<int32_t>(i), kp.pt.x, kp.pt.y, kp.size, kp.angle,
+        float angle = kp.angle;
+        failed[i] = !samplePatch(o.placement, pools[i].camera.get(), pyramid, kp,
+                                 set.pixels.data() + slot * kPatchSize * kPatchSize, angle);
+        set.records[slot] = {static_cast<int32_t>(i), kp.pt.x, kp.pt.y, kp.size, angle,
                              kp.response, static_cast<uint8_t>(o.detector)};
         if (o.counterparts == 0) continue;
         for (const Counterpart& cp : pools[i].counterparts[rank]) {
           const View& v = pools[i].views[cp.view];
-          // The view keypoint passed patchFits in pass 1 on this very image.
-          failed[i] = failed[i] || !samplePatch(views[cp.view], v.keypoints[cp.keypoint], v.camera.get(),
-                                                set.counterpartPixels.data() + c * kPatchSize * kPatchSize);
+          // The view keypoint's patch was sampled in pass 1 on this very image.
+          float viewAngle;
+          failed[i] = failed[i] || !samplePatch(o.placement, v.camera.get(), views[cp.view], v.keypoints[cp.keypoint],
+                                                set.counterpartPixels.data() + c * kPatchSize * kPatchSize, viewAngle);
           set.counterpartOf[c++] = static_cast<int32_t>(slot);
         }
       }
@@ -357,6 +378,7 @@ PatchSet extractPatches(const ExtractionOptions& o, ExtractionReport& report,
                      o.renderThroughCamera ? "half fov " + std::to_string(o.renderHalfFovDeg) + " deg"
                                            : "no"},
                     {"counterparts", counterpartAttribute(o)},
+                    {"placement", placementAttribute(o.placement)},
                     {"smoothing", "Gaussian 7x7 sigma 2 per pyramid level (8 levels, 1.2)"},
                     {"scale_convention", "scale = patch diameter in level-0 pixels, 31 = step 1"}};
   report.seconds =

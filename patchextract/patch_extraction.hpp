@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "mdbrief/descriptor.hpp"
 #include "patchextract/image_digest.hpp"
 #include "patchextract/keypoint_detectors.hpp"
 #include "patchextract/patch_set.hpp"
@@ -43,6 +44,11 @@ struct ExtractionOptions {
   // predicted one: one pyramid level of ORB (1.2) plus the zoom's in-between values.
   double matchRadius = 2.5;
   double matchSizeRatio = 1.3;
+  // How patches are placed and sampled: the descriptor the set is learned for
+  // (patchextract/patch_sampler.hpp). The defaults are compute()'s defaults (mdBRIEF, Affine
+  // form, orientation re-measured on the tangent plane), so the sets are learned on the patches
+  // they are used on; images without cameraPath go through the photo camera.
+  DescriptorOptions placement;
   // Images never to train on (by content digest): the shipped evaluations' images
   // (shippedHeldOutImages()) plus any a caller adds. They are skipped and reported.
   HeldOutImages heldOut = shippedHeldOutImages();

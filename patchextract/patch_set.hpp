@@ -8,7 +8,8 @@
 //   /image        N int32   index into /images
 //   /x, /y        N float32 keypoint position, level-0 pixels
 //   /scale        N float32 patch diameter in level-0 pixels (31 = ORB level 0 = step 1)
-//   /angle        N float32 degrees, cv::KeyPoint convention (-1 = none)
+//   /angle        N float32 degrees, cv::KeyPoint convention (-1 = none), as compute() leaves
+//                 it (re-measured when the placement re-measures it)
 //   /response     N float32 detector response
 //   /detector     N uint8   index into the root attribute "detectors" ("orb,akaze,surf")
 //   /counterparts         Q x 32 x 32 uint8  optional: the same keypoints seen in changed views

@@ -271,6 +271,39 @@ TEST(CameraModels, OcamConventions) {
   EXPECT_NEAR(b[2], 0.0, 0.02);
 }
 
+// isValid() decides its two distance limits (the image circle, the model's range) as std::hypot
+// does, also within a few ulps of them, where a square sum and hypot can disagree.
+TEST(CameraModels, OcamValidAreaBoundariesAsHypotDecidesThem) {
+  OcamParams circle = lafidaParams();  // the image circle inside the image left and right
+  OcamParams range = lafidaParams();   // a forward polynomial that turns at rho ~ 190 px
+  range.forward = {-209.2, 0.0, 0.00213741670953883, -2e-5};
+  range.validRadius = 0.0;
+  size_t inside = 0, outside = 0;
+  for (const OcamParams& p : {circle, range}) {
+    const OcamCamera cam(p);
+    const double invDet = 1.0 / (p.c - p.d * p.e);
+    const auto rho = [&](double dr, double dc) {
+      return std::hypot(invDet * (dr - p.d * dc), invDet * (-p.e * dr + p.c * dc));
+    };
+    for (int a = 0; a < 90; ++a) {
+      const double dx = std::cos(a * 0.07), dy = 0.3 * std::sin(a * 0.07);
+      // Along the ray to where the point's own distance is the limit.
+      const double t = p.validRadius > 0 ? p.validRadius / std::hypot(dx, dy) : cam.maxRho() / rho(dy, dx);
+      for (int k = -40; k <= 40; ++k) {
+        const cv::Point2d px(p.u0 + dx * t * (1 + k * 1e-16), p.v0 + dy * t * (1 + k * 1e-16));
+        const double dr = px.y - p.v0, dc = px.x - p.u0;
+        const bool expected = px.x >= 0 && px.x <= p.width - 1 && px.y >= 0 && px.y <= p.height - 1 &&
+                              !(p.validRadius > 0 && std::hypot(dr, dc) > p.validRadius) &&
+                              rho(dr, dc) < cam.maxRho();
+        ASSERT_EQ(cam.isValid(px), expected) << "angle step " << a << ", k " << k;
+        (expected ? inside : outside) += 1;
+      }
+    }
+  }
+  EXPECT_GT(inside, 2000u);
+  EXPECT_GT(outside, 2000u);
+}
+
 // resized() must describe the image cv::resize produces: pixel centres move as
 // u' = (u + 0.5) s - 0.5. Checked on every model with an aspect-changing size, and the way back.
 TEST(CameraModels, ResizedFollowsTheResampledImage) {

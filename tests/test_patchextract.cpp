@@ -1,4 +1,4 @@
-// Patch extraction: patches agree with the runtime descriptor, patch allocation, image listing,
+// Patch extraction: patches give the runtime descriptor's bits, patch allocation, image listing,
 // skipped images, determinism, and the HDF5 patch file.
 #include <algorithm>
 #include <cmath>
@@ -16,7 +16,9 @@
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/camera_pinhole.hpp"
 #include "mdbrief/descriptor.hpp"
+#include "mdbrief/internal/patch_sampling.hpp"
 #include "mdbrief/patterns.hpp"
+#include "toolkit/photo_camera.hpp"
 #include "toolkit/plane_renderer.hpp"
 #include "patchextract/patch_extraction.hpp"
 #include "patchextract/patch_sampler.hpp"
@@ -32,69 +34,125 @@ namespace {
 
 using mdbrief::testing::TempDir;
 
-// Bits of the runtime descriptor row vs the same tests evaluated on the sampled patch.
-double agreement(const cv::Mat& descriptors, const std::vector<cv::KeyPoint>& kps,
-                 const ImagePyramid& pyramid, const Camera* camera, const TestSet& tests) {
-  size_t same = 0, total = 0;
-  uint8_t patch[1024];
-  for (size_t i = 0; i < kps.size(); ++i) {
-    if (!samplePatch(pyramid, kps[i], camera, patch)) continue;
-    for (size_t d = 0; d < tests.tests.size(); ++d) {
-      const TestPair& t = tests.tests[d];
-      const bool bit = patch[(t.y1 + 16) * 32 + t.x1 + 16] < patch[(t.y2 + 16) * 32 + t.x2 + 16];
-      const bool runtime = (descriptors.at<uint8_t>(int(i), int(d / 8)) >> (d % 8)) & 1;
-      same += bit == runtime;
-      ++total;
-    }
-  }
-  EXPECT_GT(total, 1000u);
-  return total ? double(same) / total : 0.0;
-}
-
 cv::Mat opencvDocImage(const char* name) {
   const auto dir = mdbrief::testing::opencvDocDataDir();
   return dir ? cv::imread((*dir / name).string(), cv::IMREAD_GRAYSCALE) : cv::Mat();
 }
 
+// compute() keypoint by keypoint against the same tests read from the sampled patch: every
+// patch the sampler gives is of a keypoint compute() keeps, with the angle compute() leaves,
+// and a test may differ only where rounding to 8 bits made its two values equal. `calibration`
+// is what the sampler gets (null: the photo camera, which the extractor must then hold).
+void expectPatchesGiveTheRuntimeBits(const DescriptorExtractor& extractor, const Camera* calibration,
+                                     const ImagePyramid& pyramid, const std::vector<cv::KeyPoint>& kps) {
+  const TestSet& tests = extractor.testSet();
+  size_t patches = 0, compared = 0, ties = 0;
+  uint8_t patch[kPatchSize * kPatchSize];
+  for (const cv::KeyPoint& kp : kps) {
+    float angle = -2.f;
+    if (!samplePatch(extractor.options(), calibration, pyramid, kp, patch, angle)) continue;
+    ++patches;
+    std::vector<cv::KeyPoint> one{kp};
+    cv::Mat desc;
+    extractor.compute(pyramid, one, desc);
+    ASSERT_EQ(one.size(), 1u) << "compute() dropped a keypoint whose patch was sampled at " << kp.pt;
+    EXPECT_EQ(angle, one[0].angle) << kp.pt;
+    for (size_t d = 0; d < tests.tests.size(); ++d) {
+      const TestPair& t = tests.tests[d];
+      const int v1 = patch[(t.y1 + kPatchHalf) * kPatchSize + t.x1 + kPatchHalf];
+      const int v2 = patch[(t.y2 + kPatchHalf) * kPatchSize + t.x2 + kPatchHalf];
+      const bool runtime = (desc.at<uint8_t>(0, int(d / 8)) >> (d % 8)) & 1;
+      ++compared;
+      if (v1 == v2) {
+        ++ties;
+        continue;
+      }
+      ASSERT_EQ(v1 < v2, runtime) << "test " << d << " at " << kp.pt;
+    }
+  }
+  EXPECT_GT(patches, 50u);
+  EXPECT_LT(double(ties), 0.05 * double(compared)) << "rounding ties are rare";
+}
+
+// ORB keypoints of graf1 rendered through the LaFiDa fisheye (empty if opencv-doc is missing).
+struct FisheyeScene {
+  CameraPtr camera;
+  cv::Mat image;
+  std::vector<cv::KeyPoint> keypoints;
+};
+
+FisheyeScene fisheyeScene() {
+  FisheyeScene s;
+  const cv::Mat photo = opencvDocImage("graf1.png");
+  if (photo.empty()) return s;
+  s.camera = loadCamera((mdbrief::testing::sourceDir() / "configs/cameras/lafida_fisheye0.yaml").string());
+  s.image = renderPlane(*s.camera, CameraPose{}, PlaneScene{photo, std::tan(1.0) / 400.0});
+  cv::ORB::create(300)->detect(s.image, s.keypoints);
+  return s;
+}
+
+DescriptorOptions withRandomSet(DescriptorOptions o) {
+  o.pattern = "brief_random_512";
+  o.bits = 512;
+  return o;
+}
+
 }  // namespace
 
-TEST(PatchSampler, PerspectivePatchesGiveTheRuntimeBriefBits) {
+TEST(PatchSampler, PerspectivePatchesGiveTheRuntimeBitsThroughThePhotoCamera) {
   const cv::Mat img = opencvDocImage("graf1.png");
   if (img.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
   std::vector<cv::KeyPoint> kps;
   cv::ORB::create(300)->detect(img, kps);
-  DescriptorOptions o;
-  o.kind = DescriptorKind::Brief;
-  o.pattern = "brief_random_512";
-  DescriptorExtractor extractor(nullptr, o);
   const ImagePyramid pyramid(img, PyramidOptions{});
-  pyramid.prepareSmoothed(-1);
-  cv::Mat desc;
-  extractor.compute(pyramid, kps, desc);
-  ASSERT_GT(kps.size(), 100u);
-  for (const auto& kp : kps) EXPECT_EQ(samplingLevel(pyramid, kp.size), kp.octave);
-  // Rounding the patch to 8 bits flips only near-ties.
-  EXPECT_GT(agreement(desc, kps, pyramid, nullptr, extractor.testSet()), 0.98);
+  // The defaults: mdBRIEF, Affine form, orientation re-measured on the tangent plane.
+  const DescriptorExtractor extractor(photoCamera(img.size()), withRandomSet({}));
+  expectPatchesGiveTheRuntimeBits(extractor, nullptr, pyramid, kps);
 }
 
-TEST(PatchSampler, FisheyePatchesGiveTheRuntimePaperFormBits) {
-  const cv::Mat photo = opencvDocImage("graf1.png");
-  if (photo.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
-  const auto camera = loadCamera((mdbrief::testing::sourceDir() / "configs/cameras/lafida_fisheye0.yaml").string());
-  const cv::Mat img = renderPlane(*camera, CameraPose{}, PlaneScene{photo, std::tan(1.0) / 400.0});
+TEST(PatchSampler, BriefPatchesNeedNoCameraAndFollowSupportScaleAndNearestSampling) {
+  const cv::Mat img = opencvDocImage("graf1.png");
+  if (img.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
   std::vector<cv::KeyPoint> kps;
   cv::ORB::create(300)->detect(img, kps);
-  DescriptorOptions o;
-  o.kind = DescriptorKind::DBrief;
-  o.form = DistortionForm::Paper;
-  o.pattern = "brief_random_512";
-  DescriptorExtractor extractor(camera, o);
+  // Sizes between the levels: footprints at a fractional scale of their level.
+  for (auto& kp : kps) kp.size *= 1.37f;
   const ImagePyramid pyramid(img, PyramidOptions{});
-  pyramid.prepareSmoothed(-1);
-  cv::Mat desc;
-  extractor.compute(pyramid, kps, desc);
-  ASSERT_GT(kps.size(), 50u);
-  EXPECT_GT(agreement(desc, kps, pyramid, camera.get(), extractor.testSet()), 0.97);
+  DescriptorOptions o = withRandomSet({});
+  o.kind = DescriptorKind::Brief;
+  o.supportScale = 1.5;
+  expectPatchesGiveTheRuntimeBits(DescriptorExtractor(nullptr, o), nullptr, pyramid, kps);
+  o.sampling = Sampling::Nearest;
+  expectPatchesGiveTheRuntimeBits(DescriptorExtractor(nullptr, o), nullptr, pyramid, kps);
+}
+
+TEST(PatchSampler, FisheyePatchesGiveTheRuntimeBitsInBothForms) {
+  const FisheyeScene s = fisheyeScene();
+  if (s.image.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  const ImagePyramid pyramid(s.image, PyramidOptions{});
+  expectPatchesGiveTheRuntimeBits(DescriptorExtractor(s.camera, withRandomSet({})), s.camera.get(), pyramid,
+                                  s.keypoints);
+  // The paper's form with the detector's angle: how the sets were sampled before issue 18.
+  DescriptorOptions paper = withRandomSet({});
+  paper.form = DistortionForm::Paper;
+  paper.orientation = OrientationSource::Keypoint;
+  expectPatchesGiveTheRuntimeBits(DescriptorExtractor(s.camera, paper), s.camera.get(), pyramid, s.keypoints);
+}
+
+TEST(PatchSampler, RejectsInvalidOptionsAndAMissingCamera) {
+  const ImagePyramid pyramid(cv::Mat(64, 64, CV_8UC1, cv::Scalar(7)), PyramidOptions{});
+  uint8_t patch[kPatchSize * kPatchSize];
+  float angle;
+  DescriptorOptions bad;
+  bad.orientationRadius = 40;
+  EXPECT_THROW(samplePatch(bad, nullptr, pyramid, cv::KeyPoint(32, 32, 31), patch, angle), std::invalid_argument);
+  EXPECT_THROW(internal::samplePatch(DescriptorOptions{}, nullptr, pyramid, cv::KeyPoint(32, 32, 31), patch, angle),
+               std::invalid_argument);
+  // A keypoint whose patch reaches past the image, or without a usable size, gives no patch.
+  EXPECT_FALSE(samplePatch(DescriptorOptions{}, nullptr, pyramid, cv::KeyPoint(10, 10, 31), patch, angle));
+  EXPECT_FALSE(samplePatch(DescriptorOptions{}, nullptr, pyramid, cv::KeyPoint(32, 32, -1), patch, angle));
+  EXPECT_TRUE(samplePatch(DescriptorOptions{}, nullptr, pyramid, cv::KeyPoint(32, 32, 31), patch, angle));
+  EXPECT_EQ(patch[0], 7);
 }
 
 TEST(PatchAllocation, SharesTheBudgetAsEquallyAsTheImagesAllow) {

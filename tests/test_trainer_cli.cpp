@@ -75,6 +75,10 @@ TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
       {{"--no-such-flag"}, ""},
       {{"--selection", "boosting", "--out", o}, "boosting not in {paper,stability,separation}"},
       {{"--held-out", (dir.path / "nolist.txt").string(), "--out", o}, "nolist.txt: cannot read the held-out list"},
+      {{"--form", "warped", "--out", o}, "--form: warped not in {affine,paper}"},
+      {{"--orientation", "north", "--out", o}, "--orientation: north not in {tangent-plane,keypoint}"},
+      {{"--patches-file", (dir.path / "none.h5").string(), "--form", "paper", "--out", o},
+       "--patches-file cannot be combined with --images, --camera, --form or --orientation"},
   };
   for (const auto& [args, message] : cases) {
     const CliRun r = runTrain(args);
@@ -171,6 +175,9 @@ TEST(TrainCli, SeparationIsByteIdenticalAndRecordsCriterionPairsAndImages) {
   EXPECT_EQ(header, readFile(dir.path / "b" / "sep_64.hpp"));
   EXPECT_NE(header.find("--counterparts 1 --selection separation --tests 64"), std::string::npos);
   EXPECT_NE(header.find("Learned (separation forward selection)"), std::string::npos);
+  EXPECT_NE(header.find("Placement: as mdbrief compute() samples rotation 0: form affine, orientation tangent-plane"),
+            std::string::npos)
+      << header;
   EXPECT_NE(header.find(" flip 0."), std::string::npos) << "per-test flip rates";
   const TestSet learned = loadTestSetJson((dir.path / "a" / "sep_64.json").string());
   EXPECT_EQ(learned.tests.size(), 64u);

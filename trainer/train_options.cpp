@@ -82,8 +82,10 @@ void validate(const TrainOptions& options) {
   if (options.makeDefault && options.out.empty())
     throw std::invalid_argument("make_default needs out (a patterns folder whose registry it changes)");
   const ExtractionOptions& e = options.extraction;
-  if (!options.patchesFile.empty() && (!e.imageDirs.empty() || !e.cameraPath.empty()))
-    throw std::invalid_argument("--patches-file cannot be combined with --images or --camera");
+  const DescriptorOptions placement;
+  const bool placementSet = e.placement.form != placement.form || e.placement.orientation != placement.orientation;
+  if (!options.patchesFile.empty() && (!e.imageDirs.empty() || !e.cameraPath.empty() || placementSet))
+    throw std::invalid_argument("--patches-file cannot be combined with --images, --camera, --form or --orientation");
   if (!e.cameraPath.empty())
     if (const std::string problem = internal::inputFileProblem(e.cameraPath); !problem.empty())
       throw std::invalid_argument(e.cameraPath + ": calibration file: " + problem);

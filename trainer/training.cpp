@@ -33,6 +33,9 @@ std::string recordedCommand(const TrainOptions& s, int counterparts, const std::
     c << " --patches " << e.patches << " --seed " << e.seed;
     if (e.keypointsPerImage != ExtractionOptions{}.keypointsPerImage)
       c << " --keypoints-per-image " << e.keypointsPerImage;
+    const DescriptorOptions placement;
+    if (e.placement.form != placement.form) c << " --form " << toString(e.placement.form);
+    if (e.placement.orientation != placement.orientation) c << " --orientation " << toString(e.placement.orientation);
     if (counterparts > 0) {
       const ViewChangeOptions d;
       const auto& v = e.viewChange;
@@ -65,11 +68,11 @@ std::string fixed(double v, int digits) {
   return buf;
 }
 
-// How the counterparts were made, as the patch set records it.
-std::string pairSource(const PatchSet& patches) {
-  for (const auto& [key, value] : patches.attributes)
-    if (key == "counterparts") return value;
-  return "counterparts of a patch file";
+// A setting of the extraction as the patch set records it, or `missing`.
+std::string patchAttribute(const PatchSet& patches, const std::string& key, const std::string& missing) {
+  for (const auto& [k, value] : patches.attributes)
+    if (k == key) return value;
+  return missing;
 }
 
 double peakMemoryMiB() {
@@ -159,6 +162,7 @@ TrainResult train(const TrainOptions& s, const TrainProgress& progress) {
       "Patches: " + std::to_string(patches.count()) + ", detector " + detector + ", camera " +
           (camera.empty() ? "none (perspective)" : camera) + ", seed " + std::to_string(s.extraction.seed) +
           ", source " + source + ".",
+      "Placement: " + patchAttribute(patches, "placement", "not recorded in the patch file") + ".",
       "Data digest (FNV-1a 64 of the patch pixels): " + result.patchDigest + ".",
       "Candidates: " + std::to_string(learned.candidates) + " (32x32 patch without its border, 3 < d < 29); " +
           "selection " + selectionCriterionName(criterion) +
@@ -167,7 +171,9 @@ TrainResult train(const TrainOptions& s, const TrainProgress& progress) {
                               : std::string()) +
           ".",
       "Matching pairs: " + std::to_string(learned.pairs) +
-          (learned.pairs > 0 ? " (" + pairSource(patches) + ")" : "") + ".",
+          (learned.pairs > 0 ? " (" + patchAttribute(patches, "counterparts", "counterparts of a patch file") + ")"
+                             : "") +
+          ".",
       "Per test: mean = fraction of patches where the test is 1; max corr = highest",
       "correlation |2/P sum|t_i - t_j| - 1| with another test of this set" +
           std::string(learned.flipRate.empty() ? "." : "; flip = fraction of matching pairs where it differs.")};

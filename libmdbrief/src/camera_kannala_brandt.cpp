@@ -70,7 +70,7 @@ bool KannalaBrandtCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel)
 bool KannalaBrandtCamera::isValid(const cv::Point2d& pixel) const {
   const CameraIntrinsics& k = p_.intrinsics;
   return detail::insideImage(pixel, k.size()) &&
-         std::hypot((pixel.x - k.cx) / k.fx, (pixel.y - k.cy) / k.fy) < thetaDMax_;
+         detail::hypotBelow((pixel.x - k.cx) / k.fx, (pixel.y - k.cy) / k.fy, thetaDMax_);
 }
 
 std::shared_ptr<Camera> KannalaBrandtCamera::resized(cv::Size newSize) const {

@@ -35,6 +35,23 @@ inline bool insideImage(const cv::Point2d& p, const cv::Size& size) {
   return p.x >= 0.0 && p.y >= 0.0 && p.x <= size.width - 1.0 && p.y <= size.height - 1.0;
 }
 
+// hypot(x, y) < limit and hypot(x, y) > limit, exactly as std::hypot decides them (NaN: false),
+// for the valid-area checks the descriptor makes at every test footprint's corners. glibc's
+// hypot is slow; the square sum is within a few ulps of hypot's square, so it decides every
+// case outside a relative band of 1e-9 around the limit, and hypot decides the band.
+inline bool hypotBelow(double x, double y, double limit) {
+  const double s = x * x + y * y, l2 = limit * limit;
+  if (s < l2 * (1.0 - 1e-9)) return true;
+  if (s > l2 * (1.0 + 1e-9)) return false;
+  return std::hypot(x, y) < limit;
+}
+inline bool hypotAbove(double x, double y, double limit) {
+  const double s = x * x + y * y, l2 = limit * limit;
+  if (s > l2 * (1.0 + 1e-9)) return true;
+  if (s < l2 * (1.0 - 1e-9)) return false;
+  return std::hypot(x, y) > limit;
+}
+
 // Horner evaluation of sum_i c[i] x^i.
 inline double polyEval(const std::vector<double>& c, double x) {
   double y = 0.0;

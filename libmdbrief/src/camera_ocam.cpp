@@ -148,8 +148,8 @@ bool OcamCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
 bool OcamCamera::isValid(const cv::Point2d& pixel) const {
   if (!detail::insideImage(pixel, imageSize())) return false;
   const double dr = pixel.y - p_.v0, dc = pixel.x - p_.u0;
-  if (p_.validRadius > 0.0 && std::hypot(dr, dc) > p_.validRadius) return false;
-  return std::hypot(invDet_ * (dr - p_.d * dc), invDet_ * (-p_.e * dr + p_.c * dc)) < rhoMax_;
+  if (p_.validRadius > 0.0 && detail::hypotAbove(dr, dc, p_.validRadius)) return false;
+  return detail::hypotBelow(invDet_ * (dr - p_.d * dc), invDet_ * (-p_.e * dr + p_.c * dc), rhoMax_);
 }
 
 std::shared_ptr<Camera> OcamCamera::resized(cv::Size newSize) const {

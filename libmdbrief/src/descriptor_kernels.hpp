@@ -33,6 +33,8 @@ struct SamplingKernels {
 
 SamplingKernels portableSamplingKernels();
 SamplingKernels avx2SamplingKernels();
+// The kernels of the active SIMD level (simd_level.hpp).
+SamplingKernels activeSamplingKernels();
 
 namespace {
 
@@ -43,6 +45,10 @@ inline int sampleBilinear(const uint8_t* data, size_t step, int px, int py) {
   const uint8_t* r0 = data + (py >> kSubBits) * step + (px >> kSubBits);
   const uint8_t* r1 = r0 + step;
   return (r0[0] * (kSub - fx) + r0[1] * fx) * (kSub - fy) + (r1[0] * (kSub - fx) + r1[1] * fx) * fy;
+}
+
+inline int sampleNearest(const uint8_t* data, size_t step, int px, int py) {
+  return data[((py + kSub / 2) >> kSubBits) * step + ((px + kSub / 2) >> kSubBits)];
 }
 
 // Min/max in one pass; vectorised by the compiler (at AVX2, with 8-lane integer min/max).
