@@ -15,6 +15,7 @@
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/internal/input_file.hpp"
 #include "mdbrief/internal/size_text.hpp"
+#include "mdbrief/tangent_plane.hpp"
 #include "toolkit/image_file.hpp"
 
 namespace mdbrief::cli {
@@ -27,18 +28,18 @@ using internal::sizeText;
 constexpr double kFewPercentOfTheImage = 0.05;
 
 // The share of a grid of at most 64 x 64 pixels where a keypoint can be described: valid for
-// the camera and, when maxIncidenceDeg is given (descriptors that use the camera model), within
-// that angle of its axis.
-double describableShare(const Camera& camera, std::optional<double> maxIncidenceDeg) {
-  const double minCos = maxIncidenceDeg ? std::cos(*maxIncidenceDeg * CV_PI / 180.0) : 0.0;
+// the camera and, for descriptors that use the camera model (`descriptor` given), where the
+// descriptor's tangent plane can be placed (within its incidence bound).
+double describableShare(const Camera& camera, const DescriptorOptions* descriptor) {
   const cv::Size size = camera.imageSize();
   const int nx = std::min(size.width, 64), ny = std::min(size.height, 64);
   int usable = 0;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
       const cv::Point2d p((i + 0.5) * size.width / nx - 0.5, (j + 0.5) * size.height / ny - 0.5);
-      cv::Vec3d ray;
-      usable += camera.isValid(p) && (!maxIncidenceDeg || (camera.pixelToBearing(p, ray) && ray[2] > minCos));
+      usable += camera.isValid(p) &&
+                (!descriptor || tangentPlaneAt(camera, p, descriptor->maxIncidenceDeg,
+                                               descriptor->form == DistortionForm::Affine));
     }
   return static_cast<double>(usable) / (nx * ny);
 }
@@ -91,14 +92,15 @@ CameraPtr loadCalibration(const ExtractionFlags& flags) {
     throw InputError(what.rfind(flags.camera, 0) == 0 ? what : flags.camera + ": " + what);
   }
   const double maxIncidenceDeg = options.descriptor.maxIncidenceDeg;
-  const std::optional<double> incidenceBound = modelled ? std::optional<double>(maxIncidenceDeg) : std::nullopt;
-  if (const double share = describableShare(*camera, incidenceBound); share < kFewPercentOfTheImage) {
+  if (const double share = describableShare(*camera, modelled ? &options.descriptor : nullptr);
+      share < kFewPercentOfTheImage) {
     std::ostringstream percent;
     percent << std::fixed << std::setprecision(1) << 100.0 * share;
     std::ostringstream text;
     text << "warning: " << flags.camera << ": keypoints can be described on " << percent.str() << " % of the "
          << sizeText(camera->imageSize()) << " image (the camera's valid area";
-    if (modelled) text << ", rays within " << maxIncidenceDeg << " degrees of the optical axis";
+    if (modelled)
+      text << ", rays within " << maxIncidenceDeg << " degrees of the optical axis where the descriptor's plane projects";
     text << "); expect few or no keypoints\n";
     std::cerr << text.str();
   }

@@ -126,10 +126,9 @@ const OptionTable<DescriptorOptions>& descriptorOptionFields() {
       realField<O>("maskRotationDeg", "", "mask_rotation_deg", "--mask-rotation-deg",
                    "mdBRIEF: the mask's extra rotations are +/- this angle (degrees)", R::open(0, 90),
                    [](auto& o) -> auto& { return o.maskRotationDeg; }),
-      // The tangent plane degenerates towards 90 degrees.
       realField<O>("maxIncidenceDeg", "", "max_incidence_deg", "--max-incidence-deg",
-                   "dBRIEF/mdBRIEF: keypoints further from the optical axis (degrees) are dropped", R::open(0, 90),
-                   [](auto& o) -> auto& { return o.maxIncidenceDeg; }),
+                   "dBRIEF/mdBRIEF: keypoints further from the optical axis (degrees) are dropped",
+                   R::openLow(0, 180), [](auto& o) -> auto& { return o.maxIncidenceDeg; }),
       realField<O>("supportScale", "", "support_scale", "--support-scale",
                    "the tests' 31-pixel diameter spans this times the keypoint size (1 = cv::ORB's convention)",
                    R::closed(0.1, 20), [](auto& o) -> auto& { return o.supportScale; }),

@@ -35,9 +35,9 @@ bool samplePatch(const DescriptorOptions& options, const Camera* camera, const I
                  const cv::KeyPoint& keypoint, uint8_t* out, float& angle) {
   validate(options);
   if (!camera && usesCamera(options.kind)) throw std::invalid_argument("dBRIEF and mdBRIEF need a camera model");
-  // The patch is the rotation-0 view: the kind without masks places only that one.
-  DescriptorOptions o = options;
-  o.kind = usesCamera(o.kind) ? DescriptorKind::DBrief : DescriptorKind::Brief;
+  // The patch is the rotation-0 view. A masked kind also places the rotated views: compute()
+  // drops a keypoint when one of them leaves the image or the valid area, so the sampler does too.
+  const DescriptorOptions& o = options;
   const Support support = supportOf(keypoint.size, o.supportScale, pyramidScales(pyramid));
   if (support.level < 0) return false;
   static const Offsets grid = patchGrid();

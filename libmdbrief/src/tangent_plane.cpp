@@ -4,30 +4,51 @@
 
 namespace mdbrief {
 
-bool planeToPixel(const Camera& camera, double lambda, const cv::Point2d& planePoint,
+bool planeToPixel(const Camera& camera, const TangentPlaneFrame& frame, const cv::Point2d& offset,
                   cv::Point2d& pixel) {
-  return camera.bearingToPixel(cv::Vec3d(planePoint.x, planePoint.y, lambda), pixel);
+  return camera.bearingToPixel(frame.origin + frame.e1 * offset.x + frame.e2 * offset.y, pixel);
 }
 
 std::optional<TangentPlaneFrame> tangentPlaneAt(const Camera& camera, const cv::Point2d& pixel,
-                                                double maxIncidenceDeg) {
+                                                double maxIncidenceDeg, bool local) {
   cv::Vec3d v;
   if (!camera.pixelToBearing(pixel, v)) return std::nullopt;
   const double norm = cv::norm(v);
-  if (!(norm > 0.0) || v[2] / norm < std::cos(maxIncidenceDeg * CV_PI / 180.0)) return std::nullopt;
+  if (!(norm > 0.0)) return std::nullopt;
+  const cv::Vec3d ray = v / norm;
+  // The global plane meets rays in front of the camera only.
+  if (ray[2] < std::cos(maxIncidenceDeg * CV_PI / 180.0) || (!local && !(ray[2] > 0.0))) return std::nullopt;
 
   TangentPlaneFrame frame;
   frame.lambda = camera.tangentPlaneScale();
-  frame.anchor = {frame.lambda * v[0] / v[2], frame.lambda * v[1] / v[2]};
+  if (local) {
+    frame.origin = ray * frame.lambda;
+    // Rodrigues' rotation about z x ray by the incidence: the axes stay those of the image at
+    // the centre and turn continuously with the ray (undefined only straight behind the lens).
+    const cv::Vec3d axis(-ray[1], ray[0], 0.0);
+    const double s = cv::norm(axis), c = ray[2];
+    if (s < 1e-12) {
+      if (c < 0) return std::nullopt;
+      frame.e1 = {1, 0, 0};
+      frame.e2 = {0, 1, 0};
+    } else {
+      const cv::Vec3d k = axis / s;
+      const auto turn = [&](const cv::Vec3d& x) { return x * c + k.cross(x) * s + k * (k.dot(x) * (1.0 - c)); };
+      frame.e1 = turn({1, 0, 0});
+      frame.e2 = turn({0, 1, 0});
+    }
+  } else {
+    frame.origin = cv::Vec3d(ray[0], ray[1], ray[2]) * (frame.lambda / ray[2]);
+    frame.e1 = {1, 0, 0};
+    frame.e2 = {0, 1, 0};
+  }
 
   // Central differences with a half-unit step: plane units are about pixels, so the stencil
   // stays within the footprint of one pixel and the truncation error is negligible.
   constexpr double h = 0.5;
   cv::Point2d xp, xm, yp, ym;
-  if (!planeToPixel(camera, frame.lambda, frame.anchor + cv::Point2d(h, 0), xp) ||
-      !planeToPixel(camera, frame.lambda, frame.anchor - cv::Point2d(h, 0), xm) ||
-      !planeToPixel(camera, frame.lambda, frame.anchor + cv::Point2d(0, h), yp) ||
-      !planeToPixel(camera, frame.lambda, frame.anchor - cv::Point2d(0, h), ym))
+  if (!planeToPixel(camera, frame, {h, 0}, xp) || !planeToPixel(camera, frame, {-h, 0}, xm) ||
+      !planeToPixel(camera, frame, {0, h}, yp) || !planeToPixel(camera, frame, {0, -h}, ym))
     return std::nullopt;
   const cv::Point2d dx = (xp - xm) / (2 * h), dy = (yp - ym) / (2 * h);
   frame.jacobian = cv::Matx22d(dx.x, dy.x, dx.y, dy.y);

@@ -26,7 +26,7 @@ cv::Matx22d rotation(double deg) {
 }
 
 // Where one rotation of the offsets lands for one keypoint. Either an affine map of the
-// offsets (BRIEF, the Affine form) or the paper's point-wise projection from Pi_lambda.
+// offsets (BRIEF, the Affine form) or the paper's point-wise projection from its plane.
 struct Placement {
   bool affine = true;
   cv::Point2d centre;        // affine: level coordinates of the keypoint
@@ -62,10 +62,9 @@ bool placeOffsets(const Placement& pl, const Camera* camera, const Offsets& q, c
     return true;
   }
   for (int i = 0; i < n; ++i) {
-    const cv::Point2d plane(pl.frame->anchor.x + m(0, 0) * q.x[i] + m(0, 1) * q.y[i],
-                            pl.frame->anchor.y + m(1, 0) * q.x[i] + m(1, 1) * q.y[i]);
+    const cv::Point2d offset(m(0, 0) * q.x[i] + m(0, 1) * q.y[i], m(1, 0) * q.x[i] + m(1, 1) * q.y[i]);
     cv::Point2d px;
-    if (!planeToPixel(*camera, pl.frame->lambda, plane, px)) return false;
+    if (!planeToPixel(*camera, *pl.frame, offset, px)) return false;
     const double lx = px.x / pl.scale, ly = px.y / pl.scale;
     if (!(std::abs(lx) < kCoordinateLimit && std::abs(ly) < kCoordinateLimit)) return false;
     x[i] = toFixed(lx);
@@ -85,7 +84,7 @@ bool cornersValid(const Placement& pl, const Camera& camera) {
     cv::Point2d px;
     if (pl.affine) {
       px = (pl.centre + cv::Point2d(o[0], o[1])) * pl.scale;
-    } else if (!planeToPixel(camera, pl.frame->lambda, pl.frame->anchor + cv::Point2d(o[0], o[1]), px)) {
+    } else if (!planeToPixel(camera, *pl.frame, cv::Point2d(o[0], o[1]), px)) {
       return false;
     }
     if (!camera.isValid(px)) return false;
@@ -146,7 +145,8 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
     return count;
   }
 
-  const auto f = tangentPlaneAt(*camera, cv::Point2d(kp.pt.x, kp.pt.y), o.maxIncidenceDeg);
+  const auto f =
+      tangentPlaneAt(*camera, cv::Point2d(kp.pt.x, kp.pt.y), o.maxIncidenceDeg, o.form == DistortionForm::Affine);
   if (!f) return 0;
   frame = *f;
   // Offset -> level coordinates before rotation. Affine: shape from the camera, size from the

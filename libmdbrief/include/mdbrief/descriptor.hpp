@@ -45,12 +45,12 @@ inline bool usesCamera(DescriptorKind kind) { return kind == DescriptorKind::DBr
 // Where the tests' orientation comes from when useOrientation is set.
 enum class OrientationSource {
   // The keypoint's angle (the detector's intensity centroid, measured on a disc of the
-  // distorted image), carried to Pi_lambda through the Jacobian. That disc is an ellipse on
-  // the plane, so the angle is not covariant with the footprint the tests use.
+  // distorted image), carried to the tangent plane through the Jacobian. That disc is an
+  // ellipse on the plane, so the angle is not covariant with the footprint the tests use.
   Keypoint,
   // dBRIEF/mdBRIEF: re-measured per keypoint as the intensity centroid of a disc of radius
-  // orientationRadius on Pi_lambda, sampled through the same local map as the tests, so the
-  // angle turns with the plane wherever the plane is seen in the image. compute() writes the
+  // orientationRadius on the tangent plane, sampled through the same local map as the tests, so
+  // the angle turns with the plane wherever the plane is seen in the image. compute() writes the
   // image direction of this angle back into the keypoint. BRIEF/masked BRIEF: as Keypoint.
   // Measured on keypoints without an angle too (angle -1).
   TangentPlane,
@@ -62,15 +62,17 @@ inline OrientationSource parseOrientationSource(const std::string& name) {
   return parseName(name, kOrientationSourceNames, "orientation source");
 }
 
-// How dBRIEF maps the test set into the image.
+// How dBRIEF maps the test set into the image (the planes: mdbrief/tangent_plane.hpp).
 enum class DistortionForm {
-  // The paper's eq. 8-11 literally: tests added on the plane Pi_lambda at the undistorted
-  // keypoint (scaled by the octave's scale), every test point projected through the camera.
+  // The paper's eq. 8-11 literally: tests added on its plane Pi_lambda (z = lambda) at the
+  // undistorted keypoint (scaled by the octave's scale), every test point projected through the
+  // camera. Not rotation invariant off the optical axis (the plane adds perspective stretch), and
+  // it degenerates towards 90 degrees: use maxIncidenceDeg 80 with it (the `paper` preset does).
   Paper,
-  // Scale-consistent: the footprint's shape (rotation, anisotropy) comes from the camera, its
-  // size from the detector: the local Jacobian of plane -> pixel at the keypoint, normalised
-  // to unit determinant, maps the (octave-scaled) tests. The detector's octave already
-  // reflects the compressed appearance near the rim, so the paper's form shrinks twice there.
+  // The tests on the plane tangent to the viewing sphere at the keypoint's ray, mapped by the
+  // local Jacobian of plane -> pixel normalised to unit determinant: the footprint's shape
+  // (rotation, anisotropy) comes from the camera, its size from the detector (whose scale
+  // already reflects the compressed appearance near the rim). Holds at any incidence.
   Affine,
 };
 inline constexpr EnumName<DistortionForm> kDistortionFormNames[] = {{DistortionForm::Affine, "affine"},
@@ -108,9 +110,10 @@ struct DescriptorOptions {
   // of the detector. 20 degrees: the best of the angles compared in docs/RESULTS.md, section
   // "Detected keypoints, tilted and rolled poses (decides the defaults)".
   double maskRotationDeg = 20.0;
-  // dBRIEF/mdBRIEF: keypoints whose ray is further than this from the optical axis are dropped;
-  // Pi_lambda degenerates towards 90 degrees (the test footprint stretches without bound).
-  double maxIncidenceDeg = 80.0;
+  // dBRIEF/mdBRIEF: keypoints whose ray is further than this from the optical axis are dropped.
+  // 180 = none: the Affine form's plane holds at any incidence, and keypoints beyond 80 degrees
+  // add matches on the wide lenses (docs/RESULTS.md "Real images: what a tracker keeps").
+  double maxIncidenceDeg = 180.0;
   // The footprint follows the keypoint's size continuously: the tests' 31-pixel diameter
   // (cv::ORB's patch) spans supportScale * size level-0 pixels, sampled on the pyramid level
   // whose scale is nearest, at the remaining fractional scale on that level. 1 = cv::ORB's

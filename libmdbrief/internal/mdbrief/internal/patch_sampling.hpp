@@ -25,8 +25,8 @@ inline constexpr double kReferenceKeypointSize = 31.0;
 // would drop the keypoint or a patch pixel cannot be sampled (the patch covers every offset of
 // the 32x32 square, a test set only some of them). Only the placement fields of `options`
 // matter (kind, form, orientation, orientationRadius, useOrientation, maxIncidenceDeg,
-// supportScale, sampling); the mask rotations are not placed. camera may be null only for kinds
-// without a camera. Throws std::invalid_argument for invalid options or a missing camera.
+// supportScale, sampling); a masked kind's rotated views are placed and checked, not sampled.
+// camera may be null only for kinds without a camera. Throws std::invalid_argument for invalid options or a missing camera.
 bool samplePatch(const DescriptorOptions& options, const Camera* camera, const ImagePyramid& pyramid,
                  const cv::KeyPoint& keypoint, uint8_t* out, float& angle);
 
