@@ -53,12 +53,16 @@ inline DetectorMethod parseDetectorMethod(const std::string& name) {
 }
 
 struct DetectorOptions {
-  // ModOrb stays the default: docs/RESULTS.md "Whole pipelines (issue 10)" has the measurement,
-  // which says what Hessian wins and loses (matching, repeatability, speed).
-  DetectorMethod method = DetectorMethod::ModOrb;
+  // Hessian: more right two-view fits than modORB on real fisheye and perspective pairs, and
+  // more repeatable across scale (docs/RESULTS.md "Real images: what a tracker keeps").
+  DetectorMethod method = DetectorMethod::Hessian;
   int nfeatures = 1000;               // upper bound on the number of keypoints returned
-  // Levels, scale factor and first level (cv::ORB's nlevels / scaleFactor / firstLevel).
-  PyramidOptions pyramid;
+  // Levels, scale factor and first level (cv::ORB's nlevels / scaleFactor / firstLevel; its 8,
+  // 1.2 and 0 are PyramidOptions' defaults). Here a level below the input (the image enlarged
+  // by the scale factor) finds the small blobs that carry most of a wide-angle frame's detail,
+  // and 11 levels of 1.25 span the scale changes of wide baselines (docs/RESULTS.md "Real images:
+  // what a tracker keeps").
+  PyramidOptions pyramid{11, 1.25, 1};
   // FAST-9/16 or AGAST OAST-9/16. FAST by default: OpenCV 4.6's AGAST has no SIMD path and
   // is the slower one here, unlike in the paper (docs/RESULTS.md "Detector (issue 3)").
   CornerDetector corners = CornerDetector::Fast;

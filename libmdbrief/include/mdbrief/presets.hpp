@@ -1,0 +1,34 @@
+#pragma once
+// Named settings of the whole pipeline: the features (MdBriefOptions) and the matcher
+// (MatchOptions) they were chosen with, on real images with the tracker benchmark
+// (docs/RESULTS.md "Real images: what a tracker keeps").
+// - tracking: MdBrief::create()'s defaults, MdBriefOptions{} and MatchOptions{}: the most
+//   right two-view fits per frame pair at a few milliseconds per frame.
+// - matching: more distinctive descriptors and a stricter ratio for wide baselines and
+//   relocalisation, where precision counts more than speed.
+// - paper: the paper's pipeline (modORB corners, the paper's plane and its learned criterion,
+//   nearest neighbours without a ratio test), to reproduce its experiments.
+// Start from a preset and change fields: presetSettings(Preset::Matching).features.detector.nfeatures = 2000.
+#include <string>
+
+#include "mdbrief/enum_names.hpp"
+#include "mdbrief/feature2d.hpp"
+#include "mdbrief/matcher.hpp"
+
+namespace mdbrief {
+
+enum class Preset { Tracking, Matching, Paper };
+inline constexpr EnumName<Preset> kPresetNames[] = {
+    {Preset::Tracking, "tracking"}, {Preset::Matching, "matching"}, {Preset::Paper, "paper"}};
+inline std::string toString(Preset preset) { return nameOf(preset, kPresetNames); }
+// Throws std::invalid_argument "preset 'x' is not one of: tracking, matching, paper".
+inline Preset parsePreset(const std::string& name) { return parseName(name, kPresetNames, "preset"); }
+
+struct PresetSettings {
+  MdBriefOptions features;
+  MatchOptions matching;
+};
+
+PresetSettings presetSettings(Preset preset);
+
+}  // namespace mdbrief
