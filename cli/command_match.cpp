@@ -6,6 +6,7 @@
 #include "cli/commands.hpp"
 #include "cli/storage_io.hpp"
 #include "mdbrief/matcher.hpp"
+#include "mdbrief/presets.hpp"
 #include "toolkit/option_flags.hpp"
 
 namespace mdbrief::cli {
@@ -14,22 +15,17 @@ namespace {
 struct MatchArgs {
   std::string query;
   std::string train;
-  OptionFlags<MatchOptions> options;  // MatchOptions' field table: --ratio, --cross-check, --max-distance
+  std::string preset = toString(Preset::Tracking);
+  OptionFlags<MatchOptions> options;  // MatchOptions' field table: --ratio, --no-cross-check, --max-distance
   bool noRatio = false;
   std::string output;
 };
 
-// The command line's defaults: the library's, with Lowe's ratio test on.
-MatchOptions commandDefaults() {
-  MatchOptions o;
-  o.ratio = 0.8f;
-  return o;
-}
-
 void runMatch(const MatchArgs& args) {
   MatchOptions options;
   try {
-    options = args.options.apply(commandDefaults(), [](const MatchOptions& o) { validate(o); });
+    options = args.options.apply(presetSettings(parsePreset(args.preset)).matching,
+                                 [](const MatchOptions& o) { validate(o); });
   } catch (const OptionError& e) {
     throw InputError(e.what());
   }
@@ -74,7 +70,11 @@ void addMatchCommand(CLI::App& app) {
       "bits), in query order; also 'query', 'train' (the input files) and 'masked' (0/1).");
   cmd->add_option("A", args->query, "Query features (extract output)")->required();
   cmd->add_option("B", args->train, "Train features (extract output)")->required();
-  args->options.add(*cmd, matchOptionFields(), commandDefaults());
+  cmd->add_option("--preset", args->preset,
+                  "Start from this preset's matcher settings (mdbrief/presets.hpp); the flags below change them")
+      ->check(CLI::IsMember(namesOf(kPresetNames)))
+      ->capture_default_str();
+  args->options.add(*cmd, matchOptionFields());
   cmd->add_flag("--no-ratio", args->noRatio, "Disable the ratio test");
   cmd->add_option("-o,--output", args->output, "Output FileStorage file (.yml, .yml.gz, .json)")->required();
   cmd->callback([args] { runMatch(*args); });

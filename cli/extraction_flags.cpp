@@ -15,6 +15,7 @@
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/internal/input_file.hpp"
 #include "mdbrief/internal/size_text.hpp"
+#include "mdbrief/presets.hpp"
 #include "mdbrief/tangent_plane.hpp"
 #include "toolkit/image_file.hpp"
 
@@ -55,6 +56,10 @@ void requireReadableFile(const std::string& path) {
 
 void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
   cmd.add_option("--camera", flags.camera, "Calibration file (configs/cameras/README.md); required for dbrief/mdbrief");
+  cmd.add_option("--preset", flags.preset,
+                 "Start from this preset's options (mdbrief/presets.hpp); the flags below change them")
+      ->check(CLI::IsMember(namesOf(kPresetNames)))
+      ->capture_default_str();
   flags.options.add(cmd, mdBriefOptionFields());
   cmd.add_flag("--allow-size-mismatch", flags.allowSizeMismatch,
                "Rescale the calibration to the image size instead of rejecting a different size");
@@ -64,7 +69,8 @@ void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
 
 MdBriefOptions extractionOptions(const ExtractionFlags& flags) {
   try {
-    return flags.options.apply(MdBriefOptions{}, [](const MdBriefOptions& o) { validate(o); });
+    return flags.options.apply(presetSettings(parsePreset(flags.preset)).features,
+                               [](const MdBriefOptions& o) { validate(o); });
   } catch (const OptionError& e) {
     throw InputError(e.what());
   }

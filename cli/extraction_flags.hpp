@@ -18,17 +18,19 @@ namespace mdbrief::cli {
 // every field's flag, doc, range and default come from there.
 struct ExtractionFlags {
   std::string camera;                 // calibration file; required except for --descriptor brief / mbrief
+  std::string preset = "tracking";    // the options the flags start from (mdbrief/presets.hpp)
   OptionFlags<MdBriefOptions> options;
   bool allowSizeMismatch = false;     // rescale the calibration to the image instead of failing
   bool strict = false;                // a truncated image file is an error, not a warning
 };
 
-// Adds --camera, every MdBriefOptions flag (--features, --detector, --descriptor, --bits, ...),
-// --allow-size-mismatch and --strict to cmd, bound to flags (which must outlive the parse and
+// Adds --camera, --preset, every MdBriefOptions flag (--features, --detector, --descriptor,
+// --bits, ...), --allow-size-mismatch and --strict to cmd, bound to flags (which must outlive the parse and
 // stay in place).
 void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags);
 
-// The options the flags give, validated. InputError "<flag> must be in [...], got <value>".
+// The preset's options with the flags applied, validated. InputError "<flag> must be in [...],
+// got <value>".
 MdBriefOptions extractionOptions(const ExtractionFlags& flags);
 
 // The calibration of flags.camera, or null when none is given (allowed for brief and mbrief,

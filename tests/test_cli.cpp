@@ -158,27 +158,74 @@ TEST_F(CliTest, ExtractBriefAndDBriefHaveNoMasksAndHonourBitsAndFeatures) {
   EXPECT_GT(m.keypoints.size(), 100u);
 }
 
-TEST_F(CliTest, DetectorFlagSelectsTheHessianBlobs) {
+TEST_F(CliTest, DetectorFlagSelectsTheHessianBlobsOrModOrbCorners) {
   REQUIRE_IMAGE(image, "view.png");
-  ASSERT_EQ(run({"extract", "--camera", kCamera, "--features", "300", image, "-o", path("orb.yml")}).code, 0);
-  const Result r = run({"extract", "--camera", kCamera, "--detector", "hessian", "--features", "300", image, "-o",
-                        path("hessian.yml")});
+  // The pyramid of modORB's 31 * 1.2^octave sizes (the default detector's pyramid differs).
+  ASSERT_EQ(run({"extract", "--camera", kCamera, "--detector", "modorb", "--levels", "8", "--scale-factor", "1.2",
+                 "--first-level", "0", "--features", "300", image, "-o", path("orb.yml")})
+                .code,
+            0);
+  const Result r = run({"extract", "--camera", kCamera, "--features", "300", image, "-o", path("hessian.yml")});
   ASSERT_EQ(r.code, 0) << r.err;
   const FeatureFile corners = readFeatures(path("orb.yml")), blobs = readFeatures(path("hessian.yml"));
   EXPECT_GT(blobs.keypoints.size(), 100u);
   EXPECT_EQ(blobs.descriptors.rows, static_cast<int>(blobs.keypoints.size()));
-  // modORB sizes are 31 * 1.2^octave exactly; refined blob scales fall between them.
-  const auto between = [](const FeatureFile& f) {
-    return std::count_if(f.keypoints.begin(), f.keypoints.end(), [](const cv::KeyPoint& k) {
-      const double level = std::log(k.size / 31.0) / std::log(1.2);
+  // modORB sizes are 31 * 1.2^octave exactly; refined blob scales (the default detector's) fall
+  // between the default pyramid's levels, 31 * 1.25^(level - 1).
+  const auto between = [](const FeatureFile& f, double factor) {
+    return std::count_if(f.keypoints.begin(), f.keypoints.end(), [factor](const cv::KeyPoint& k) {
+      const double level = std::log(k.size / 31.0) / std::log(factor);
       return std::abs(level - std::round(level)) > 0.05;
     });
   };
-  EXPECT_EQ(between(corners), 0);
-  EXPECT_GT(between(blobs), static_cast<long>(blobs.keypoints.size() / 2));
+  EXPECT_EQ(between(corners, 1.2), 0);
+  EXPECT_GT(between(blobs, 1.25), static_cast<long>(blobs.keypoints.size() / 2));
   const Result bad = run({"extract", "--camera", kCamera, "--detector", "harris", image, "-o", path("x.yml")});
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("--detector"), std::string::npos) << bad.err;
+}
+
+// --preset picks the options the other flags start from; an unknown name exits 2 and lists the
+// presets.
+TEST_F(CliTest, PresetChoosesTheStartingOptions) {
+  REQUIRE_IMAGE(image, "view.png");
+  ASSERT_EQ(run({"extract", "--camera", kCamera, "--preset", "paper", image, "-o", path("paper.yml")}).code, 0);
+  ASSERT_EQ(run({"extract", "--camera", kCamera, "--preset", "matching", image, "-o", path("matching.yml")}).code, 0);
+  const FeatureFile paper = readFeatures(path("paper.yml")), matching = readFeatures(path("matching.yml"));
+  // The paper's modORB: sizes 31 * 1.2^octave; matching: 512 bits.
+  for (const auto& k : paper.keypoints) {
+    const double level = std::log(k.size / 31.0) / std::log(1.2);
+    ASSERT_NEAR(level, std::round(level), 1e-3) << k.size;
+  }
+  EXPECT_EQ(paper.descriptors.cols, 32);
+  EXPECT_EQ(matching.descriptors.cols, 64);
+  // A flag changes the preset's value.
+  ASSERT_EQ(run({"extract", "--camera", kCamera, "--preset", "matching", "--bits", "128", image, "-o",
+                 path("m128.yml")})
+                .code,
+            0);
+  EXPECT_EQ(readFeatures(path("m128.yml")).descriptors.cols, 16);
+  // The paper's matcher keeps every query's nearest neighbour; the default a ratio test.
+  ASSERT_EQ(run({"match", "--preset", "paper", path("paper.yml"), path("matching.yml"), "-o", path("p.yml")}).code, 2)
+      << "descriptor lengths differ";
+  const std::string other = fisheyeImage("other.png", 0.2);
+  ASSERT_EQ(run({"extract", "--camera", kCamera, "--preset", "paper", other, "-o", path("other.yml")}).code, 0);
+  ASSERT_EQ(run({"match", "--preset", "paper", path("paper.yml"), path("other.yml"), "-o", path("p.yml")}).code, 0);
+  ASSERT_EQ(run({"match", path("paper.yml"), path("other.yml"), "-o", path("t.yml")}).code, 0);
+  cv::Mat all, kept;
+  cv::FileStorage(path("p.yml"), cv::FileStorage::READ)["matches"] >> all;
+  cv::FileStorage(path("t.yml"), cv::FileStorage::READ)["matches"] >> kept;
+  EXPECT_EQ(all.rows, paper.descriptors.rows);
+  EXPECT_LT(kept.rows, all.rows);
+  for (const char* command : {"extract", "match"}) {
+    const Result bad = command == std::string("extract")
+                           ? run({"extract", "--camera", kCamera, "--preset", "fast", image, "-o", path("x.yml")})
+                           : run({"match", "--preset", "fast", path("paper.yml"), path("paper.yml"), "-o", path("x.yml")});
+    EXPECT_EQ(bad.code, 2) << command;
+    EXPECT_NE(bad.err.find("--preset"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("tracking"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("paper"), std::string::npos) << bad.err;
+  }
 }
 
 TEST_F(CliTest, OrientationSourceChangesTheAnglesOfDBrief) {
@@ -314,7 +361,7 @@ TEST_F(CliTest, ExtractSeveralImagesWritesOneFilePerImageIntoTheFolder) {
 TEST_F(CliTest, MatchingAFileWithItselfPairsEveryRowWithItself) {
   REQUIRE_IMAGE(image, "view.png");
   ASSERT_EQ(run({"extract", "--camera", kCamera, image, "-o", path("a.yml")}).code, 0);
-  const Result r = run({"match", path("a.yml"), path("a.yml"), "--no-ratio", "--cross-check", "-o", path("m.yml")});
+  const Result r = run({"match", path("a.yml"), path("a.yml"), "--no-ratio", "-o", path("m.yml")});  // mutual by default
   ASSERT_EQ(r.code, 0) << r.err;
   cv::FileStorage fs(path("m.yml"), cv::FileStorage::READ);
   cv::Mat m;

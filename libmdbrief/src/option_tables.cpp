@@ -153,7 +153,7 @@ const OptionTable<MatchOptions>& matchOptionFields() {
       realField<O>("ratio", "", "ratio", "--ratio",
                    "Lowe's ratio test: keep a match if best < ratio * second best (unset = off)", R::openLow(0, 1),
                    [](auto& o) -> auto& { return o.ratio; }),
-      flagField<O>("crossCheck", "", "cross_check", "--cross-check", "keep mutual nearest neighbours only",
+      flagField<O>("crossCheck", "", "cross_check", "--no-cross-check", "keep mutual nearest neighbours only",
                    [](auto& o) -> auto& { return o.crossCheck; }),
       // A distance never exceeds the longest descriptor's 512 bits.
       realField<O>("maxDistance", "", "max_distance", "--max-distance",

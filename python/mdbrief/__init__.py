@@ -2,10 +2,10 @@
 
     import cv2, mdbrief
     camera = mdbrief.load_camera("configs/cameras/lafida_fisheye0.yaml")
-    features = mdbrief.MdBrief(camera, nfeatures=1000)
+    features = mdbrief.MdBrief(camera)                  # preset="tracking": the library's defaults
     kp1, d1, m1 = features.detect_and_compute(cv2.imread("a.png"))
     kp2, d2, m2 = features.detect_and_compute(cv2.imread("b.png"))
-    matches = mdbrief.match(d1, d2, m1, m2, ratio=0.8)
+    matches = mdbrief.match(d1, d2, m1, m2)             # the preset's ratio test and mutual check
 
 Keypoints are cv2.KeyPoint and matches cv2.DMatch objects, so cv2.drawKeypoints,
 cv2.drawMatches and cv2.BFMatcher(cv2.NORM_HAMMING) take them unchanged. The C++ work runs
@@ -14,7 +14,7 @@ without the GIL.
 import cv2  # noqa: F401  (the keypoint and match types the module returns)
 
 from ._mdbrief import (Camera, MdBrief, TestSet, default_pattern, limit_simd_level, load_camera, load_pattern,
-                       match, option_fields, patterns, simd_level, supported_simd_level, train)
+                       match, option_fields, patterns, presets, simd_level, supported_simd_level, train)
 
 __all__ = ["Camera", "MdBrief", "TestSet", "default_pattern", "limit_simd_level", "load_camera", "load_pattern",
-           "match", "option_fields", "patterns", "simd_level", "supported_simd_level", "train"]
+           "match", "option_fields", "patterns", "presets", "simd_level", "supported_simd_level", "train"]

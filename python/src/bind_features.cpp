@@ -6,24 +6,27 @@
 #include "bindings.hpp"
 #include "conversions.hpp"
 #include "mdbrief/feature2d.hpp"
+#include "mdbrief/presets.hpp"
 #include "option_keywords.hpp"
+#include "presets.hpp"
 
 namespace mdbrief::python {
 namespace {
 
-MdBriefOptions optionsFrom(const py::kwargs& kwargs) {
-  return optionsFromKeywords(mdBriefOptionFields(), kwargs, "MdBrief",
-                             [](const MdBriefOptions& o) { validate(o); });
+MdBriefOptions optionsFrom(const std::string& preset, const py::kwargs& kwargs) {
+  return optionsFromKeywords(mdBriefOptionFields(), kwargs, "MdBrief", [](const MdBriefOptions& o) { validate(o); },
+                             {}, presetSettings(presetFrom(preset)).features);
 }
 
 std::string initDoc() {
-  return "MdBrief(camera, **options)\n\n"
+  return "MdBrief(camera, preset='tracking', **options)\n\n"
          "Detector + descriptor, as mdbrief::MdBrief in C++. camera: an mdbrief.Camera (None only for\n"
-         "descriptor='brief' or 'mbrief'). Every option of MdBriefOptions is a keyword; the defaults are\n"
-         "the library's (docs/RESULTS.md says why):\n\n" +
+         "descriptor='brief' or 'mbrief'). preset: the options to start from (mdbrief.presets():\n"
+         "tracking, the library's defaults; matching; paper). Every option of MdBriefOptions is a\n"
+         "keyword that changes the preset's value; the defaults (docs/RESULTS.md says why):\n\n" +
          keywordDoc(mdBriefOptionFields(), MdBriefOptions{}) +
          "\nA bad value raises ValueError naming the keyword, its range and the value; an unknown keyword,\n"
-         "TypeError.";
+         "TypeError; an unknown preset, ValueError listing the presets.";
 }
 
 using FeaturePtr = std::shared_ptr<MdBrief>;
@@ -52,15 +55,16 @@ py::tuple run(MdBrief& feature, const py::handle& image, const py::handle& mask,
 
 void bindFeatures(py::module_& m) {
   py::class_<MdBrief, FeaturePtr>(m, "MdBrief", "Keypoint detection and BRIEF / dBRIEF / mdBRIEF description.")
-      .def(py::init([](std::shared_ptr<Camera> camera, const py::kwargs& kwargs) {
-             const MdBriefOptions options = optionsFrom(kwargs);
+      .def(py::init([](std::shared_ptr<Camera> camera, const std::string& preset, const py::kwargs& kwargs) {
+             const MdBriefOptions options = optionsFrom(preset, kwargs);
              try {
                return std::make_shared<MdBrief>(camera, options);
              } catch (const std::invalid_argument& e) {
                throw py::value_error(e.what());  // a missing camera or an unusable pattern
              }
            }),
-           py::arg("camera").none(true), initDoc().c_str())
+           py::arg("camera").none(true), py::kw_only(), py::arg("preset") = toString(Preset::Tracking),
+           initDoc().c_str())
       .def(
           "detect",
           [](MdBrief& f, const py::handle& image, const py::handle& mask) {

@@ -1,10 +1,9 @@
 // mdbrief.match: plain or masked brute-force matching (matcher.hpp).
-#include <optional>
-
 #include "bindings.hpp"
 #include "conversions.hpp"
 #include "mdbrief/matcher.hpp"
 #include "option_keywords.hpp"
+#include "presets.hpp"
 
 namespace mdbrief::python {
 
@@ -12,19 +11,12 @@ void bindMatching(py::module_& m) {
   m.def(
       "match",
       [](const py::handle& d1, const py::handle& d2, const py::handle& masks1, const py::handle& masks2,
-         std::optional<float> ratio, bool crossCheck, std::optional<float> maxDistance, bool parallel, bool asArray) -> py::object {
+         const std::string& preset, bool asArray, const py::kwargs& kwargs) -> py::object {
         if (masks1.is_none() != masks2.is_none())
           throw py::value_error("masks1 and masks2 must both be given (masked matching) or both be None");
-        MatchOptions options;
-        options.ratio = ratio;
-        options.crossCheck = crossCheck;
-        options.maxDistance = maxDistance;
-        options.parallel = parallel;
-        try {
-          validate(options);
-        } catch (const OptionError& e) {
-          raiseForKeyword(matchOptionFields(), e);
-        }
+        const MatchOptions options = optionsFromKeywords(matchOptionFields(), kwargs, "match",
+                                                         [](const MatchOptions& o) { validate(o); }, {},
+                                                         presetSettings(presetFrom(preset)).matching);
         py::object keep1, keep2, keepM1, keepM2;
         const cv::Mat query = descriptorsFromArray(d1, "d1", keep1);
         const cv::Mat train = descriptorsFromArray(d2, "d2", keep2);
@@ -44,16 +36,18 @@ void bindMatching(py::module_& m) {
         if (asArray) return matchesToArray(matches);
         return matchesToPython(matches);
       },
-      py::arg("d1"), py::arg("d2"), py::arg("masks1") = py::none(), py::arg("masks2") = py::none(),
-      py::arg("ratio") = py::none(), py::arg("cross_check") = false, py::arg("max_distance") = py::none(),
-      py::arg("parallel") = true, py::arg("as_array") = false, R"doc(
+      py::arg("d1"), py::arg("d2"), py::arg("masks1") = py::none(), py::arg("masks2") = py::none(), py::kw_only(),
+      py::arg("preset") = toString(Preset::Tracking), py::arg("as_array") = false, R"doc(
 Brute-force nearest neighbours of the rows of d1 (queries) among the rows of d2, both (N, bytes)
 uint8 arrays of the same width. With masks1 and masks2 (mdBRIEF's masks, the shapes of d1 and
 d2) the distance is the masked Hamming distance, otherwise the Hamming distance.
 
-ratio: Lowe's ratio test (keep if best < ratio * second best), in (0, 1]; None = off.
-cross_check: keep only mutual nearest neighbours. max_distance: keep if distance <= it (bits).
-parallel: spread the queries over threads (the result is the same either way).
+preset: the matcher settings to start from (mdbrief.presets(); 'tracking' = the library's
+defaults, a ratio test and mutual nearest neighbours, chosen with the default features on real
+images). Keywords change them: ratio (Lowe's ratio test, keep if best < ratio * second best, in
+(0, 1]; None = off), cross_check (keep only mutual nearest neighbours), max_distance (keep if
+distance <= it, bits; None = off), parallel (spread the queries over threads; the result is the
+same either way). mdbrief.option_fields("match") lists them.
 
 Returns a list of cv2.DMatch (queryIdx, trainIdx, distance in bits), one per query that passes,
 in query order, as cv2.BFMatcher.match does, so cv2.drawMatches takes it unchanged. With

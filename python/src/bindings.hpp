@@ -12,6 +12,7 @@ void bindFeatures(py::module_& m);
 void bindMatching(py::module_& m);
 void bindOptions(py::module_& m);
 void bindPatterns(py::module_& m);
+void bindPresets(py::module_& m);
 void bindSimdLevel(py::module_& m);
 // Registers the module's translation of C++ exceptions (exception_translation.cpp).
 void translateExceptions();

@@ -9,5 +9,6 @@ PYBIND11_MODULE(_mdbrief, m) {
   mdbrief::python::bindMatching(m);
   mdbrief::python::bindOptions(m);
   mdbrief::python::bindPatterns(m);
+  mdbrief::python::bindPresets(m);
   mdbrief::python::bindSimdLevel(m);
 }

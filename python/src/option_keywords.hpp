@@ -33,8 +33,7 @@ FieldValue keywordValue(const OptionField<Options>& field, const Options& option
                               std::string(py::str(value)));
       }
     case FieldType::Real:
-      if (value.is_none() && std::holds_alternative<std::monostate>(field.get(Options{})))
-        return std::monostate{};  // an optional field that is off by default may be turned off
+      if (value.is_none() && field.unsettable) return std::monostate{};  // turns the option off
       if (isBool || !(py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value)))
         throw py::type_error(name + " must be a number");
       return value.cast<double>();
@@ -67,12 +66,11 @@ template <typename Options>
   throw py::value_error(std::string(table.at(e.field()).keyword) + " " + e.problem());
 }
 
-// Options from keyword arguments (the table's keywords; `skip` names keywords the caller reads
-// itself), validated. TypeError for an unknown keyword, as Python's own calls raise.
+// `options` changed by keyword arguments (the table's keywords; `skip` names keywords the caller
+// reads itself), validated. TypeError for an unknown keyword, as Python's own calls raise.
 template <typename Options, typename Validate>
 Options optionsFromKeywords(const OptionTable<Options>& table, const py::kwargs& kwargs, const char* callable,
-                            Validate validate, const std::vector<std::string>& skip = {}) {
-  Options options;
+                            Validate validate, const std::vector<std::string>& skip = {}, Options options = {}) {
   try {
     for (const auto& [key, value] : kwargs) {
       const std::string name = py::str(key);

@@ -127,7 +127,7 @@ def test_options_are_keywords_with_the_library_defaults(camera):
     (dict(pattern="no_such_set"), ValueError, "no_such_set"),
     (dict(nfeatures=2.5), TypeError, "nfeatures must be an int"),
     (dict(spread=1), TypeError, "spread must be True or False"),
-    (dict(levels=2**40), ValueError, r"levels must be in \[1, 32\], got 1099511627776"),
+    (dict(levels=2**40), ValueError, r"levels must be in \[3, 32\], got 1099511627776"),  # Hessian: 3 at least
     (dict(colour=True), TypeError, "unexpected keyword argument 'colour'"),
 ])
 def test_bad_options_raise_naming_the_keyword(camera, options, error, text):
@@ -163,7 +163,8 @@ def test_matches_are_cv2_dmatch_and_agree_with_bfmatcher(camera, image_pair):
     features = mdbrief.MdBrief(camera, nfeatures=500)
     k1, d1, m1 = features.detect_and_compute(image_pair[0])
     k2, d2, m2 = features.detect_and_compute(image_pair[1])
-    plain = mdbrief.match(d1, d2)
+    # Every query's nearest neighbour, as cv2.BFMatcher gives it: no ratio test, no mutual check.
+    plain = mdbrief.match(d1, d2, ratio=None, cross_check=False)
     reference = cv2.BFMatcher(features.default_norm).match(d1, d2)
     assert len(plain) == len(reference) == len(k1)
     assert all(isinstance(m, cv2.DMatch) for m in plain)
@@ -173,17 +174,25 @@ def test_matches_are_cv2_dmatch_and_agree_with_bfmatcher(camera, image_pair):
     assert canvas.shape[1] == 2 * image_pair[0].shape[1]
     assert cv2.drawKeypoints(image_pair[0], k1, None).shape == image_pair[0].shape
 
-    masked = mdbrief.match(d1, d2, m1, m2)
+    masked = mdbrief.match(d1, d2, m1, m2, ratio=None, cross_check=False)
     assert len(masked) == len(k1) and [m.queryIdx for m in masked] == list(range(len(k1)))
-    ratio = mdbrief.match(d1, d2, m1, m2, ratio=0.8)
-    checked = mdbrief.match(d1, d2, m1, m2, cross_check=True)
+    ratio = mdbrief.match(d1, d2, m1, m2, ratio=0.8, cross_check=False)
+    checked = mdbrief.match(d1, d2, m1, m2, ratio=None)
     close = mdbrief.match(d1, d2, m1, m2, max_distance=40)
     assert 0 < len(ratio) < len(masked) and 0 < len(checked) < len(masked)
     assert all(m.distance <= 40 for m in close)
-    table = mdbrief.match(d1, d2, m1, m2, ratio=0.8, as_array=True)
+    # The defaults (preset 'tracking'): the ratio test and the mutual check, as MatchOptions{}.
+    default = mdbrief.match(d1, d2, m1, m2)
+    both = [m for m in mdbrief.match(d1, d2, m1, m2, ratio=0.6, cross_check=False)
+            if (m.queryIdx, m.trainIdx) in {(c.queryIdx, c.trainIdx) for c in checked}]
+    assert [(m.queryIdx, m.trainIdx) for m in default] == [(m.queryIdx, m.trainIdx) for m in both]
+    assert len(mdbrief.match(d1, d2, m1, m2, preset="paper")) == len(masked)
+    with pytest.raises(ValueError, match="preset 'fast' is not one of: tracking, matching, paper"):
+        mdbrief.match(d1, d2, m1, m2, preset="fast")
+    table = mdbrief.match(d1, d2, m1, m2, ratio=0.8, cross_check=False, as_array=True)
     assert table.dtype.names == ("query_idx", "train_idx", "distance") and len(table) == len(ratio)
     assert [tuple(row) for row in table.tolist()] == [(m.queryIdx, m.trainIdx, m.distance) for m in ratio]
-    serial = mdbrief.match(d1, d2, m1, m2, ratio=0.8, parallel=False)
+    serial = mdbrief.match(d1, d2, m1, m2, ratio=0.8, cross_check=False, parallel=False)
     assert [(m.queryIdx, m.trainIdx, m.distance) for m in serial] == [(m.queryIdx, m.trainIdx, m.distance)
                                                                       for m in ratio]
 
@@ -276,3 +285,19 @@ def test_keypoint_lookalikes_are_read_like_cv2_keypoints(camera, image_pair):
     np.testing.assert_array_equal(m_a, m_b)
     ids = [k.class_id for k in kp_a]
     assert ids == sorted(set(ids)) and ids[0] >= 1000
+
+
+def test_presets_are_starting_points_of_the_options(camera, image_pair):
+    assert mdbrief.presets() == ["tracking", "matching", "paper"]
+    default = mdbrief.MdBrief(camera)
+    assert default.descriptor_size == mdbrief.MdBrief(camera, preset="tracking").descriptor_size == 32
+    matching = mdbrief.MdBrief(camera, preset="matching")
+    assert matching.descriptor_size == 64
+    assert mdbrief.MdBrief(camera, preset="matching", bits=128).descriptor_size == 16
+    paper = mdbrief.MdBrief(camera, preset="paper", nfeatures=300)
+    kp, d, m = paper.detect_and_compute(image_pair[0])
+    # The paper's modORB: sizes 31 * 1.2^octave.
+    assert 0 < len(kp) <= 300
+    assert all(abs(np.log(k.size / 31.0) / np.log(1.2) - round(np.log(k.size / 31.0) / np.log(1.2))) < 1e-3 for k in kp)
+    with pytest.raises(ValueError, match="preset 'fast' is not one of: tracking, matching, paper"):
+        mdbrief.MdBrief(camera, preset="fast")

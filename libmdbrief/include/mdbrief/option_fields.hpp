@@ -86,6 +86,7 @@ struct OptionField {
   // integral value). Returns false when the member cannot hold it (an integer beyond its type);
   // a Choice throws std::invalid_argument for an unknown name.
   std::function<bool(Options&, const FieldValue&)> set;
+  bool unsettable = false;  // Real: a std::optional member, which may be unset (off)
 
   // The FileStorage key: the member's last part.
   std::string key() const {
@@ -225,7 +226,7 @@ OptionField<Options> realField(const char* member, const char* section, const ch
     return true;
   };
   return {member, section, keyword, flag, doc, FieldType::Real, {},
-          [range](const Options&) { return range; }, get, set};
+          [range](const Options&) { return range; }, get, set, !std::is_arithmetic_v<Member>};
 }
 
 template <typename Options, typename Access>
