@@ -1,9 +1,10 @@
 // Whole-frame figure (issue 3): detect + describe + match for 1000 keypoints on a 754x480
-// fisheye frame, mdBRIEF 256 (Affine form, masked matching) through mdbrief::MdBrief against
-// cv::ORB detectAndCompute + cv::BFMatcher(NORM_HAMMING), on the same image in the same run.
-// Each iteration processes frame A and matches it against the precomputed features of a
-// second rendered view B (as a tracker matches a new frame against the previous one); both
-// matchers apply Lowe's ratio test 0.8.
+// fisheye frame, the library's defaults (MdBrief::create(), the `tracking` preset: Hessian,
+// mdBRIEF-256, masked matching with MatchOptions{}'s ratio test and mutual check) against
+// cv::ORB detectAndCompute + cv::BFMatcher(NORM_HAMMING) with Lowe's ratio 0.8, on the same
+// image in the same run. Each iteration processes frame A and matches it against the
+// precomputed features of a second rendered view B (as a tracker matches a new frame against the
+// previous one).
 // Arg 1: single-threaded (OpenCV and TBB), 0: the libraries' default threading.
 // Frames: Graffiti rendered through configs/cameras/lafida_fisheye0.yaml (needs opencv-doc).
 #include <benchmark/benchmark.h>
@@ -18,11 +19,12 @@
 #include "bench_scene.hpp"
 #include "mdbrief/feature2d.hpp"
 #include "mdbrief/matcher.hpp"
+#include "mdbrief/presets.hpp"
 
 namespace {
 
 constexpr int kFeatures = 1000;
-constexpr float kRatio = 0.8f;
+constexpr float kRatio = 0.8f;  // cv::ORB + BFMatcher: the usual ratio
 
 struct Views {
   mdbrief::CameraPtr camera;
@@ -55,15 +57,11 @@ void BM_FrameMdBrief(benchmark::State& state) {
   const Threading threading(state);
   mdbrief::MdBriefOptions options;
   options.detector.nfeatures = kFeatures;
-  options.descriptor.kind = mdbrief::DescriptorKind::MdBrief;
-  options.descriptor.bits = 256;
-  options.descriptor.form = mdbrief::DistortionForm::Affine;
   const cv::Ptr<mdbrief::MdBrief> md = mdbrief::MdBrief::create(v.camera, options);
   std::vector<cv::KeyPoint> kb;
   cv::Mat db, mb;
   md->detectAndComputeWithMasks(v.b, cv::noArray(), kb, db, mb);
-  mdbrief::MatchOptions match;
-  match.ratio = kRatio;
+  const mdbrief::MatchOptions match;
   size_t keypoints = 0, matches = 0;
   for (auto _ : state) {
     std::vector<cv::KeyPoint> ka;
@@ -110,13 +108,14 @@ void BM_FrameMdBriefStages(benchmark::State& state) {
   if (v.a.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
   cv::setNumThreads(1);
   const tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
-  const cv::Ptr<mdbrief::MdBrief> md = mdbrief::MdBrief::create(v.camera);
+  mdbrief::MdBriefOptions options;
+  options.detector.nfeatures = kFeatures;
+  const cv::Ptr<mdbrief::MdBrief> md = mdbrief::MdBrief::create(v.camera, options);
   std::vector<cv::KeyPoint> kb, ka;
   cv::Mat db, mb, da, ma;
   md->detectAndComputeWithMasks(v.b, cv::noArray(), kb, db, mb);
   md->detectAndComputeWithMasks(v.a, cv::noArray(), ka, da, ma);
-  mdbrief::MatchOptions match;
-  match.ratio = kRatio;
+  const mdbrief::MatchOptions match;
   const int stage = static_cast<int>(state.range(0));
   for (auto _ : state) {
     if (stage == 0) {  // pyramid + detection
@@ -139,8 +138,9 @@ BENCHMARK(BM_FrameMdBrief)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRe
 // Arg: 0 = detect, 1 = describe, 2 = match.
 BENCHMARK(BM_FrameMdBriefStages)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// Detectors alone and with their descriptors, single-threaded, on frame A (issue 10's speed
-// targets): Arg 0 modORB (+ mdBRIEF-256), 1 Hessian (+ mdBRIEF-256), 2 cv::ORB, 3 cv::AKAZE.
+// Detectors alone and with their descriptors, single-threaded, on frame A (issue 17's speed
+// targets): Arg 0 the library's defaults (Hessian + mdBRIEF-256), 1 the `matching` preset
+// (mdBRIEF-512), 2 the `paper` preset (modORB + mdBRIEF-256), 3 cv::ORB, 4 cv::AKAZE.
 void detectorRun(benchmark::State& state, bool describe) {
   const Views& v = views();
   if (v.a.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
@@ -148,17 +148,18 @@ void detectorRun(benchmark::State& state, bool describe) {
   const tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
   const int which = static_cast<int>(state.range(0));
   cv::Ptr<cv::Feature2D> feature;
-  if (which <= 1) {
-    mdbrief::MdBriefOptions options;
+  if (which <= 2) {
+    const mdbrief::Preset preset = std::array{mdbrief::Preset::Tracking, mdbrief::Preset::Matching,
+                                              mdbrief::Preset::Paper}[which];
+    mdbrief::MdBriefOptions options = mdbrief::presetSettings(preset).features;
     options.detector.nfeatures = kFeatures;
-    options.detector.method = which == 0 ? mdbrief::DetectorMethod::ModOrb : mdbrief::DetectorMethod::Hessian;
     feature = mdbrief::MdBrief::create(v.camera, options);
-  } else if (which == 2) {
+  } else if (which == 3) {
     feature = cv::ORB::create(kFeatures);
   } else {
     feature = cv::AKAZE::create();
   }
-  state.SetLabel(std::array<const char*, 4>{"modORB", "Hessian", "cv::ORB", "cv::AKAZE"}[which]);
+  state.SetLabel(std::array<const char*, 5>{"defaults (tracking)", "matching", "paper", "cv::ORB", "cv::AKAZE"}[which]);
   size_t keypoints = 0;
   for (auto _ : state) {
     std::vector<cv::KeyPoint> ka;
@@ -177,5 +178,5 @@ void BM_Detect(benchmark::State& state) { detectorRun(state, false); }
 void BM_DetectAndDescribe(benchmark::State& state) { detectorRun(state, true); }
 
 }  // namespace
-BENCHMARK(BM_Detect)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_DetectAndDescribe)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Detect)->DenseRange(0, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DetectAndDescribe)->DenseRange(0, 4)->Unit(benchmark::kMillisecond)->UseRealTime();

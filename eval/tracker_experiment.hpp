@@ -23,8 +23,9 @@ struct TrackerPipeline {
   std::optional<double> ratio;
 };
 
-// The library as create() gives it, modORB and Hessian with mdBRIEF-256, and cv::ORB, AKAZE,
-// SIFT and BRISK each with its own detector and descriptor.
+// The library's presets (tracking = create()'s defaults, matching, paper) at their own ratios,
+// the defaults with the random test set, and cv::ORB, AKAZE, SIFT and BRISK each with its own
+// detector and descriptor.
 std::vector<TrackerPipeline> standardTrackerPipelines();
 
 // The pipeline's keypoints (at most `budget`, inside `region` when not empty) and descriptors.
