@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "mdbrief/detector.hpp"
 #include "mdbrief/matcher.hpp"
 #include "mdbrief/masked_hamming.hpp"
 #include "mdbrief/hamming.hpp"
@@ -53,7 +54,8 @@ Features describe(const MethodSpec& m, const cv::Mat& image, const CameraPtr& ca
       Features f;
       f.bits = m.options.bits;
       f.keypoints = std::move(keypoints);
-      ex.compute(image, f.keypoints, f.descriptors, f.masks);
+      // On the pyramid the library's detector builds, as MdBrief describes its own keypoints.
+      ex.compute(image, f.keypoints, f.descriptors, f.masks, DetectorOptions{}.pyramid);
       return f;
     }
     case MethodFamily::Orb: {
