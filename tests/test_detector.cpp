@@ -174,8 +174,11 @@ TEST(Detector, BadInputIsRejectedWithAReason) {
 TEST(Detector, ImagesSmallerThanThePatchGiveNoKeypoints) {
   cv::Mat tiny(40, 40, CV_8UC1);
   cv::randu(tiny, 0, 256);
-  EXPECT_TRUE(Detector().detect(tiny).empty());
-  EXPECT_TRUE(Detector().detect(cv::Mat(1, 1, CV_8UC1, cv::Scalar(3))).empty());
+  for (const auto& [name, options] : modOrbAndDefault()) {
+    SCOPED_TRACE(name);
+    EXPECT_TRUE(Detector(nullptr, options).detect(tiny).empty());
+    EXPECT_TRUE(Detector(nullptr, options).detect(cv::Mat(1, 1, CV_8UC1, cv::Scalar(3))).empty());
+  }
 }
 
 // --- output on a textured image ---
