@@ -48,8 +48,10 @@ TEST(DescriptorSupport, OrbAndModOrbKeypointsGiveTheOctaveBasedDescriptorsBitFor
   cv::resize(img, image, cam->imageSize());
   std::vector<cv::KeyPoint> orb;
   cv::ORB::create(1000)->detect(image, orb);
+  // modORB on cv::ORB's pyramid, the one the digests were computed with.
   DetectorOptions modOrb;
   modOrb.method = DetectorMethod::ModOrb;
+  modOrb.pyramid = PyramidOptions{8, 1.2, 0};
   const std::vector<cv::KeyPoint> own = Detector(cam, modOrb).detect(image);
   // keypoints -> digest of BRIEF's descriptors (brief_random_512, 256 bits)
   const char* expected[2] = {"075eebb2b3b266d2", "395ebc9cc15b61d1"};
@@ -59,7 +61,7 @@ TEST(DescriptorSupport, OrbAndModOrbKeypointsGiveTheOctaveBasedDescriptorsBitFor
     o.pattern = "brief_random_512";
     auto kps = s == 0 ? orb : own;
     cv::Mat d, m;
-    DescriptorExtractor(cam, o).compute(image, kps, d, m);
+    DescriptorExtractor(cam, o).compute(image, kps, d, m, modOrb.pyramid);
     EXPECT_EQ(kps.size(), 1000u);
     EXPECT_EQ(digest(d, m), expected[s]) << (s == 0 ? "cv::ORB" : "modORB");
   }

@@ -97,6 +97,27 @@ bool identical(const std::vector<cv::KeyPoint>& a, const std::vector<cv::KeyPoin
   return true;
 }
 
+// modORB on cv::ORB's pyramid (8 levels of 1.2 from the input image), set explicitly: the
+// tests of ORB's detection scheme describe it, whatever the library's defaults are.
+DetectorOptions modOrbOptions() {
+  DetectorOptions o;
+  o.method = mdbrief::DetectorMethod::ModOrb;
+  o.pyramid.levels = 8;
+  o.pyramid.scaleFactor = 1.2;
+  o.pyramid.firstLevel = 0;
+  return o;
+}
+
+// The scale (input pixels per level pixel) of pyramid level `level`.
+double levelScale(const mdbrief::PyramidOptions& pyramid, int level) {
+  return std::pow(pyramid.scaleFactor, level - pyramid.firstLevel);
+}
+
+// The explicit ORB scheme and the library's defaults, for properties both must have.
+std::vector<std::pair<std::string, DetectorOptions>> modOrbAndDefault() {
+  return {{"modORB", modOrbOptions()}, {"default", DetectorOptions{}}};
+}
+
 // --- options and the per-level budget ---
 
 TEST(FeaturesPerLevel, GeometricSharesThatAddUpToTheTotal) {
@@ -153,8 +174,11 @@ TEST(Detector, BadInputIsRejectedWithAReason) {
 TEST(Detector, ImagesSmallerThanThePatchGiveNoKeypoints) {
   cv::Mat tiny(40, 40, CV_8UC1);
   cv::randu(tiny, 0, 256);
-  EXPECT_TRUE(Detector().detect(tiny).empty());
-  EXPECT_TRUE(Detector().detect(cv::Mat(1, 1, CV_8UC1, cv::Scalar(3))).empty());
+  for (const auto& [name, options] : modOrbAndDefault()) {
+    SCOPED_TRACE(name);
+    EXPECT_TRUE(Detector(nullptr, options).detect(tiny).empty());
+    EXPECT_TRUE(Detector(nullptr, options).detect(cv::Mat(1, 1, CV_8UC1, cv::Scalar(3))).empty());
+  }
 }
 
 // --- output on a textured image ---
@@ -163,7 +187,7 @@ TEST(Detector, CountPropertiesAndOrderOnATexturedImage) {
   const cv::Mat image = textured();
   REQUIRE_IMAGE(image);
   for (const int nfeatures : {300, 1000}) {
-    DetectorOptions options;
+    DetectorOptions options = modOrbOptions();
     options.nfeatures = nfeatures;
     const std::vector<cv::KeyPoint> keypoints = Detector(nullptr, options).detect(image);
     EXPECT_LE(static_cast<int>(keypoints.size()), nfeatures);
@@ -175,7 +199,7 @@ TEST(Detector, CountPropertiesAndOrderOnATexturedImage) {
       ASSERT_GE(kp.octave, 0);
       ASSERT_LT(kp.octave, options.pyramid.levels);
       ++perOctave[kp.octave];
-      const double scale = std::pow(1.2, kp.octave);
+      const double scale = levelScale(options.pyramid, kp.octave);
       EXPECT_NEAR(kp.size, 31 * scale, 1e-3);
       EXPECT_GE(kp.angle, 0.f);
       EXPECT_LT(kp.angle, 360.f);
@@ -200,11 +224,18 @@ TEST(Detector, CountPropertiesAndOrderOnATexturedImage) {
 TEST(Detector, SameInputGivesIdenticalKeypoints) {
   const cv::Mat image = textured();
   REQUIRE_IMAGE(image);
-  for (const bool spread : {false, true}) {
-    for (const auto corners : {mdbrief::CornerDetector::Fast, mdbrief::CornerDetector::Agast}) {
-      DetectorOptions options;
+  // modORB with either corner detector, and the defaults; each keeping the strongest and spread.
+  std::vector<std::pair<std::string, DetectorOptions>> configurations;
+  for (const auto corners : {mdbrief::CornerDetector::Fast, mdbrief::CornerDetector::Agast}) {
+    DetectorOptions o = modOrbOptions();
+    o.corners = corners;
+    configurations.emplace_back("modORB " + mdbrief::toString(corners), o);
+  }
+  configurations.emplace_back("default", DetectorOptions{});
+  for (auto [name, options] : configurations) {
+    for (const bool spread : {false, true}) {
       options.spread = spread;
-      options.corners = corners;
+      SCOPED_TRACE(name + (spread ? " spread" : " strongest"));
       const Detector detector(nullptr, options);
       const std::vector<cv::KeyPoint> first = detector.detect(image);
       const std::vector<cv::KeyPoint> second = detector.detect(image.clone());
@@ -247,10 +278,12 @@ TEST(Detector, FallbackThresholdFindsCornersOnLowContrastImages) {
   // Contrast divided by 5: most corners fall below threshold 20.
   cv::Mat faint;
   image.convertTo(faint, CV_8U, 0.2, 100);
-  DetectorOptions strict;
+  // The fallback is modORB's (FAST/AGAST thresholds).
+  const DetectorOptions options = modOrbOptions();
+  DetectorOptions strict = options;
   strict.fallbackThreshold = strict.threshold;
   const size_t withoutFallback = Detector(nullptr, strict).detect(faint).size();
-  const size_t withFallback = Detector().detect(faint).size();
+  const size_t withFallback = Detector(nullptr, options).detect(faint).size();
   std::printf("low contrast: %zu keypoints without fallback, %zu with\n", withoutFallback, withFallback);
   EXPECT_GT(withFallback, withoutFallback + 200);
 }
@@ -265,7 +298,8 @@ TEST(Detector, SpreadingCoversMoreOfTheImage) {
     for (const auto& kp : keypoints) hit.at<uchar>(int(kp.pt.y) / cell, int(kp.pt.x) / cell) = 1;
     return cv::countNonZero(hit) / static_cast<double>(hit.total());
   };
-  DetectorOptions options;
+  // modORB's per-level quadtree (the Hessian's: HessianDetector.SpreadKeepsTheBudgetAndCoversMoreCells).
+  DetectorOptions options = modOrbOptions();
   options.nfeatures = 500;
   const double plain = coverage(Detector(nullptr, options).detect(image));
   options.spread = true;
@@ -284,14 +318,23 @@ TEST(Detector, ExplicitMaskIsRespected) {
   cv::Mat mask = cv::Mat::zeros(image.size(), CV_8UC1);
   cv::circle(mask, {300, 400}, 180, cv::Scalar(255), cv::FILLED);
   mask(cv::Rect(500, 50, 250, 200)).setTo(1);  // any nonzero value allows
-  const std::vector<cv::KeyPoint> keypoints = Detector().detect(image, mask);
-  EXPECT_GT(keypoints.size(), 300u);
-  size_t inRectangle = 0;
-  for (const auto& kp : keypoints) {
-    EXPECT_NE(mask.at<uchar>(cvRound(kp.pt.y), cvRound(kp.pt.x)), 0) << kp.pt;
-    inRectangle += kp.pt.x >= 500 ? 1 : 0;
+  // The Hessian's keypoints sit at the sub-pixel refinement of a level's maximum, up to half a
+  // level pixel from it: the mask is tested there, with or without an enlarged level.
+  std::vector<std::pair<std::string, DetectorOptions>> configurations = modOrbAndDefault();
+  DetectorOptions hessianOnOrbPyramid = modOrbOptions();
+  hessianOnOrbPyramid.method = mdbrief::DetectorMethod::Hessian;
+  configurations.emplace_back("Hessian on cv::ORB's pyramid", hessianOnOrbPyramid);
+  for (const auto& [name, options] : configurations) {
+    SCOPED_TRACE(name);
+    const std::vector<cv::KeyPoint> keypoints = Detector(nullptr, options).detect(image, mask);
+    EXPECT_GT(keypoints.size(), 300u);
+    size_t inRectangle = 0;
+    for (const auto& kp : keypoints) {
+      EXPECT_NE(mask.at<uchar>(cvRound(kp.pt.y), cvRound(kp.pt.x)), 0) << kp.pt << " octave " << kp.octave;
+      inRectangle += kp.pt.x >= 500 ? 1 : 0;
+    }
+    EXPECT_GT(inRectangle, 50u);
   }
-  EXPECT_GT(inRectangle, 50u);
 }
 
 TEST(Detector, ValidAreaMaskFollowsTheCamera) {
@@ -314,24 +357,29 @@ TEST(Detector, KeypointsKeepThePatchInsideTheCameraValidArea) {
   REQUIRE_IMAGE(image);
   const cv::Point2d centre(400, 320);
   const double radius = 300;
-  const Detector detector(std::make_shared<DiscCamera>(image.size(), centre, radius));
-  const std::vector<cv::KeyPoint> keypoints = detector.detect(image);
-  EXPECT_GT(keypoints.size(), 600u);
-  double outermost = 0;
-  for (const auto& kp : keypoints) {
-    const double scale = std::pow(1.2, kp.octave);
-    const double r = std::hypot(kp.pt.x - centre.x, kp.pt.y - centre.y);
-    // The patch (24 level pixels) stays inside the disc; one level pixel of slack for the
-    // valid area's resampling.
-    EXPECT_LE(r + 24 * scale, radius + scale) << kp.pt << " octave " << kp.octave;
-    outermost = std::max(outermost, r + 24 * scale);
+  for (const auto& [name, options] : modOrbAndDefault()) {
+    SCOPED_TRACE(name);
+    const Detector detector(std::make_shared<DiscCamera>(image.size(), centre, radius), options);
+    const std::vector<cv::KeyPoint> keypoints = detector.detect(image);
+    EXPECT_GT(keypoints.size(), 600u);
+    double outermost = 0;
+    for (const auto& kp : keypoints) {
+      const double scale = levelScale(options.pyramid, kp.octave);
+      const double r = std::hypot(kp.pt.x - centre.x, kp.pt.y - centre.y);
+      // The patch (24 level pixels) stays inside the disc; one level pixel of slack for the
+      // valid area's resampling.
+      EXPECT_LE(r + 24 * scale, radius + scale) << kp.pt << " octave " << kp.octave;
+      outermost = std::max(outermost, r + 24 * scale);
+    }
+    // ...and the detector does use the disc up to its rim, not some smaller area.
+    EXPECT_GT(outermost, radius - 15);
   }
-  // ...and the detector does use the disc up to its rim, not some smaller area.
-  EXPECT_GT(outermost, radius - 15);
 }
 
 // --- Hessian (scale-space blobs) ---
 
+// The Hessian on the default pyramid, named so that the tests stay about it whatever the default
+// method is.
 DetectorOptions hessianOptions(int nfeatures) {
   DetectorOptions o;
   o.method = mdbrief::DetectorMethod::Hessian;
@@ -369,7 +417,8 @@ TEST(HessianDetector, FindsBlobsAtTheirSubPixelPositionWithSizesInProportion) {
     EXPECT_LT(cv::norm(cv::Point2d(nearest->pt) - b.centre), 0.35 * b.sigma) << b.centre << " " << nearest->pt;
     sizes.push_back(nearest->size);
   }
-  // The scale follows the blob's width, between pyramid levels too (4.5 / 3 = 1.5 is not a power of 1.2).
+  // The scale follows the blob's width, between pyramid levels too (4.5 / 3 = 1.5 is not a power of
+  // the scale factor).
   EXPECT_NEAR(sizes[1] / sizes[0], 2.0, 0.3);
   EXPECT_NEAR(sizes[2] / sizes[0], 1.5, 0.2);
 }
@@ -403,27 +452,39 @@ TEST(HessianDetector, BudgetOrderDeterminismAndTheCameraValidArea) {
   REQUIRE_IMAGE(image);
   const cv::Point2d centre(400, 320);
   const double radius = 300;
-  const Detector detector(std::make_shared<DiscCamera>(image.size(), centre, radius), hessianOptions(400));
-  const auto keypoints = detector.detect(image);
-  EXPECT_EQ(keypoints.size(), 400u);
-  EXPECT_TRUE(identical(keypoints, detector.detect(image)));
-  for (size_t i = 0; i < keypoints.size(); ++i) {
-    const auto& kp = keypoints[i];
-    if (i > 0) {
-      EXPECT_GE(keypoints[i - 1].response, kp.response);
+  // The default pyramid (with an enlarged level) and cv::ORB's.
+  for (const mdbrief::PyramidOptions& pyramid : {DetectorOptions{}.pyramid, modOrbOptions().pyramid}) {
+    SCOPED_TRACE("pyramid of " + std::to_string(pyramid.levels) + " levels of " + std::to_string(pyramid.scaleFactor) +
+                 " from level " + std::to_string(pyramid.firstLevel));
+    DetectorOptions options = hessianOptions(400);
+    options.pyramid = pyramid;
+    const Detector detector(std::make_shared<DiscCamera>(image.size(), centre, radius), options);
+    const auto keypoints = detector.detect(image);
+    EXPECT_EQ(keypoints.size(), 400u);
+    EXPECT_TRUE(identical(keypoints, detector.detect(image)));
+    for (size_t i = 0; i < keypoints.size(); ++i) {
+      const auto& kp = keypoints[i];
+      if (i > 0) {
+        EXPECT_GE(keypoints[i - 1].response, kp.response);
+      }
+      // Maxima over both neighbouring levels: never on the first or last.
+      EXPECT_GT(kp.octave, 0);
+      EXPECT_LT(kp.octave, pyramid.levels - 1);
+      const double scale = levelScale(pyramid, kp.octave);
+      // Within half a level of its octave.
+      EXPECT_LE(std::abs(std::log(kp.size / (31 * scale))), 0.5 * std::log(pyramid.scaleFactor) + 1e-6)
+          << kp.size << " octave " << kp.octave;
+      EXPECT_TRUE(kp.angle >= 0.f && kp.angle < 360.f);
+      EXPECT_LE(std::hypot(kp.pt.x - centre.x, kp.pt.y - centre.y) + 24 * scale, radius + 2 * scale) << kp.pt;
     }
-    const double scale = std::pow(1.2, kp.octave);
-    EXPECT_NEAR(kp.size, 31 * scale, 31 * scale * 0.1);  // within half a level of its octave
-    EXPECT_TRUE(kp.angle >= 0.f && kp.angle < 360.f);
-    EXPECT_LE(std::hypot(kp.pt.x - centre.x, kp.pt.y - centre.y) + 24 * scale, radius + 2 * scale) << kp.pt;
+    // The descriptor, on the same pyramid, reads the size: it describes nearly all of them.
+    std::vector<cv::KeyPoint> described = keypoints;
+    cv::Mat descriptors;
+    mdbrief::DescriptorOptions brief;
+    brief.kind = mdbrief::DescriptorKind::Brief;
+    mdbrief::DescriptorExtractor(nullptr, brief).compute(image, described, descriptors, cv::noArray(), pyramid);
+    EXPECT_GT(described.size(), 0.95 * keypoints.size());
   }
-  // The descriptor reads the size: it describes nearly all of them.
-  std::vector<cv::KeyPoint> described = keypoints;
-  cv::Mat descriptors;
-  mdbrief::DescriptorOptions brief;
-  brief.kind = mdbrief::DescriptorKind::Brief;
-  mdbrief::DescriptorExtractor(nullptr, brief).compute(image, described, descriptors);
-  EXPECT_GT(described.size(), 0.95 * keypoints.size());
 }
 
 TEST(HessianDetector, SpreadKeepsTheBudgetAndCoversMoreCells) {
@@ -468,7 +529,8 @@ TEST(Detector, OrientationPointsAlongTheBisectorOfAWedge) {
     // A brighter apex: on a clean wedge FAST's scores tie around the apex and its
     // non-maximum suppression then removes them all. One pixel barely moves the centroid.
     image.at<uchar>(apex) = 255;
-    DetectorOptions options;
+    // A FAST corner at the apex, on the input image alone.
+    DetectorOptions options = modOrbOptions();
     options.pyramid.levels = 1;
     const std::vector<cv::KeyPoint> keypoints = Detector(nullptr, options).detect(image);
     const auto nearest = std::min_element(keypoints.begin(), keypoints.end(), [&](auto& a, auto& b) {
@@ -486,25 +548,28 @@ TEST(Detector, AnglesTurnWithTheImage) {
   REQUIRE_IMAGE(image);
   cv::Mat rotated;
   cv::rotate(image, rotated, cv::ROTATE_90_CLOCKWISE);  // (x, y) -> (rows - 1 - y, x)
-  const Detector detector;
-  const std::vector<cv::KeyPoint> original = detector.detect(image);
-  const std::vector<cv::KeyPoint> turned = detector.detect(rotated);
-  int matched = 0, agreeing = 0;
-  for (const auto& kp : original) {
-    const cv::Point2f expected(image.rows - 1 - kp.pt.y, kp.pt.x);
-    const double tolerance = 1.5 * std::pow(1.2, kp.octave);
-    for (const auto& other : turned) {
-      if (other.octave != kp.octave || cv::norm(other.pt - expected) > tolerance) continue;
-      ++matched;
-      // Clockwise in the picture is +90 degrees in image axes (y down).
-      if (std::abs(std::remainder(other.angle - kp.angle - 90.0, 360.0)) < 3.0) ++agreeing;
-      break;
+  for (const auto& [name, options] : modOrbAndDefault()) {
+    SCOPED_TRACE(name);
+    const Detector detector(nullptr, options);
+    const std::vector<cv::KeyPoint> original = detector.detect(image);
+    const std::vector<cv::KeyPoint> turned = detector.detect(rotated);
+    int matched = 0, agreeing = 0;
+    for (const auto& kp : original) {
+      const cv::Point2f expected(image.rows - 1 - kp.pt.y, kp.pt.x);
+      const double tolerance = 1.5 * levelScale(options.pyramid, kp.octave);
+      for (const auto& other : turned) {
+        if (other.octave != kp.octave || cv::norm(other.pt - expected) > tolerance) continue;
+        ++matched;
+        // Clockwise in the picture is +90 degrees in image axes (y down).
+        if (std::abs(std::remainder(other.angle - kp.angle - 90.0, 360.0)) < 3.0) ++agreeing;
+        break;
+      }
     }
+    std::printf("%s, rotation by 90 degrees: %d of %zu keypoints found again, %d with angle +90 +- 3\n",
+                name.c_str(), matched, original.size(), agreeing);
+    EXPECT_GT(matched, 0.8 * original.size());
+    EXPECT_GT(agreeing, 0.97 * matched);
   }
-  std::printf("rotation by 90 degrees: %d of %zu keypoints found again, %d with angle +90 +- 3\n", matched,
-              original.size(), agreeing);
-  EXPECT_GT(matched, 0.8 * original.size());
-  EXPECT_GT(agreeing, 0.97 * matched);
 }
 
 // --- repeatability under a known homography ---
@@ -544,25 +609,34 @@ void expectAtLeastOrbRepeatability(const Pair& pair) {
   orb->detect(pair.first, orb1);
   orb->detect(pair.second, orb2);
   const double orbRate = repeatability(orb1, orb2, pair.h, pair.second.size());
-  DetectorOptions options;
+  const auto rateOf = [&](const DetectorOptions& options, const std::string& what) {
+    const Detector detector(nullptr, options);
+    const auto ours1 = detector.detect(pair.first), ours2 = detector.detect(pair.second);
+    const double rate = repeatability(ours1, ours2, pair.h, pair.second.size());
+    std::printf("%s repeatability within 3 px: %s %.3f (%zu/%zu keypoints), cv::ORB %.3f (%zu/%zu)\n",
+                pair.name.c_str(), what.c_str(), rate, ours1.size(), ours2.size(), orbRate, orb1.size(), orb2.size());
+    return rate;
+  };
+  // ORB's scheme on ORB's pyramid.
+  DetectorOptions options = modOrbOptions();
   options.nfeatures = nfeatures;
   for (const bool spread : {false, true}) {
     for (const auto corners : {mdbrief::CornerDetector::Fast, mdbrief::CornerDetector::Agast}) {
       options.spread = spread;
       options.corners = corners;
-      const Detector detector(nullptr, options);
-      const auto ours1 = detector.detect(pair.first), ours2 = detector.detect(pair.second);
-      const double ourRate = repeatability(ours1, ours2, pair.h, pair.second.size());
-      std::printf("%s repeatability within 3 px: ours (%s, %s) %.3f (%zu/%zu keypoints), cv::ORB %.3f (%zu/%zu)\n",
-                  pair.name.c_str(), corners == mdbrief::CornerDetector::Fast ? "FAST" : "AGAST",
-                  spread ? "spread" : "strongest", ourRate, ours1.size(), ours2.size(), orbRate, orb1.size(),
-                  orb2.size());
-      // The default configuration must do at least as well as cv::ORB.
+      const double ourRate = rateOf(options, "modORB (" + mdbrief::toString(corners) + ", " +
+                                                 (spread ? "spread" : "strongest") + ")");
+      // modORB with its default corners and without spreading must do at least as well as cv::ORB.
       if (!spread && corners == DetectorOptions{}.corners) {
         EXPECT_GE(ourRate, orbRate - 0.02) << pair.name;
       }
     }
   }
+  // For the record: the defaults' blobs (repeated within 3 px in the input image, whatever their
+  // scale; docs/RESULTS.md has the tracker's repeatability).
+  DetectorOptions defaults;
+  defaults.nfeatures = nfeatures;
+  rateOf(defaults, "defaults (" + mdbrief::toString(defaults.method) + ")");
 }
 
 TEST(DetectorRepeatability, OpencvDocGraf1To3AtLeastAsOrb) {
@@ -590,7 +664,7 @@ TEST(DetectorRepeatability, OxfordGraf1To2AtLeastAsOrb) {
 namespace mdbrief {
 namespace {
 
-// firstLevel > 0 adds enlarged levels: keypoints found there are smaller than the patch at the
+// firstLevel > 0 adds enlarged levels: modORB's keypoints found there are smaller than the patch at the
 // input scale, stay inside the input image, and the descriptor (on the same pyramid) can
 // describe them.
 TEST(Detector, FirstLevelAddsEnlargedLevelsTheDescriptorUnderstands) {
@@ -598,7 +672,7 @@ TEST(Detector, FirstLevelAddsEnlargedLevelsTheDescriptorUnderstands) {
   if (!doc) GTEST_SKIP() << "opencv-doc not installed (scripts/setup-deps.sh)";
   const cv::Mat image = cv::imread((*doc / "graf1.png").string(), cv::IMREAD_GRAYSCALE);
   ASSERT_FALSE(image.empty());
-  DetectorOptions options;
+  DetectorOptions options = modOrbOptions();
   options.pyramid.firstLevel = 1;
   const ImagePyramid pyramid(image, options.pyramid);
   const std::vector<cv::KeyPoint> keypoints = Detector(nullptr, options).detect(pyramid);
@@ -617,6 +691,47 @@ TEST(Detector, FirstLevelAddsEnlargedLevelsTheDescriptorUnderstands) {
   cv::Mat descriptors;
   DescriptorExtractor(nullptr, descriptor).compute(pyramid, described, descriptors);
   EXPECT_GT(described.size(), 0.95 * keypoints.size());
+}
+
+// The Hessian keeps maxima over both neighbouring levels, so never on the first level: with the
+// input as the first level its finest blobs are a level coarser than the input. An enlarged
+// level below the input (the defaults have one) lets the input level itself hold maxima: blobs
+// finer than any the input's own pyramid gives, inside the image, and the descriptor (on the
+// same pyramid) describes them.
+TEST(HessianDetector, AnEnlargedLevelFindsBlobsAtTheInputScale) {
+  const auto doc = testing::opencvDocDataDir();
+  if (!doc) GTEST_SKIP() << "opencv-doc not installed (scripts/setup-deps.sh)";
+  const cv::Mat image = cv::imread((*doc / "graf1.png").string(), cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(image.empty());
+  DetectorOptions options = hessianOptions(1000);
+  options.pyramid.firstLevel = 1;
+  // Without the enlarged level the finest maxima are on level 1, at most half a level finer.
+  const double finestWithoutEnlarging = 31 * std::sqrt(options.pyramid.scaleFactor);
+  const auto finer = [&](const std::vector<cv::KeyPoint>& keypoints) {
+    return std::count_if(keypoints.begin(), keypoints.end(),
+                         [&](const cv::KeyPoint& k) { return k.size < finestWithoutEnlarging - 1e-3; });
+  };
+  const ImagePyramid pyramid(image, options.pyramid);
+  const std::vector<cv::KeyPoint> keypoints = Detector(nullptr, options).detect(pyramid);
+  int atInput = 0;
+  for (const cv::KeyPoint& kp : keypoints) {
+    ASSERT_TRUE(kp.pt.x >= 0 && kp.pt.y >= 0 && kp.pt.x < image.cols && kp.pt.y < image.rows);
+    if (kp.octave == options.pyramid.firstLevel) {
+      ++atInput;
+      EXPECT_LE(std::abs(std::log(kp.size / 31)), 0.5 * std::log(options.pyramid.scaleFactor) + 1e-6);
+    }
+  }
+  EXPECT_GT(atInput, 50);
+  EXPECT_GT(finer(keypoints), 50);
+  DescriptorOptions descriptor;
+  descriptor.kind = DescriptorKind::Brief;
+  std::vector<cv::KeyPoint> described = keypoints;
+  cv::Mat descriptors;
+  DescriptorExtractor(nullptr, descriptor).compute(pyramid, described, descriptors);
+  EXPECT_GT(described.size(), 0.95 * keypoints.size());
+
+  options.pyramid.firstLevel = 0;
+  EXPECT_EQ(finer(Detector(nullptr, options).detect(image)), 0);
 }
 
 }  // namespace

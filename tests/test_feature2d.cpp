@@ -137,19 +137,29 @@ TEST(MdBriefFeature2D, UpsampledFirstLevelKeepsKeypointsInInputPixels) {
   const CameraPtr camera = fisheyeCamera();
   const cv::Mat image = fisheyeImage(*camera);
   if (image.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
-  MdBriefOptions o;
-  o.detector.pyramid.firstLevel = 1;
-  std::vector<cv::KeyPoint> kps;
-  cv::Mat desc;
-  MdBrief::create(camera, o)->detectAndCompute(image, cv::noArray(), kps, desc);
-  ASSERT_GT(kps.size(), 500u);
-  EXPECT_EQ(desc.rows, static_cast<int>(kps.size()));
-  bool anyUpsampled = false;
-  for (const auto& kp : kps) {
-    EXPECT_TRUE(camera->isValid(kp.pt)) << kp.pt;
-    anyUpsampled |= kp.octave == 0;
+  // modORB (on cv::ORB's pyramid) finds keypoints on the enlarged level itself; the Hessian, whose
+  // maxima need a finer level, on the input level above it.
+  MdBriefOptions modOrb;
+  modOrb.detector.method = DetectorMethod::ModOrb;
+  modOrb.detector.pyramid = PyramidOptions{};
+  MdBriefOptions hessian;
+  hessian.detector.method = DetectorMethod::Hessian;
+  for (auto [o, finest] : {std::pair{modOrb, 0}, std::pair{hessian, 1}}) {
+    SCOPED_TRACE(toString(o.detector.method));
+    o.detector.pyramid.firstLevel = 1;
+    std::vector<cv::KeyPoint> kps;
+    cv::Mat desc;
+    MdBrief::create(camera, o)->detectAndCompute(image, cv::noArray(), kps, desc);
+    ASSERT_GT(kps.size(), 500u);
+    EXPECT_EQ(desc.rows, static_cast<int>(kps.size()));
+    bool anyFinest = false;
+    for (const auto& kp : kps) {
+      EXPECT_TRUE(camera->isValid(kp.pt)) << kp.pt;
+      EXPECT_GE(kp.octave, finest);
+      anyFinest |= kp.octave == finest;
+    }
+    EXPECT_TRUE(anyFinest);
   }
-  EXPECT_TRUE(anyUpsampled);
 }
 
 TEST(MdBriefFeature2D, AcceptsGreyBgrAndBgraAlike) {
@@ -199,16 +209,25 @@ TEST(MdBriefFeature2D, ExplicitMaskRestrictsKeypoints) {
   for (const auto& kp : kps) EXPECT_LT(kp.pt.x, image.cols / 2.f);
 }
 
+// Every option of a and b alike (the whole table, so an option added later is compared too).
+::testing::AssertionResult sameOptions(const MdBriefOptions& a, const MdBriefOptions& b) {
+  for (const auto& field : mdBriefOptionFields())
+    if (field.get(a) != field.get(b))
+      return ::testing::AssertionFailure()
+             << field.member << ": " << fieldValueText(field.get(a)) << " vs " << fieldValueText(field.get(b));
+  return ::testing::AssertionSuccess();
+}
+
 TEST(MdBriefFeature2D, FileStorageRoundTripKeepsEveryOption) {
   MdBriefOptions o;
   PyramidOptions& p = o.detector.pyramid;
   p.levels = 5;
   p.scaleFactor = 1.3;
-  p.firstLevel = 1;
+  p.firstLevel = 2;
   p.smoothingKernel = 5;
   p.smoothingSigma = 1.5;
   o.detector.nfeatures = 321;
-  o.detector.method = DetectorMethod::Hessian;
+  o.detector.method = DetectorMethod::ModOrb;
   o.detector.hessianSigma = 1.7;
   o.detector.hessianThreshold = 2e-4;
   o.detector.corners = CornerDetector::Agast;
@@ -233,6 +252,10 @@ TEST(MdBriefFeature2D, FileStorageRoundTripKeepsEveryOption) {
   o.descriptor.maxIncidenceDeg = 70.0;
   o.descriptor.supportScale = 2.5;
   const CameraPtr camera = fisheyeCamera();
+  // Every option differs from the defaults the reading object starts from, so that each one
+  // is seen to be read back.
+  for (const auto& field : mdBriefOptionFields())
+    EXPECT_NE(field.get(o), field.get(MdBriefOptions{})) << field.member << " is its default";
 
   for (const char* ext : {".yml", ".json", ".xml"}) {
     cv::FileStorage out(ext, cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
@@ -245,11 +268,11 @@ TEST(MdBriefFeature2D, FileStorageRoundTripKeepsEveryOption) {
     SCOPED_TRACE(ext);
     EXPECT_EQ(r.detector.pyramid.levels, 5);
     EXPECT_DOUBLE_EQ(r.detector.pyramid.scaleFactor, 1.3);
-    EXPECT_EQ(r.detector.pyramid.firstLevel, 1);
+    EXPECT_EQ(r.detector.pyramid.firstLevel, 2);
     EXPECT_EQ(r.detector.pyramid.smoothingKernel, 5);
     EXPECT_DOUBLE_EQ(r.detector.pyramid.smoothingSigma, 1.5);
     EXPECT_EQ(r.detector.nfeatures, 321);
-    EXPECT_EQ(r.detector.method, DetectorMethod::Hessian);
+    EXPECT_EQ(r.detector.method, DetectorMethod::ModOrb);
     EXPECT_DOUBLE_EQ(r.detector.hessianSigma, 1.7);
     EXPECT_DOUBLE_EQ(r.detector.hessianThreshold, 2e-4);
     EXPECT_EQ(r.detector.corners, CornerDetector::Agast);
@@ -274,19 +297,26 @@ TEST(MdBriefFeature2D, FileStorageRoundTripKeepsEveryOption) {
     EXPECT_DOUBLE_EQ(r.descriptor.maxIncidenceDeg, 70.0);
     EXPECT_DOUBLE_EQ(r.descriptor.supportScale, 2.5);
     EXPECT_EQ(back->descriptorSize(), 16);
+    EXPECT_TRUE(sameOptions(r, o));
   }
 }
 
 TEST(MdBriefFeature2D, ReadRejectsBadValuesAndKeepsTheOldOptions) {
-  const cv::Ptr<MdBrief> f = MdBrief::create(fisheyeCamera());
+  // Not the defaults, so that a read falling back to them would show.
+  MdBriefOptions old;
+  old.detector.method = DetectorMethod::ModOrb;
+  old.detector.pyramid = PyramidOptions{};
+  old.descriptor.bits = 128;
+  ASSERT_FALSE(sameOptions(old, MdBriefOptions{}));
+  const cv::Ptr<MdBrief> f = MdBrief::create(fisheyeCamera(), old);
   const std::string bad = "%YAML:1.0\n---\nname: Feature2D.MdBrief\ndescriptor:\n  kind: surf\n";
   cv::FileStorage in(bad, cv::FileStorage::READ | cv::FileStorage::MEMORY);
   EXPECT_THROW(f->read(in.root()), std::invalid_argument);
   const std::string badBits = "%YAML:1.0\n---\ndescriptor:\n  bits: 100\n";
   cv::FileStorage in2(badBits, cv::FileStorage::READ | cv::FileStorage::MEMORY);
   EXPECT_THROW(f->read(in2.root()), std::invalid_argument);
-  EXPECT_EQ(f->options().descriptor.kind, DescriptorKind::MdBrief);
-  EXPECT_EQ(f->descriptorSize(), 32);
+  EXPECT_TRUE(sameOptions(f->options(), old));
+  EXPECT_EQ(f->descriptorSize(), 16);
   const std::string method = "%YAML:1.0\n---\ndetector:\n  method: harris\n";
   cv::FileStorage in4(method, cv::FileStorage::READ | cv::FileStorage::MEMORY);
   try {
@@ -295,10 +325,11 @@ TEST(MdBriefFeature2D, ReadRejectsBadValuesAndKeepsTheOldOptions) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("hessian"), std::string::npos) << e.what();
   }
-  EXPECT_EQ(f->options().detector.method, DetectorMethod::ModOrb);
+  EXPECT_TRUE(sameOptions(f->options(), old));
   const std::string orb = "%YAML:1.0\n---\nname: Feature2D.ORB\n";
   cv::FileStorage in3(orb, cv::FileStorage::READ | cv::FileStorage::MEMORY);
   EXPECT_THROW(f->read(in3.root()), std::invalid_argument);
+  EXPECT_TRUE(sameOptions(f->options(), old));
 }
 
 // A pipeline written only against cv::Feature2D, as user code would be: detect and describe
@@ -343,7 +374,7 @@ TEST(MdBriefFeature2D, GenericOpenCvPipelineMatchesGraf1To3LikeOrb) {
   EXPECT_GE(orb, 50);
   EXPECT_GE(md, 50);
   EXPECT_GE(brief, 50);
-  // Same detector scheme and descriptor family as ORB: in the same league.
+  // The defaults, a binary descriptor as ORB's: at least in the same league.
   EXPECT_GE(md, orb / 2);
 }
 

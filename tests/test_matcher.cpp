@@ -58,6 +58,16 @@ cv::Mat perturbedCopies(const cv::Mat& train, int rows, std::mt19937& rng) {
   return q;
 }
 
+// Plain nearest neighbours: no ratio test, no cross-check, no distance bound. Set explicitly:
+// the defaults have a ratio test and the cross-check.
+MatchOptions nearestOnly() {
+  MatchOptions o;
+  o.ratio.reset();
+  o.crossCheck = false;
+  o.maxDistance.reset();
+  return o;
+}
+
 int bitByBitHamming(const uint8_t* a, const uint8_t* b, int bytes) {
   int count = 0;
   for (int d = 0; d < bytes * 8; ++d) count += ((a[d / 8] ^ b[d / 8]) >> (d % 8)) & 1;
@@ -116,13 +126,14 @@ void expectSameMatches(const std::vector<cv::DMatch>& got, const std::vector<cv:
 std::vector<MatchOptions> optionCombinations(int nbits) {
   std::vector<MatchOptions> all;
   for (int mask = 0; mask < 16; ++mask) {
-    MatchOptions o;
+    MatchOptions o = nearestOnly();
     if (mask & 1) o.ratio = 0.8f;
     if (mask & 2) o.crossCheck = true;
     if (mask & 4) o.maxDistance = nbits * 0.3f;
     o.parallel = (mask & 8) != 0;
     all.push_back(o);
   }
+  all.push_back(MatchOptions{});  // the defaults, whatever they are
   return all;
 }
 
@@ -195,7 +206,7 @@ TEST(Matcher, MaskedNearestNeighbourAgreesWithDoubleFormula) {
     const cv::Mat query = perturbedCopies(train, 25, rng);
     const cv::Mat trainMasks = randomMasks(train.rows, bytes, rng);
     const cv::Mat queryMasks = randomMasks(query.rows, bytes, rng);
-    const auto matches = mdbrief::matchBruteForceMasked(query, queryMasks, train, trainMasks);
+    const auto matches = mdbrief::matchBruteForceMasked(query, queryMasks, train, trainMasks, nearestOnly());
     ASSERT_EQ(matches.size(), static_cast<size_t>(query.rows));
     for (const cv::DMatch& m : matches) {
       std::vector<double> d(train.rows);
@@ -227,7 +238,7 @@ TEST(Matcher, PlainAgreesWithOpenCvBFMatcher) {
     const cv::Mat query = perturbedCopies(train, 200, rng);
     std::vector<cv::DMatch> theirs;
     cv::BFMatcher(cv::NORM_HAMMING).match(query, train, theirs);
-    const auto ours = mdbrief::matchBruteForce(query, train);
+    const auto ours = mdbrief::matchBruteForce(query, train, nearestOnly());
     ASSERT_EQ(ours.size(), theirs.size());
     for (size_t k = 0; k < ours.size(); ++k) {
       ASSERT_EQ(ours[k].queryIdx, theirs[k].queryIdx);
@@ -258,12 +269,12 @@ TEST(Matcher, RatioTestThresholdAndTies) {
   cv::vconcat(std::vector<cv::Mat>{flipped(q, {1, 2, 3}), flipped(q, {4, 5}), flipped(q, {6, 7})}, train);
 
   auto one = [&](const MatchOptions& o) { return mdbrief::matchBruteForce(q, train, o); };
-  auto m = one({});
+  auto m = one(nearestOnly());
   ASSERT_EQ(m.size(), 1u);
   EXPECT_EQ(m[0].trainIdx, 1) << "tie at distance 2 goes to the lowest index";
   EXPECT_EQ(m[0].distance, 2.f);
 
-  MatchOptions o;
+  MatchOptions o = nearestOnly();
   o.ratio = 1.0f;  // best 2, second 2 (the tie): 2 < 2 fails
   EXPECT_TRUE(one(o).empty());
   const cv::Mat noTie = train.rowRange(0, 2);  // best 2, second 3
@@ -274,7 +285,7 @@ TEST(Matcher, RatioTestThresholdAndTies) {
   o.ratio = 0.1f;  // a single train descriptor has no second neighbour: passes
   EXPECT_EQ(mdbrief::matchBruteForce(q, train.row(0), o).size(), 1u);
 
-  MatchOptions t;
+  MatchOptions t = nearestOnly();
   t.maxDistance = 2.f;
   EXPECT_EQ(one(t).size(), 1u);
   t.maxDistance = 1.9f;
@@ -288,8 +299,8 @@ TEST(Matcher, CrossCheckKeepsMutualNearestOnly) {
   cv::Mat query, train;
   cv::vconcat(std::vector<cv::Mat>{flipped(base, {1}), flipped(base, {1, 2, 3})}, query);
   cv::vconcat(std::vector<cv::Mat>{base, flipped(base, {100, 101, 102, 103, 104, 105, 106, 107})}, train);
-  EXPECT_EQ(mdbrief::matchBruteForce(query, train).size(), 2u);
-  MatchOptions o;
+  EXPECT_EQ(mdbrief::matchBruteForce(query, train, nearestOnly()).size(), 2u);
+  MatchOptions o = nearestOnly();
   o.crossCheck = true;
   const auto m = mdbrief::matchBruteForce(query, train, o);
   ASSERT_EQ(m.size(), 1u);
@@ -310,8 +321,8 @@ TEST(Matcher, MaskedUsesMasks) {
   cv::Mat queryMask = (cv::Mat_<uint8_t>(1, 8) << 255, 255, 255, 255, 0, 0, 0, 0);
   cv::Mat trainMasks;
   cv::vconcat(std::vector<cv::Mat>{queryMask, queryMask}, trainMasks);
-  EXPECT_EQ(mdbrief::matchBruteForce(query, train)[0].trainIdx, 1);
-  const auto m = mdbrief::matchBruteForceMasked(query, queryMask, train, trainMasks);
+  EXPECT_EQ(mdbrief::matchBruteForce(query, train, nearestOnly())[0].trainIdx, 1);
+  const auto m = mdbrief::matchBruteForceMasked(query, queryMask, train, trainMasks, nearestOnly());
   ASSERT_EQ(m.size(), 1u);
   EXPECT_EQ(m[0].trainIdx, 0);
   EXPECT_EQ(m[0].distance, 0.f);

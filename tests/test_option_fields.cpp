@@ -116,11 +116,16 @@ TEST(OptionFields, StructValidateNamesTheMemberRangeAndValue) {
   margin.detector.borderMargin = -100;
   EXPECT_EQ(messageOf([&] { validate(margin); }),
             "MdBriefOptions::detector.borderMargin must be in [15, 1024], got -100");
-  // The integers a member cannot hold are refused by setField with the same message.
+  // The integers a member cannot hold are refused by setField with the same message, the range
+  // the method's (the Hessian's maxima need inner levels).
   MdBriefOptions o;
   const std::size_t levels = findField(table, "levels", &OptionField<MdBriefOptions>::keyword);
+  o.detector.method = DetectorMethod::ModOrb;
   EXPECT_EQ(messageOf([&] { setField(table, levels, o, FieldValue(1LL << 40), "levels"); }),
             "levels must be in [1, 32], got 1099511627776");
+  o.detector.method = DetectorMethod::Hessian;
+  EXPECT_EQ(messageOf([&] { setField(table, levels, o, FieldValue(1LL << 40), "levels"); }),
+            "levels must be in [3, 32], got 1099511627776");
 }
 
 TEST(OptionFields, MatchOptionsValidateNamesTheMemberRangeAndValue) {

@@ -46,6 +46,23 @@ bool strongerKeypoint(const cv::KeyPoint& a, const cv::KeyPoint& b) {
   return std::tie(a.pt.y, a.pt.x, a.octave) < std::tie(b.pt.y, b.pt.x, b.octave);
 }
 
+// cv::Feature2D's mask semantics: the mask (empty = everything) allows the pixel nearest the
+// keypoint's own position (input pixels), the position detect() returns.
+bool maskAllows(const cv::Mat& mask, const cv::Point2f& position) {
+  if (mask.empty()) return true;
+  const int x = cvRound(position.x), y = cvRound(position.y);
+  return x >= 0 && y >= 0 && x < mask.cols && y < mask.rows && mask.at<uchar>(y, x) != 0;
+}
+
+// The input-pixel position of a corner at level pixel (x, y), and of a blob refined to sub-pixel
+// position on its level: the keypoints' pt.
+cv::Point2f cornerPosition(int x, int y, double scale) {
+  return {static_cast<float>(x * scale), static_cast<float>(y * scale)};
+}
+cv::Point2f blobPosition(const detail::Blob& b, double scale) {
+  return {static_cast<float>((b.x + b.dx) * scale), static_cast<float>((b.y + b.dy) * scale)};
+}
+
 // Per pyramid level of a valid-area mask (255 = valid): the distance (level pixels) to the
 // nearest invalid pixel, so that detect() tests any margin with one lookup. The mask is
 // resampled like the image and a level pixel counts as valid only if everything it was
@@ -142,26 +159,20 @@ std::vector<cv::KeyPoint> Detector::detect(const ImagePyramid& pyramid, const cv
     keypoints = detectConformal(pyramid, mask, measureAngles);
   } else {
     const int margin = options_.borderMargin;
-    // A candidate at level pixel (x, y) keeps `margin` level pixels from the camera's invalid
-    // area, and the mask (if any) allows its input pixel.
+    // A candidate at level pixel (x, y) keeps `margin` level pixels from the camera's invalid area.
     const auto allowed = [&](int level, int x, int y) {
-      if (camera_ && validDistance_[level].at<float>(y, x) < margin) return false;
-      if (mask.empty()) return true;
-      const double scale = pyramid.scale(level);
-      const int x0 = std::min(cvRound(x * scale), imageSize.width - 1);
-      const int y0 = std::min(cvRound(y * scale), imageSize.height - 1);
-      return mask.at<uchar>(y0, x0) != 0;
+      return !camera_ || validDistance_[level].at<float>(y, x) >= margin;
     };
     keypoints = options_.method == DetectorMethod::Hessian
-                    ? detectBlobs(pyramid, allowed, options_.nfeatures, measureAngles)
-                    : detectCorners(pyramid, allowed, options_.nfeatures, measureAngles);
+                    ? detectBlobs(pyramid, allowed, mask, options_.nfeatures, measureAngles)
+                    : detectCorners(pyramid, allowed, mask, options_.nfeatures, measureAngles);
   }
   std::sort(keypoints.begin(), keypoints.end(), strongerKeypoint);
   return keypoints;
 }
 
-std::vector<cv::KeyPoint> Detector::detectCorners(const ImagePyramid& pyramid, const Allowed& allowed, int budget,
-                                                  bool measureAngles) const {
+std::vector<cv::KeyPoint> Detector::detectCorners(const ImagePyramid& pyramid, const Allowed& allowed,
+                                                  const cv::Mat& mask, int budget, bool measureAngles) const {
   const std::vector<int> budgets = featuresPerLevel(budget, options_.pyramid.levels, options_.pyramid.scaleFactor);
   const detail::IntensityCentroid centroid(options_.orientationRadius);
   const int margin = options_.borderMargin;
@@ -177,7 +188,7 @@ std::vector<cv::KeyPoint> Detector::detectCorners(const ImagePyramid& pyramid, c
       std::vector<detail::Candidate> found;
       for (const cv::KeyPoint& corner : fastOrAgastCorners(image, inner, options_.corners, threshold)) {
         const int x = cvRound(corner.pt.x), y = cvRound(corner.pt.y);
-        if (allowed(level, x, y)) found.push_back({x, y, 0.f});
+        if (allowed(level, x, y) && maskAllows(mask, cornerPosition(x, y, scale))) found.push_back({x, y, 0.f});
       }
       return found;
     };
@@ -196,16 +207,15 @@ std::vector<cv::KeyPoint> Detector::detectCorners(const ImagePyramid& pyramid, c
     }
 
     for (const detail::Candidate& c : candidates) {
-      keypoints.emplace_back(cv::Point2f(static_cast<float>(c.x * scale), static_cast<float>(c.y * scale)),
-                             static_cast<float>(options_.patchSize * scale),
+      keypoints.emplace_back(cornerPosition(c.x, c.y, scale), static_cast<float>(options_.patchSize * scale),
                              measureAngles ? centroid.angleDegrees(image, c.x, c.y) : -1.f, c.response, level);
     }
   }
   return keypoints;
 }
 
-std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, const Allowed& allowed, int budget,
-                                                bool measureAngles) const {
+std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, const Allowed& allowed,
+                                                const cv::Mat& mask, int budget, bool measureAngles) const {
   const int levels = pyramid.levels();
   std::vector<cv::Mat> responses(levels);
   std::vector<double> scales(levels);
@@ -213,6 +223,12 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
   tbb::parallel_for(0, levels, [&](int k) { responses[k] = detail::hessianResponse(pyramid.image(k), options_.hessianSigma); });
   std::vector<detail::Blob> blobs = detail::hessianMaxima(
       responses, scales, static_cast<float>(options_.hessianThreshold), options_.borderMargin, allowed);
+  // The mask after the refinement, which moves a blob up to half a level pixel from its maximum
+  // (several input pixels on coarse levels), and before the budget, which it must not eat.
+  if (!mask.empty())
+    blobs.erase(std::remove_if(blobs.begin(), blobs.end(),
+                               [&](const detail::Blob& b) { return !maskAllows(mask, blobPosition(b, scales[b.level])); }),
+                blobs.end());
 
   if (options_.spread) {
     // One quadtree over the whole image, in input pixels: blobs of every level compete.
@@ -240,8 +256,7 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
   for (const detail::Blob& b : blobs) {
     const double s = scales[b.level];
     const double refined = s * std::exp(b.dlevel * logFactor);
-    keypoints.emplace_back(cv::Point2f(static_cast<float>((b.x + b.dx) * s), static_cast<float>((b.y + b.dy) * s)),
-                           static_cast<float>(options_.patchSize * refined),
+    keypoints.emplace_back(blobPosition(b, s), static_cast<float>(options_.patchSize * refined),
                            measureAngles ? centroid.angleDegrees(pyramid.image(b.level), b.x, b.y) : -1.f,
                            b.response, b.level);
   }
@@ -257,8 +272,8 @@ std::vector<cv::KeyPoint> Detector::detectConformal(const ImagePyramid& pyramid,
   // magnifies): detect a quarter more, keep the strongest nfeatures of those that survive.
   const int budget = options_.nfeatures + (options_.nfeatures + 3) / 4;
   std::vector<cv::KeyPoint> found = options_.method == DetectorMethod::Hessian
-                                        ? detectBlobs(view, inView, budget, false)
-                                        : detectCorners(view, inView, budget, false);
+                                        ? detectBlobs(view, inView, cv::Mat(), budget, false)
+                                        : detectCorners(view, inView, cv::Mat(), budget, false);
   // Back to the camera image: position and size through the camera model, octave = the level
   // whose scale is nearest the size's, which must keep the margin there too.
   const detail::IntensityCentroid centroid(options_.orientationRadius);
@@ -278,13 +293,10 @@ std::vector<cv::KeyPoint> Detector::detectConformal(const ImagePyramid& pyramid,
     const cv::Mat& image = pyramid.image(level);
     if (x < margin || y < margin || x >= image.cols - margin || y >= image.rows - margin) continue;
     if (validDistance_[level].at<float>(y, x) < margin) continue;
-    if (!mask.empty()) {
-      const int x0 = std::min(cvRound(pixel.x), mask.cols - 1), y0 = std::min(cvRound(pixel.y), mask.rows - 1);
-      if (x0 < 0 || y0 < 0 || mask.at<uchar>(y0, x0) == 0) continue;
-    }
-    keypoints.emplace_back(cv::Point2f(static_cast<float>(pixel.x), static_cast<float>(pixel.y)),
-                           static_cast<float>(size), measureAngles ? centroid.angleDegrees(image, x, y) : -1.f,
-                           k.response, level);
+    const cv::Point2f position(static_cast<float>(pixel.x), static_cast<float>(pixel.y));
+    if (!maskAllows(mask, position)) continue;
+    keypoints.emplace_back(position, static_cast<float>(size),
+                           measureAngles ? centroid.angleDegrees(image, x, y) : -1.f, k.response, level);
   }
   if (static_cast<int>(keypoints.size()) > options_.nfeatures) {
     std::nth_element(keypoints.begin(), keypoints.begin() + options_.nfeatures, keypoints.end(),

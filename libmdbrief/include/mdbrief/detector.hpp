@@ -129,13 +129,14 @@ class Detector {
   const CameraPtr& camera() const { return camera_; }
 
  private:
-  // Whether a candidate at level pixel (x, y) of `level` may become a keypoint.
+  // Whether a candidate at level pixel (x, y) of `level` keeps its margin from the invalid area.
   using Allowed = std::function<bool(int level, int x, int y)>;
-  // The `budget` strongest (corners: per level, as cv::ORB shares it out).
-  std::vector<cv::KeyPoint> detectCorners(const ImagePyramid& pyramid, const Allowed& allowed, int budget,
-                                          bool measureAngles) const;
-  std::vector<cv::KeyPoint> detectBlobs(const ImagePyramid& pyramid, const Allowed& allowed, int budget,
-                                        bool measureAngles) const;
+  // The `budget` strongest (corners: per level, as cv::ORB shares it out) of those `allowed`
+  // and whose keypoint position the mask (empty, or as detect()'s) allows.
+  std::vector<cv::KeyPoint> detectCorners(const ImagePyramid& pyramid, const Allowed& allowed, const cv::Mat& mask,
+                                          int budget, bool measureAngles) const;
+  std::vector<cv::KeyPoint> detectBlobs(const ImagePyramid& pyramid, const Allowed& allowed, const cv::Mat& mask,
+                                        int budget, bool measureAngles) const;
 
   DetectorOptions options_;
   CameraPtr camera_;
