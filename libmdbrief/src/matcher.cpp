@@ -16,38 +16,13 @@
 #include "mdbrief/masked_hamming.hpp"
 #include "mdbrief/simd_level.hpp"
 #include "popcount.hpp"
+#include "query_row.hpp"
 
 namespace mdbrief {
 
 namespace {
 
 using namespace matcher_kernels;
-
-// Reads 32-bit word k of a row (rows need not be aligned).
-inline uint32_t word(const uint8_t* row, int k) {
-  uint32_t w;
-  std::memcpy(&w, row + 4 * k, 4);
-  return w;
-}
-
-// Effective mask words of one row (an all-zero mask acts as all ones) and its weight w(o).
-uint32_t maskWords(const uint8_t* mask, int nwords, uint32_t* out) {
-  int ones = 0;
-  for (int k = 0; k < nwords; ++k) {
-    out[k] = word(mask, k);
-    ones += popcount64(out[k]);
-  }
-  if (ones == 0) std::fill(out, out + nwords, ~uint32_t{0});
-  return maskWeight(ones, nwords * 32);
-}
-
-QueryRow loadRow(const cv::Mat& desc, const cv::Mat* masks, int row, int nwords) {
-  QueryRow q;
-  const uint8_t* p = desc.ptr<uint8_t>(row);
-  for (int k = 0; k < nwords; ++k) q.d[k] = word(p, k);
-  if (masks) q.w = maskWords(masks->ptr<uint8_t>(row), nwords, q.l);
-  return q;
-}
 
 // The kernel of the active SIMD level and the train layout it reads; resolved once per call.
 struct Kernel {
@@ -89,9 +64,9 @@ TrainSet pack(const cv::Mat& desc, const cv::Mat* masks, int lanes) {
   uint32_t l[kMaxWords];
   for (int j = 0; j < count; ++j) {
     const uint8_t* p = desc.ptr<uint8_t>(j);
-    for (int k = 0; k < nwords; ++k) t.desc[slot(j, k)] = word(p, k);
+    for (int k = 0; k < nwords; ++k) t.desc[slot(j, k)] = rowWord(p, k);
     if (masks) {
-      t.weight[j] = maskWords(masks->ptr<uint8_t>(j), nwords, l);
+      t.weight[j] = effectiveMaskWords(masks->ptr<uint8_t>(j), nwords, l);
       for (int k = 0; k < nwords; ++k) t.mask[slot(j, k)] = l[k];
     }
   }
@@ -106,7 +81,7 @@ std::vector<Nearest> nearestAll(const cv::Mat& rows, const cv::Mat* rowMasks, co
   std::vector<Nearest> out(rows.rows);
   const int nwords = rows.cols / 4;
   auto run = [&](int begin, int end) {
-    for (int i = begin; i < end; ++i) out[i] = kernel.nearestTwo(loadRow(rows, rowMasks, i, nwords), set.view);
+    for (int i = begin; i < end; ++i) out[i] = kernel.nearestTwo(loadQueryRow(rows, rowMasks, i, nwords), set.view);
   };
   if (parallel) {
     // Each query is computed by exactly one task, so the split does not affect the results.

@@ -1,0 +1,52 @@
+#pragma once
+// The frame of the library's binary files (the vocabulary and the database): a fixed header that
+// names the kind, the version and the size, and a checksum of everything after it, so that a
+// truncated, foreign, newer or damaged file is refused before its content is trusted. Shared
+// with the fuzz targets, which repair the checksum of their inputs to reach the checks behind it.
+//
+// Layout, little-endian:
+//   bytes  0-7   magic: 8 ASCII characters naming the kind (e.g. "MDBVOCAB")
+//   bytes  8-11  u32 format version (1, 2, ...)
+//   bytes 12-15  u32 zero
+//   bytes 16-23  u64 size of the whole file in bytes
+//   bytes 24-31  u64 contentChecksum of bytes 32 .. end
+//   bytes 32-    the body, laid out by the kind
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace mdbrief::internal {
+
+inline constexpr size_t kFrameBytes = 32;
+
+// A 64-bit checksum of `size` bytes (multiply-rotate over 64-bit words in four independent
+// lanes, so it runs at memory speed). Detects damage, not tampering: it is not cryptographic.
+uint64_t contentChecksum(const uint8_t* data, size_t size) noexcept;
+
+// The bytes of a framed file: the header for `magic` (8 characters), `version` and `body`.
+std::string framedFileBytes(std::string_view magic, uint32_t version, std::string_view body);
+
+struct FramedFile {
+  std::vector<uint64_t> words;  // the whole file, 8-byte aligned (the body's sections rely on it)
+  size_t size = 0;              // bytes
+  uint32_t version = 0;
+  const uint8_t* bytes() const { return reinterpret_cast<const uint8_t*>(words.data()); }
+  const uint8_t* body() const { return bytes() + kFrameBytes; }
+  size_t bodySize() const { return size - kFrameBytes; }
+};
+
+// Reads `path` with one read after checking, in this order, that it is a readable regular file
+// of at most maxBytes, at least a header long, starts with `magic`, has a version in
+// [1, maxVersion], a size field equal to its size and the right checksum. Throws
+// FileFormatError naming the file and the first check that failed; `kind` names the file in
+// messages ("vocabulary"), `foreignHint` is appended when the magic is wrong (may be empty).
+FramedFile readFramedFile(const std::string& path, std::string_view magic, uint32_t maxVersion, uint64_t maxBytes,
+                          const std::string& kind, const std::string& foreignHint);
+
+// Rewrites the checksum field of a framed file's bytes (at least kFrameBytes long; shorter
+// ones are left as they are), for the fuzz targets.
+void repairChecksum(std::string& bytes);
+
+}  // namespace mdbrief::internal
