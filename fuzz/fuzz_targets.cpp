@@ -9,7 +9,10 @@
 
 #include "cli/extraction_flags.hpp"
 #include "mdbrief/camera_io.hpp"
+#include "mdbrief/database.hpp"
+#include "mdbrief/internal/framed_file.hpp"
 #include "mdbrief/patterns.hpp"
+#include "mdbrief/vocabulary_text.hpp"
 #include "patchextract/patch_set.hpp"
 #include "trainer/train_cli.hpp"
 
@@ -49,6 +52,41 @@ void keypoints(const uint8_t* d, size_t n) {
 void patchSet(const uint8_t* d, size_t n) {
   expectingErrors([&] { train::readPatchSet(asFile(d, n, ".h5")); });
 }
+// A vocabulary that loaded is used: descriptors of its width (with masks) descend its tree.
+void quantise(const Vocabulary& v) {
+  cv::Mat desc(4, v.descriptorBytes(), CV_8UC1), masks(4, v.descriptorBytes(), CV_8UC1);
+  for (int i = 0; i < desc.rows * desc.cols; ++i) {
+    desc.data[i] = static_cast<uint8_t>(i * 37 + 11);
+    masks.data[i] = static_cast<uint8_t>(i * 91 + 5);
+  }
+  Database db(v);
+  db.add(v.transform(desc, masks).bow);
+  db.query(v.transform(desc).bow, 2);
+}
+
+// Binary files are tried as given and with their checksum repaired: otherwise nearly every
+// mutation would stop at the checksum and the checks behind it would never run.
+template <class Load>
+void framed(const uint8_t* d, size_t n, const std::string& extension, Load&& load) {
+  std::string bytes(reinterpret_cast<const char*>(d), n);
+  expectingErrors([&] { load(asFile(d, n, extension)); });
+  internal::repairChecksum(bytes);
+  expectingErrors([&] { load(asFile(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), extension)); });
+}
+
+void vocabulary(const uint8_t* d, size_t n) {
+  framed(d, n, ".mdbvoc", [](const std::string& path) { quantise(Vocabulary::load(path)); });
+}
+void vocabularyText(const uint8_t* d, size_t n) {
+  expectingErrors([&] { quantise(importDbow2Text(asFile(d, n, ".txt"))); });
+}
+void database(const uint8_t* d, size_t n) {
+  framed(d, n, ".mdbdb", [](const std::string& path) {
+    const Database db = Database::load(path, databaseVocabulary());
+    for (uint32_t e = 0; e < db.size(); ++e) db.query(db.entry(e), 3);
+  });
+}
+
 void trainConfig(const uint8_t* d, size_t n) {
   // A missing output folder stops the tool right after parsing, before any training.
   std::ostringstream out, err;
@@ -57,12 +95,36 @@ void trainConfig(const uint8_t* d, size_t n) {
 
 }  // namespace
 
+Vocabulary databaseVocabulary() {
+  // Root -> 4 nodes -> 4 words each, 32 bits, centroids spread over the bytes.
+  VocabularyTree t;
+  t.bits = 32;
+  t.branching = 4;
+  t.depth = 2;
+  t.childBegin.assign(21, 0);
+  t.childCount.assign(21, 0);
+  t.childBegin[0] = 1;
+  t.childCount[0] = 4;
+  for (uint32_t i = 1; i <= 4; ++i) {
+    t.childBegin[i] = 1 + 4 * i;
+    t.childCount[i] = 4;
+  }
+  t.centroids = cv::Mat(21, 4, CV_8UC1);
+  for (int r = 0; r < 21; ++r)
+    for (int c = 0; c < 4; ++c) t.centroids.at<uint8_t>(r, c) = r == 0 ? 0 : static_cast<uint8_t>(r * 53 + c * 17);
+  t.wordWeights.assign(16, 1.0f);
+  return Vocabulary::create(t);
+}
+
 const std::vector<Target>& targets() {
   static const std::vector<Target> all{{"camera", camera},
                                        {"pattern_json", patternJson},
                                        {"keypoints", keypoints},
                                        {"patch_set", patchSet},
-                                       {"train_config", trainConfig}};
+                                       {"train_config", trainConfig},
+                                       {"vocabulary", vocabulary},
+                                       {"vocabulary_text", vocabularyText},
+                                       {"database", database}};
   return all;
 }
 

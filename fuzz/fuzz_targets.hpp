@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "mdbrief/vocabulary.hpp"
+
 namespace mdbrief::fuzz {
 
 struct Target {
@@ -17,7 +19,12 @@ struct Target {
 
 // camera (loadCamera: project YAML, OCamCalib text, calib-adapter YAML), pattern_json
 // (loadTestSetJson), keypoints (mdbrief extract --keypoints), patch_set (HDF5 readPatchSet),
-// train_config (mdbrief-train --config TOML).
+// train_config (mdbrief-train --config TOML), vocabulary (Vocabulary::load), vocabulary_text
+// (importDbow2Text), database (Database::load with databaseVocabulary()). A vocabulary or
+// database that loads is then used (descriptors quantised, entries queried).
 const std::vector<Target>& targets();
+
+// The vocabulary the database target loads its inputs with (its seeds were saved with it).
+Vocabulary databaseVocabulary();
 
 }  // namespace mdbrief::fuzz
