@@ -13,8 +13,9 @@ LAYER = {
     "toolkit": 2,
     "patchextract": 3,
     "trainer": 4,
-    "eval": 4,
-    "cli": 5,
+    "vocabulary": 4,
+    "eval": 5,  # trains the vocabularies it compares
+    "cli": 6,
 }
 # Where each source folder sits; its files may include what lies strictly below, plus itself.
 FOLDER = {
@@ -23,6 +24,7 @@ FOLDER = {
     "toolkit": "toolkit",
     "patchextract": "patchextract",
     "trainer": "trainer",
+    "vocabulary": "vocabulary",
     "eval": "eval",
     "cli": "cli",
 }

@@ -1,0 +1,168 @@
+// mdbrief-train-vocabulary end to end (in-process): .npy descriptor files and images in, a
+// vocabulary file out, byte-identical for the same seed; bad input exits 2 naming the option or
+// file and writes nothing; held-out images are refused by digest.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "mdbrief/vocabulary.hpp"
+#include "mdbrief/vocabulary_text.hpp"
+#include "test_data.hpp"
+#include "vocabulary/descriptor_npy.hpp"
+#include "vocabulary/train_vocabulary_cli.hpp"
+
+namespace fs = std::filesystem;
+using namespace mdbrief;
+using mdbrief::testing::readFile;
+using mdbrief::testing::TempDir;
+
+namespace {
+
+struct CliRun {
+  int code;
+  std::string out, err;
+};
+
+CliRun run(const std::vector<std::string>& args) {
+  std::ostringstream out, err;
+  const int code = vocab::runTrainVocabularyCli(args, out, err);
+  return {code, out.str(), err.str()};
+}
+
+void writeBytes(const fs::path& p, const std::string& bytes) {
+  std::ofstream(p, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+// Three images' worth of random 256-bit descriptors and masks as .npy files.
+std::vector<std::string> npyFiles(const TempDir& dir, bool withMasks) {
+  std::vector<std::string> args{"--descriptors"};
+  std::vector<std::string> masks{"--masks"};
+  cv::RNG rng(7);
+  for (int i = 0; i < 3; ++i) {
+    cv::Mat d(300, 32, CV_8UC1), m(300, 32, CV_8UC1);
+    rng.fill(d, cv::RNG::UNIFORM, 0, 256);
+    rng.fill(m, cv::RNG::UNIFORM, 0, 256);
+    const fs::path dp = dir.path / ("d" + std::to_string(i) + ".npy"), mp = dir.path / ("m" + std::to_string(i) + ".npy");
+    writeBytes(dp, vocab::descriptorNpyBytes(d));
+    writeBytes(mp, vocab::descriptorNpyBytes(m));
+    args.push_back(dp.string());
+    masks.push_back(mp.string());
+  }
+  if (withMasks) args.insert(args.end(), masks.begin(), masks.end());
+  return args;
+}
+
+std::vector<std::string> plus(std::vector<std::string> a, const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+}  // namespace
+
+TEST(TrainVocabularyCli, DescriptorFilesGiveTheSameBytesForTheSameSeed) {
+  TempDir dir("tv_npy");
+  const std::string a = (dir.path / "a.mdbvoc").string(), b = (dir.path / "b.mdbvoc").string();
+  const auto inputs = npyFiles(dir, true);
+  const std::vector<std::string> common{"--branching", "5", "--depth", "3", "--seed", "4"};
+  CliRun r = run(plus(plus(inputs, common), {"--out", a}));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("masked, 256 bits"), std::string::npos) << r.out;
+  ASSERT_EQ(run(plus(plus(inputs, common), {"--out", b})).code, 0);
+  EXPECT_EQ(readFile(a), readFile(b));
+  const Vocabulary v = Vocabulary::load(a);
+  EXPECT_TRUE(v.masked());
+  EXPECT_EQ(v.branching(), 5);
+  EXPECT_LE(v.wordCount(), 125u);
+  EXPECT_GT(v.wordCount(), 60u);
+  // Without masks, or with --plain: a plain vocabulary, also as DBoW2 text.
+  const std::string c = (dir.path / "c.mdbvoc").string(), text = (dir.path / "c.txt").string();
+  r = run(plus(plus(npyFiles(dir, false), common), {"--out", c, "--dbow2-text", text}));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(Vocabulary::load(c).masked());
+  EXPECT_EQ(importDbow2Text(text).fileBytes(), readFile(c));
+}
+
+TEST(TrainVocabularyCli, BadInputExitsWith2NamingTheProblemAndWritesNothing) {
+  TempDir dir("tv_bad");
+  const std::string out = (dir.path / "v.mdbvoc").string();
+  const auto inputs = npyFiles(dir, true);
+  writeBytes(dir.path / "bad.npy", "\x93NUMPY\x01\x00\x10\x00{'descr': '<f4'}");
+  writeBytes(dir.path / "wide.npy", vocab::descriptorNpyBytes(cv::Mat(5, 64, CV_8UC1, cv::Scalar(1))));
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--out", out}, "give either --images"},
+      {plus(inputs, {"--images", dir.path.string(), "--out", out}), "give either --images"},
+      {plus(inputs, {}), "--out is required"},
+      {plus(inputs, {"--out", (dir.path / "no" / "v.mdbvoc").string()}), "output folder " + (dir.path / "no").string() + " does not exist"},
+      {plus(inputs, {"--out", out, "--dbow2-text", (dir.path / "t.txt").string()}), "has no masks"},
+      {plus(inputs, {"--out", out, "--branching", "1"}), "--branching"},
+      {{"--descriptors", (dir.path / "bad.npy").string(), "--out", out}, "bad.npy"},
+      {{"--descriptors", inputs[1], (dir.path / "wide.npy").string(), "--plain", "--out", out}, "the images before have 32"},
+      {{"--descriptors", inputs[1], "--masks", inputs[5], inputs[6], "--out", out}, "--masks: 2 files for 1"},
+      {{"--descriptors", (dir.path / "missing.npy").string(), "--out", out}, "no such file"},
+      {{"--images", (dir.path / "missing").string(), "--out", out}, "no such image or folder"},
+      {{"--images", dir.path.string(), "--bits", "100", "--out", out}, "bits"},
+  };
+  for (const auto& [args, expected] : cases) {
+    const CliRun r = run(args);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << "expected '" << expected << "' in: " << r.err;
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
+TEST(TrainVocabularyCli, ImagesAreDescribedAtTheAskedLengthAndHeldOutOnesRefused) {
+  const auto doc = mdbrief::testing::opencvDocDataDir();
+  if (!doc || !fs::exists(*doc / "box.png") || !fs::exists(*doc / "graf1.png"))
+    GTEST_SKIP() << "opencv-doc sample photos not found (scripts/setup-deps.sh)";
+  TempDir dir("tv_images");
+  const std::string out = (dir.path / "v.mdbvoc").string();
+  CliRun r = run({"--images", (*doc / "box.png").string(), (*doc / "box_in_scene.png").string(), "--bits", "128",
+                  "--branching", "4", "--depth", "2", "--out", out});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Vocabulary v = Vocabulary::load(out);
+  EXPECT_EQ(v.bits(), 128);
+  EXPECT_TRUE(v.masked());
+  EXPECT_EQ(v.trainingImages().size(), 2u);
+  r = run({"--images", (*doc / "box.png").string(), "--features", "orb", "--branching", "4", "--depth", "2", "--out", out});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(Vocabulary::load(out).masked());
+  EXPECT_EQ(Vocabulary::load(out).bits(), 256);
+  // graf1.png is an evaluation image (configs/held-out-images.txt).
+  fs::remove(out);
+  r = run({"--images", (*doc / "box.png").string(), (*doc / "graf1.png").string(), "--out", out});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("graf1.png: held out"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(DescriptorNpy, ReadsWhatNumpyWritesAndRefusesOtherArrays) {
+  TempDir dir("npy");
+  cv::Mat d(7, 16, CV_8UC1);
+  cv::randu(d, 0, 256);
+  const fs::path p = dir.path / "d.npy";
+  writeBytes(p, vocab::descriptorNpyBytes(d));
+  EXPECT_EQ(cv::norm(vocab::readDescriptorNpy(p.string()), d, cv::NORM_L1), 0.0);
+  const std::string good = vocab::descriptorNpyBytes(d);
+  const auto problem = [&](const std::string& bytes) -> std::string {
+    writeBytes(p, bytes);
+    try {
+      vocab::readDescriptorNpy(p.string());
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "read";
+  };
+  const auto edited = [&](const std::string& from, const std::string& to) {
+    std::string b = good;
+    b.replace(b.find(from), from.size(), to);
+    return b;
+  };
+  EXPECT_NE(problem("hello").find("not a NumPy .npy file"), std::string::npos);
+  EXPECT_NE(problem(good.substr(0, good.size() - 1)).find("needs 112 data bytes, the file has 111"), std::string::npos);
+  EXPECT_NE(problem(edited("|u1", "<f4")).find("dtype '<f4' is not uint8"), std::string::npos);
+  EXPECT_NE(problem(edited("False", "True ")).find("C order"), std::string::npos);
+  EXPECT_NE(problem(edited("(7, 16)", "(7, 18)")).find("18 bytes per descriptor"), std::string::npos);
+  EXPECT_NE(problem(edited("(7, 16)", "(112,)")).find("is not (N, B)"), std::string::npos);
+  EXPECT_EQ(problem(edited("(7, 16)", "(0, 16)") .substr(0, good.size() - 112)), "read") << "no descriptors is fine";
+}

@@ -1,0 +1,16 @@
+// mdbrief-train-vocabulary: see vocabulary/train_vocabulary_cli.hpp and docs/vocabulary.md.
+#include <cstdio>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include "toolkit/opencv_log.hpp"
+#include "vocabulary/train_vocabulary_cli.hpp"
+
+int main(int argc, char** argv) {
+  mdbrief::silenceOpenCvLogUnlessAsked();
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  return mdbrief::vocab::runTrainVocabularyCli(args, std::cout, std::cerr, isatty(fileno(stdout)) != 0);
+}

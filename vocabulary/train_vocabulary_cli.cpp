@@ -1,0 +1,191 @@
+#include "vocabulary/train_vocabulary_cli.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <ostream>
+
+#include <CLI/CLI.hpp>
+#include <tbb/parallel_for.h>
+
+#include "mdbrief/camera_io.hpp"
+#include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/internal/size_text.hpp"
+#include "mdbrief/vocabulary_text.hpp"
+#include "toolkit/progress_reporter.hpp"
+#include "vocabulary/descriptor_npy.hpp"
+#include "vocabulary/training_features.hpp"
+
+namespace mdbrief::vocab {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Args {
+  std::vector<std::string> images, descriptors, masks, heldOut;
+  std::string camera, out, dbow2Text;
+  std::string features = "mdbrief", preset = "tracking", weighting = "tf-idf";
+  int bits = 0, nfeatures = FeatureOptions{}.nfeatures;
+  bool plain = false;
+  VocabularyTrainingOptions training;
+};
+
+// The training images described (image input), in file order. Errors are reported for the
+// first image in that order, whatever the threads met first.
+std::vector<TrainingImage> describeImages(const Args& a, const FeatureOptions& features, ProgressReporter& progress) {
+  const std::vector<fs::path> files = imageFiles(a.images);
+  CameraPtr camera;
+  if (!a.camera.empty()) camera = loadCamera(a.camera);
+  train::HeldOutImages heldOut = train::shippedHeldOutImages();
+  for (const auto& list : a.heldOut) heldOut.merge(train::readHeldOutImages(list));
+  std::vector<TrainingImage> images(files.size());
+  std::vector<std::string> errors(files.size());
+  std::atomic<size_t> done{0};
+  tbb::parallel_for(size_t(0), files.size(), [&](size_t i) {
+    try {
+      uint64_t digest = 0;
+      const cv::Mat grey = readTrainingImage(files[i], heldOut, digest);
+      if (camera && features.kind == FeatureKind::MdBrief && grey.size() != camera->imageSize())
+        throw std::invalid_argument(files[i].string() + ": " + internal::sizeText(grey.size()) + ", but --camera " +
+                                    a.camera + " is calibrated for " + internal::sizeText(camera->imageSize()));
+      images[i] = describeImage(grey, features, camera);
+      images[i].digest = digest;
+    } catch (const std::exception& e) {
+      errors[i] = e.what();
+    }
+    progress.update("describing images", ++done, files.size());
+  });
+  for (const auto& e : errors)
+    if (!e.empty()) throw std::invalid_argument(e);
+  return images;
+}
+
+std::vector<TrainingImage> readDescriptorFiles(const Args& a) {
+  if (!a.masks.empty() && a.masks.size() != a.descriptors.size())
+    throw std::invalid_argument("--masks: " + std::to_string(a.masks.size()) + " files for " +
+                                std::to_string(a.descriptors.size()) + " --descriptors files (one per image, in order)");
+  std::vector<TrainingImage> images(a.descriptors.size());
+  for (size_t i = 0; i < images.size(); ++i) {
+    images[i].descriptors = readDescriptorNpy(a.descriptors[i]);
+    if (a.masks.empty()) continue;
+    images[i].masks = readDescriptorNpy(a.masks[i]);
+    if (images[i].masks.size() != images[i].descriptors.size())
+      throw std::invalid_argument(a.masks[i] + ": " + std::to_string(images[i].masks.rows) + " x " +
+                                  std::to_string(images[i].masks.cols) + " masks for the " +
+                                  std::to_string(images[i].descriptors.rows) + " x " +
+                                  std::to_string(images[i].descriptors.cols) + " descriptors of " + a.descriptors[i]);
+  }
+  return images;
+}
+
+void run(Args& a, std::ostream& out, bool progressTty) {
+  const auto start = std::chrono::steady_clock::now();
+  if (a.images.empty() == a.descriptors.empty())
+    throw std::invalid_argument("give either --images (with --camera or photos) or --descriptors");
+  FeatureOptions features;
+  features.kind = parseName(a.features, kFeatureKindNames, "--features");
+  features.preset = parsePreset(a.preset);
+  features.bits = a.bits;
+  features.nfeatures = a.nfeatures;
+  if (!a.images.empty()) mdBriefOptions(features);  // bad --bits or --nfeatures before any work
+  a.training.weighting = parseWeighting(a.weighting);
+  // ORB descriptors have no masks; descriptor files without masks neither.
+  a.training.masked = !a.plain && features.kind == FeatureKind::MdBrief && (a.descriptors.empty() || !a.masks.empty());
+  internal::checkOutputPath(a.out);
+  if (!a.dbow2Text.empty()) {
+    if (a.training.masked)
+      throw std::invalid_argument("--dbow2-text: the DBoW2 text format has no masks; train a plain vocabulary (--plain)");
+    internal::checkOutputPath(a.dbow2Text);
+  }
+
+  ProgressReporter progress(out, progressTty);
+  const std::vector<TrainingImage> images = a.images.empty() ? readDescriptorFiles(a) : describeImages(a, features, progress);
+  size_t descriptors = 0;
+  for (const auto& im : images) descriptors += static_cast<size_t>(im.descriptors.rows);
+  const Vocabulary v = trainVocabulary(images, a.training, [&](const std::string& stage, size_t done, size_t total) {
+    progress.update(stage, done, total);
+  });
+  progress.finish();
+  v.save(a.out);
+  if (!a.dbow2Text.empty()) exportDbow2Text(v, a.dbow2Text);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "%s: %zu words, %zu nodes (k = %d, L = %d), %s, %d bits, %s weights, from %zu images (%zu descriptors); "
+                "%zu bytes; %.1f s\n",
+                a.out.c_str(), v.wordCount(), v.nodeCount(), v.branching(), v.depth(), v.masked() ? "masked" : "plain",
+                v.bits(), toString(v.weighting()).c_str(), images.size(), descriptors, v.fileBytes().size(), seconds);
+  out << line;
+}
+
+}  // namespace
+
+int runTrainVocabularyCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
+                          bool progressTty) {
+  CLI::App app{"Train a vocabulary of binary words (hierarchical k-majority, masked for mdBRIEF) from images or "
+               "descriptor files; docs/vocabulary.md",
+               "mdbrief-train-vocabulary"};
+  Args a;
+  app.add_option("--images", a.images, "Training images: folders (searched recursively) or files");
+  app.add_option("--camera", a.camera,
+                 "Calibration of every image (default: each photo as the pinhole of f = its width, "
+                 "toolkit/photo_camera.hpp)");
+  app.add_option("--features", a.features, "Features: the library's (mdbrief) or cv::ORB's (orb; a plain vocabulary)")
+      ->check(CLI::IsMember(namesOf(kFeatureKindNames)))
+      ->capture_default_str();
+  app.add_option("--preset", a.preset, "mdbrief: the preset whose detector and descriptor run")
+      ->check(CLI::IsMember(namesOf(kPresetNames)))
+      ->capture_default_str();
+  app.add_option("--bits", a.bits, "mdbrief: descriptor length, 32..512 in steps of 32 (default: the preset's)");
+  app.add_option("--nfeatures", a.nfeatures, "Keypoints per image at most")->capture_default_str();
+  app.add_option("--descriptors", a.descriptors,
+                 "Instead of images: .npy descriptor files (uint8, N x bytes), one per image");
+  app.add_option("--masks", a.masks, "The descriptors' masks, .npy files in the same order (a masked vocabulary)");
+  app.add_flag("--plain", a.plain, "Train a plain vocabulary: Hamming distances, masks ignored");
+  app.add_option("--branching", a.training.branching, "k: children per node")
+      ->check(CLI::Range(2, kMaxVocabularyBranching))
+      ->capture_default_str();
+  app.add_option("--depth", a.training.depth, "L: levels (at most k^L words)")
+      ->check(CLI::Range(1, kMaxVocabularyDepth))
+      ->capture_default_str();
+  app.add_option("--rounds", a.training.clustering.maxRounds, "k-majority rounds per node at most")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  app.add_option("--mask-agreement", a.training.clustering.maskAgreement,
+                 "Masked: share of a word's members that must trust a bit and agree on it for the word to trust it")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app.add_option("--weighting", a.weighting, "Word weighting")
+      ->check(CLI::IsMember(namesOf(kWeightingNames)))
+      ->capture_default_str();
+  app.add_option("--seed", a.training.seed, "Random seed (the same inputs and seed give the same file)")
+      ->capture_default_str();
+  app.add_option("--held-out", a.heldOut,
+                 "More held-out lists (configs/held-out-images.txt's format) whose images are refused, besides the "
+                 "compiled-in evaluation images");
+  app.add_option("--out", a.out, "The vocabulary file to write")->required();
+  app.add_option("--dbow2-text", a.dbow2Text, "Also write the vocabulary as a DBoW2 text file (plain only)");
+  std::vector<std::string> reversed(args.rbegin(), args.rend());
+  try {
+    app.parse(reversed);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e, out, err);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    run(a, out, progressTty);
+  } catch (const std::invalid_argument& e) {
+    err << "mdbrief-train-vocabulary: " << e.what() << "\n";
+    return 2;
+  } catch (const std::runtime_error& e) {  // files: unreadable input, failed write
+    err << "mdbrief-train-vocabulary: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    err << "mdbrief-train-vocabulary: internal error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace mdbrief::vocab

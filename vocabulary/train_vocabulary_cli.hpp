@@ -1,0 +1,18 @@
+#pragma once
+// mdbrief-train-vocabulary: trains a vocabulary (vocabulary_training.hpp) from training images
+// described as the run time describes them (training_features.hpp) or from descriptor files
+// (descriptor_npy.hpp), and writes it (mdbrief/vocabulary.hpp's file; optionally also DBoW2's
+// text). In a library so tests run the whole tool in-process.
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace mdbrief::vocab {
+
+// args without the program name. Returns the exit code: 0 success, 2 bad input or a failed
+// step (message on err naming the option or file and the problem), 1 an internal error.
+// Progress and the summary go to out; progressTty draws the progress as a bar.
+int runTrainVocabularyCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
+                          bool progressTty = false);
+
+}  // namespace mdbrief::vocab
