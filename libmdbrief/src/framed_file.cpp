@@ -80,6 +80,15 @@ std::string framedFileBytes(std::string_view magic, uint32_t version, std::strin
   return out;
 }
 
+FramedFile framedFileInMemory(std::string_view bytes, uint32_t version) {
+  FramedFile file;
+  file.size = bytes.size();
+  file.version = version;
+  file.words.reset(new uint64_t[(bytes.size() + 7) / 8]());
+  std::memcpy(file.words.get(), bytes.data(), bytes.size());
+  return file;
+}
+
 void repairChecksum(std::string& bytes) {
   if (bytes.size() < kFrameBytes) return;
   put<uint64_t>(bytes, 24,
@@ -107,8 +116,9 @@ FramedFile readFramedFile(const std::string& path, std::string_view magic, uint3
                "-byte header of a " + kind + " file");
   FramedFile file;
   file.size = static_cast<size_t>(size);
-  file.words.assign((file.size + 7) / 8, 0);
-  auto* dst = reinterpret_cast<char*>(file.words.data());
+  file.words.reset(new uint64_t[(file.size + 7) / 8]);
+  file.words[(file.size + 7) / 8 - 1] = 0;  // the padding after the last byte
+  auto* dst = reinterpret_cast<char*>(file.words.get());
   size_t done = 0;
   while (done < file.size) {
     const ssize_t got = ::read(fd, dst + done, file.size - done);

@@ -214,13 +214,8 @@ std::shared_ptr<const Vocabulary::Data> vocabularyData(internal::FramedFile file
 }
 
 std::shared_ptr<const Vocabulary::Data> vocabularyData(const VocabularyTree& tree) {
-  internal::FramedFile file;
-  const std::string bytes = internal::framedFileBytes(kVocabularyMagic, kVocabularyVersion, vocabularyBody(tree));
-  file.size = bytes.size();
-  file.version = kVocabularyVersion;
-  file.words.assign((bytes.size() + 7) / 8, 0);
-  std::memcpy(file.words.data(), bytes.data(), bytes.size());
-  return vocabularyData(std::move(file));
+  return vocabularyData(internal::framedFileInMemory(
+      internal::framedFileBytes(kVocabularyMagic, kVocabularyVersion, vocabularyBody(tree)), kVocabularyVersion));
 }
 
 Vocabulary Vocabulary::create(const VocabularyTree& tree) {

@@ -13,6 +13,7 @@
 //   bytes 32-    the body, laid out by the kind
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -29,10 +30,12 @@ uint64_t contentChecksum(const uint8_t* data, size_t size) noexcept;
 std::string framedFileBytes(std::string_view magic, uint32_t version, std::string_view body);
 
 struct FramedFile {
-  std::vector<uint64_t> words;  // the whole file, 8-byte aligned (the body's sections rely on it)
-  size_t size = 0;              // bytes
+  // The whole file, 8-byte aligned (the body's sections rely on it); not zero-filled before the
+  // read, which would cost as much as the read itself on a large vocabulary.
+  std::unique_ptr<uint64_t[]> words;
+  size_t size = 0;  // bytes
   uint32_t version = 0;
-  const uint8_t* bytes() const { return reinterpret_cast<const uint8_t*>(words.data()); }
+  const uint8_t* bytes() const { return reinterpret_cast<const uint8_t*>(words.get()); }
   const uint8_t* body() const { return bytes() + kFrameBytes; }
   size_t bodySize() const { return size - kFrameBytes; }
 };
@@ -44,6 +47,9 @@ struct FramedFile {
 // messages ("vocabulary"), `foreignHint` is appended when the magic is wrong (may be empty).
 FramedFile readFramedFile(const std::string& path, std::string_view magic, uint32_t maxVersion, uint64_t maxBytes,
                           const std::string& kind, const std::string& foreignHint);
+
+// A framed file's bytes held in memory as a read would hold them (nothing checked).
+FramedFile framedFileInMemory(std::string_view bytes, uint32_t version);
 
 // Rewrites the checksum field of a framed file's bytes (at least kFrameBytes long; shorter
 // ones are left as they are), for the fuzz targets.
