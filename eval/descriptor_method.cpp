@@ -120,8 +120,9 @@ std::vector<cv::DMatch> nearestNeighbours(const Features& query, const Features&
     return out;
   }
   if (!query.masks.empty() && !train.masks.empty())
-    return matchBruteForceMasked(query.descriptors, query.masks, train.descriptors, train.masks);
-  return matchBruteForce(query.descriptors, train.descriptors);
+    return matchBruteForceMasked(query.descriptors, query.masks, train.descriptors, train.masks,
+                                 nearestNeighbourOptions());
+  return matchBruteForce(query.descriptors, train.descriptors, nearestNeighbourOptions());
 }
 
 MethodSpec briefFamilyMethod(const std::string& name, DescriptorKind kind, int bits, bool oriented,

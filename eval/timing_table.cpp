@@ -75,9 +75,12 @@ std::vector<Pipeline> pipelines(const CameraPtr& camera, int n) {
       cv::BFMatcher(norm).match(a, b, m);
     };
   };
-  auto ourMatch = [](const cv::Mat& a, const cv::Mat&, const cv::Mat& b, const cv::Mat&) { matchBruteForce(a, b); };
+  // Nearest neighbours, as cv::BFMatcher::match above.
+  auto ourMatch = [](const cv::Mat& a, const cv::Mat&, const cv::Mat& b, const cv::Mat&) {
+    matchBruteForce(a, b, nearestNeighbourOptions());
+  };
   auto ourMaskedMatch = [](const cv::Mat& a, const cv::Mat& ma, const cv::Mat& b, const cv::Mat& mb) {
-    matchBruteForceMasked(a, ma, b, mb);
+    matchBruteForceMasked(a, ma, b, mb, nearestNeighbourOptions());
   };
   auto modOrbDetect = [modOrb](const cv::Mat& img) { return modOrb->detect(img); };
   auto hessianDetect = [hessian](const cv::Mat& img) { return hessian->detect(img); };
