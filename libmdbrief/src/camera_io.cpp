@@ -448,7 +448,7 @@ std::string chooseCamera(const std::string& path, const std::string& what, const
   if (wanted.empty()) {
     if (ids.size() == 1) return ids.front();
     throw std::runtime_error(path + ": " + what + (ids.empty() ? " holds no camera" : " holds cameras " + list +
-                                                                                          ": choose one"));
+                                                                                          ": choose one by its id"));
   }
   if (std::find(ids.begin(), ids.end(), wanted) == ids.end())
     throw std::runtime_error(path + ": " + what + " has no camera '" + wanted + "' (it has " +
