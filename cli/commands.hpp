@@ -28,6 +28,7 @@ int runCli(int argc, char** argv, const std::vector<CommandAdder>& commands);
 void addExtractCommand(CLI::App& app);
 void addMatchCommand(CLI::App& app);
 void addDrawCommand(CLI::App& app);
+void addCameraCommand(CLI::App& app);
 void addSimCommand(CLI::App& app);   // cli/command_sim.cpp (eval/ library)
 void addEvalCommand(CLI::App& app);  // cli/command_eval.cpp (eval/ library)
 

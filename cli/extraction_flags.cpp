@@ -54,8 +54,30 @@ void requireReadableFile(const std::string& path) {
 
 }  // namespace
 
+void addCameraFileFlags(CLI::App& cmd, CameraFileFlags& flags, const std::string& formatFlag, const std::string& idFlag) {
+  cmd.add_option(formatFlag, flags.format,
+                 "Format of the calibration file; auto recognises it from the content (configs/cameras/README.md)")
+      ->check(CLI::IsMember(namesOf(kCameraFormatNames)))
+      ->capture_default_str();
+  cmd.add_option(idFlag, flags.id,
+                 "The camera of a calibration file that holds several: Kalibr cam0, cam1, ...; basalt's index; "
+                 "ORB-SLAM3 1 or 2; COLMAP's CAMERA_ID");
+}
+
+CameraFile readCalibrationFile(const CameraFileFlags& flags) {
+  requireReadableFile(flags.path);
+  try {
+    return readCameraFile(flags.path, {parseCameraFormat(flags.format), flags.id});
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    // loadCamera's messages already start with the path.
+    throw InputError(what.rfind(flags.path, 0) == 0 ? what : flags.path + ": " + what);
+  }
+}
+
 void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
-  cmd.add_option("--camera", flags.camera, "Calibration file (configs/cameras/README.md); required for dbrief/mdbrief");
+  cmd.add_option("--camera", flags.camera.path, "Calibration file (configs/cameras/README.md); required for dbrief/mdbrief");
+  addCameraFileFlags(cmd, flags.camera, "--camera-format", "--camera-id");
   cmd.add_option("--preset", flags.preset,
                  "Start from this preset's options (mdbrief/presets.hpp); the flags below change them")
       ->check(CLI::IsMember(namesOf(kPresetNames)))
@@ -81,29 +103,23 @@ CameraPtr loadCalibration(const ExtractionFlags& flags) {
   const MdBriefOptions options = extractionOptions(flags);
   const DescriptorKind kind = options.descriptor.kind;
   const bool modelled = usesCamera(kind);
-  if (flags.camera.empty()) {
+  if (flags.camera.path.empty()) {
+    if (!flags.camera.id.empty() || flags.camera.format != toString(CameraFormat::Auto))
+      throw InputError("--camera-format and --camera-id need --camera (the calibration file they describe)");
     if (modelled) throw InputError("--camera is required for --descriptor " + toString(kind));
     // The library ignores the option without a camera: the output would be that of a run without it.
     if (options.detector.conformal)
       throw InputError("--conformal needs --camera (the stereographic view is the camera's)");
     return nullptr;
   }
-  requireReadableFile(flags.camera);
-  CameraPtr camera;
-  try {
-    camera = loadCamera(flags.camera);
-  } catch (const std::exception& e) {
-    const std::string what = e.what();
-    // loadCamera's messages already start with the path.
-    throw InputError(what.rfind(flags.camera, 0) == 0 ? what : flags.camera + ": " + what);
-  }
+  const CameraPtr camera = readCalibrationFile(flags.camera).camera;
   const double maxIncidenceDeg = options.descriptor.maxIncidenceDeg;
   if (const double share = describableShare(*camera, modelled ? &options.descriptor : nullptr);
       share < kFewPercentOfTheImage) {
     std::ostringstream percent;
     percent << std::fixed << std::setprecision(1) << 100.0 * share;
     std::ostringstream text;
-    text << "warning: " << flags.camera << ": keypoints can be described on " << percent.str() << " % of the "
+    text << "warning: " << flags.camera.path << ": keypoints can be described on " << percent.str() << " % of the "
          << sizeText(camera->imageSize()) << " image (the camera's valid area";
     if (modelled)
       text << ", rays within " << maxIncidenceDeg << " degrees of the optical axis where the descriptor's plane projects";
@@ -146,7 +162,7 @@ cv::Ptr<MdBrief> makeFeature(const ExtractionFlags& flags, const CameraPtr& cali
   if (camera && camera->imageSize() != imageSize) {
     if (!flags.allowSizeMismatch)
       throw InputError(imagePath + ": image size " + sizeText(imageSize) + " differs from the calibration " +
-                       flags.camera + " (" + sizeText(camera->imageSize()) +
+                       flags.camera.path + " (" + sizeText(camera->imageSize()) +
                        "); pass --allow-size-mismatch to rescale the calibration");
     camera = camera->resized(imageSize);
   }

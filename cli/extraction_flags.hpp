@@ -9,22 +9,37 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/camera.hpp"
+#include "mdbrief/camera_io.hpp"
 #include "mdbrief/feature2d.hpp"
 #include "toolkit/option_flags.hpp"
 
 namespace mdbrief::cli {
 
+// A calibration file, its format and the camera of a multi-camera file (camera_io.hpp).
+struct CameraFileFlags {
+  std::string path;
+  std::string format = toString(CameraFormat::Auto);
+  std::string id;
+};
+
+// Adds the format and camera-id options (named formatFlag, idFlag) bound to flags.
+void addCameraFileFlags(CLI::App& cmd, CameraFileFlags& flags, const std::string& formatFlag, const std::string& idFlag);
+
+// The calibration of flags.path. InputError naming the file and the problem (loadCamera's
+// messages, which start with the path).
+CameraFile readCalibrationFile(const CameraFileFlags& flags);
+
 // The detection and description options are MdBriefOptions' field table (mdBriefOptionFields()):
 // every field's flag, doc, range and default come from there.
 struct ExtractionFlags {
-  std::string camera;                 // calibration file; required except for --descriptor brief / mbrief
+  CameraFileFlags camera;             // --camera (required except for --descriptor brief / mbrief), --camera-format, --camera-id
   std::string preset = "tracking";    // the options the flags start from (mdbrief/presets.hpp)
   OptionFlags<MdBriefOptions> options;
   bool allowSizeMismatch = false;     // rescale the calibration to the image instead of failing
   bool strict = false;                // a truncated image file is an error, not a warning
 };
 
-// Adds --camera, --preset, every MdBriefOptions flag (--features, --detector, --descriptor,
+// Adds --camera, --camera-format, --camera-id, --preset, every MdBriefOptions flag (--features, --detector, --descriptor,
 // --bits, ...), --allow-size-mismatch and --strict to cmd, bound to flags (which must outlive the parse and
 // stay in place).
 void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags);
@@ -33,7 +48,7 @@ void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags);
 // got <value>".
 MdBriefOptions extractionOptions(const ExtractionFlags& flags);
 
-// The calibration of flags.camera, or null when none is given (allowed for brief and mbrief,
+// The calibration of flags.camera.path, or null when none is given (allowed for brief and mbrief,
 // without --conformal). Checks the option flags first (extractionOptions). Warns on stderr,
 // naming the file, when the camera leaves a few percent of the image or less where keypoints
 // can be described.

@@ -7,6 +7,7 @@ int main(int argc, char** argv) {
                                 addExtractCommand,
                                 addMatchCommand,
                                 addDrawCommand,
+                                addCameraCommand,
                                 addSimCommand,
                                 addEvalCommand,
                             });

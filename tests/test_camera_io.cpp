@@ -270,7 +270,7 @@ TEST_F(BrokenFiles, ErrorsNameTheFileAndTheKey) {
   expectError("negative_focal.yaml", kPinholeHead + "fx: -377\nfy: 377\ncx: 380\ncy: 240\n", "'fx'");
   expectError("unknown_model.yaml", "model: fisheye9000\nwidth: 10\nheight: 10\n", "unknown model 'fisheye9000'");
   expectError("unknown_key.yaml", kPinholeHead + "fx: 377\nfy: 377\ncx: 380\ncy: 240\nk5: 1\n", "'k5'");
-  expectError("no_model.yaml", "width: 10\nheight: 10\n", "'model' is missing");
+  expectError("no_model.yaml", "width: 10\nheight: 10\n", "none of the formats tried matches");
   expectError("short_forward.yaml",
               "model: ocam\nwidth: 754\nheight: 480\nforward: [-209.2]\nc: 1\nd: 0\ne: 0\nu0: 1\nv0: 1\n",
               "'forward'");

@@ -11,6 +11,7 @@
 #include "mdbrief/camera_double_sphere.hpp"
 #include "mdbrief/camera_kannala_brandt.hpp"
 #include "mdbrief/camera_ocam.hpp"
+#include "mdbrief/camera_omni.hpp"
 #include "mdbrief/camera_pinhole.hpp"
 #include "mdbrief/camera_radial.hpp"
 #include "mdbrief/camera_radtan.hpp"
@@ -71,6 +72,13 @@ std::vector<NamedCamera> allCameras() {
                std::make_shared<RadTanCamera>(RadTanParams{kFisheye, -0.29, 0.08, 3e-4, -2e-5, 0.0}), 1e-3});
   c.push_back({"radtan folding",
                std::make_shared<RadTanCamera>(RadTanParams{kPinhole, -0.5, 0.0, 1e-3, 1e-3, 0.0}), 1e-3});
+  RadTanParams rational{{640, 480, 269.7, 269.8, 322.6, 238.9}, 0.25, -0.02, -2.5e-4, 6e-5, 0.01};
+  rational.k4 = 0.55, rational.k5 = -0.05, rational.k6 = 0.03, rational.maxRadius = 2.5;
+  c.push_back({"radtan rational", std::make_shared<RadTanCamera>(rational), 1e-3});
+  c.push_back({"omni (Kalibr's example)",
+               std::make_shared<OmniCamera>(OmniParams{{752, 480, 833.006, 830.345, 373.85, 253.749}, 0.80065662,
+                                                       -0.3351875, 0.13211436, 0.00055967, 0.00057686}), 1e-3});
+  c.push_back({"omni xi > 1", std::make_shared<OmniCamera>(OmniParams{{752, 480, 500, 500, 376, 240}, 1.5}), 1e-3});
   c.push_back({"ocam fitted inverse", std::make_shared<OcamCamera>(lafidaParams()), 0.01});
   return c;
 }
@@ -249,6 +257,53 @@ TEST(CameraModels, RadTanMonotonicLimit) {
   EXPECT_FALSE(cam.bearingToPixel({rMax + 1e-3, 0, 1}, p));
 }
 
+// The rational factor's limit: a ray beyond maxRadius on the z = 1 plane does not project, and
+// the pixels past its image are not valid.
+TEST(CameraModels, RadTanMaxRadiusLimitsTheRational) {
+  RadTanParams p{{4000, 4000, 500, 500, 2000, 2000}, 0.1, 0, 0, 0, 0};
+  p.k4 = 0.2;
+  p.maxRadius = 1.5;
+  const RadTanCamera cam(p);
+  EXPECT_DOUBLE_EQ(cam.maxUndistortedRadius(), 1.5);
+  cv::Point2d px;
+  EXPECT_TRUE(cam.bearingToPixel({1.5 - 1e-6, 0, 1}, px));
+  EXPECT_FALSE(cam.bearingToPixel({1.5 + 1e-6, 0, 1}, px));
+  // radial(r^2) = (1 + 0.1 r^2) / (1 + 0.2 r^2): r = 1 distorts to 1.1 / 1.2.
+  ASSERT_TRUE(cam.bearingToPixel({1, 0, 1}, px));
+  EXPECT_NEAR(px.x, 2000 + 500 * 1.1 / 1.2, 1e-9);
+  const double rdMax = 1.5 * (1 + 0.1 * 2.25) / (1 + 0.2 * 2.25);
+  EXPECT_TRUE(cam.isValid({2000 + 500 * rdMax - 0.5, 2000}));
+  EXPECT_FALSE(cam.isValid({2000 + 500 * rdMax + 0.5, 2000}));
+}
+
+// Mei's model without distortion is the unified model: UCM with alpha = xi / (1 + xi) and the
+// focal length f / (1 + xi); with xi = 0 too, the pinhole camera.
+TEST(CameraModels, OmniReducesToUnifiedAndPinhole) {
+  const double xi = 0.8;
+  const OmniCamera omni(OmniParams{{752, 480, 833.0, 830.0, 373.8, 253.7}, xi});
+  const UnifiedCamera ucm(UnifiedParams{{752, 480, 833.0 / (1 + xi), 830.0 / (1 + xi), 373.8, 253.7}, xi / (1 + xi), 1.0});
+  const OmniCamera flat(OmniParams{kPinhole, 0.0});
+  const PinholeCamera pinhole(kPinhole);
+  EXPECT_DOUBLE_EQ(omni.tangentPlaneScale(), ucm.tangentPlaneScale());
+  for (double u = 0; u < 752; u += 37)
+    for (double v = 0; v < 480; v += 29) {
+      cv::Vec3d a, b;
+      ASSERT_EQ(omni.pixelToBearing({u, v}, a), ucm.pixelToBearing({u, v}, b));
+      if (ucm.isValid({u, v})) EXPECT_LT(mdbrief::testing::angleBetween(a, b), 1e-12);
+      ASSERT_TRUE(flat.pixelToBearing({u, v}, a));
+      ASSERT_TRUE(pinhole.pixelToBearing({u, v}, b));
+      EXPECT_LT(mdbrief::testing::angleBetween(a, b), 1e-12);
+    }
+  // Beyond 90 degrees for xi > 0, up to cos(theta) = -xi (xi <= 1; the plane's radius grows
+  // without bound there, so the search limit of |m| = 50 cuts first) or -1 / xi (xi > 1).
+  cv::Point2d p;
+  EXPECT_TRUE(omni.bearingToPixel({std::sqrt(1 - 0.7 * 0.7), 0, -0.7}, p));
+  EXPECT_FALSE(omni.bearingToPixel({std::sqrt(1 - 0.81 * 0.81), 0, -0.81}, p));
+  const OmniCamera wide(OmniParams{{752, 480, 500, 500, 376, 240}, 2.0});
+  EXPECT_TRUE(wide.bearingToPixel({std::sqrt(1 - 0.49 * 0.49), 0, -0.49}, p));
+  EXPECT_FALSE(wide.bearingToPixel({std::sqrt(1 - 0.51 * 0.51), 0, -0.51}, p));
+}
+
 TEST(CameraModels, OcamConventions) {
   const OcamCamera cam(lafidaParams());
   EXPECT_DOUBLE_EQ(cam.tangentPlaneScale(), 209.200757992065);
@@ -367,6 +422,14 @@ TEST(CameraModels, ConstructorsRejectBadParameters) {
   expectInvalid([&] { UnifiedCamera c(UnifiedParams{kPinhole, -0.1, 1.0}); }, "alpha");
   expectInvalid([&] { UnifiedCamera c(UnifiedParams{kPinhole, 0.5, 0.0}); }, "beta");
   expectInvalid([&] { RadTanCamera c(RadTanParams{kPinhole, 0, INFINITY}); }, "k2");
+  RadTanParams r{kPinhole};
+  r.k5 = NAN;
+  expectInvalid([&] { RadTanCamera c(r); }, "k5");
+  r = RadTanParams{kPinhole};
+  r.maxRadius = -1;
+  expectInvalid([&] { RadTanCamera c(r); }, "max_radius");
+  expectInvalid([&] { OmniCamera c(OmniParams{kPinhole, -0.1}); }, "xi");
+  expectInvalid([&] { OmniCamera c(OmniParams{kPinhole, 1.0, 0, 0, INFINITY}); }, "p1");
   OcamParams o = lafidaParams();
   o.forward = {-200.0};
   expectInvalid([&] { OcamCamera c(o); }, "forward");

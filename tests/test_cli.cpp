@@ -18,6 +18,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "cli/commands.hpp"
+#include "cli_runner.hpp"
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/feature2d.hpp"
 #include "toolkit/plane_renderer.hpp"
@@ -28,26 +29,10 @@ namespace mdbrief {
 namespace {
 
 namespace fs = std::filesystem;
+using Result = testing::CliResult;
+using testing::expectOneLineNaming;
 
-struct Result {
-  int code = -1;
-  std::string out;
-  std::string err;
-};
-
-Result run(std::vector<std::string> args) {
-  args.insert(args.begin(), "mdbrief");
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  ::testing::internal::CaptureStdout();
-  ::testing::internal::CaptureStderr();
-  Result r;
-  r.code = cli::runCli(static_cast<int>(argv.size()), argv.data(),
-                       {cli::addExtractCommand, cli::addMatchCommand, cli::addDrawCommand});
-  r.err = ::testing::internal::GetCapturedStderr();
-  r.out = ::testing::internal::GetCapturedStdout();
-  return r;
-}
+Result run(std::vector<std::string> args) { return testing::runMdbrief(std::move(args)); }
 
 const std::string kCamera = (testing::sourceDir() / "configs/cameras/lafida_fisheye0.yaml").string();
 
@@ -102,14 +87,6 @@ FeatureFile readFeatures(const std::string& p) {
   f.hasMasks = !fs["masks"].empty();
   if (f.hasMasks) fs["masks"] >> f.masks;
   return f;
-}
-
-void expectOneLineNaming(const Result& r, const std::string& what) {
-  EXPECT_EQ(r.code, 2) << r.err;
-  EXPECT_NE(r.err.find(what), std::string::npos) << "message does not name '" << what << "': " << r.err;
-  // One line (OpenCV may log its own warnings before; ours is the last line).
-  ASSERT_FALSE(r.err.empty());
-  EXPECT_EQ(r.err.back(), '\n');
 }
 
 TEST_F(CliTest, ExtractMdBriefWritesAlignedKeypointsDescriptorsAndMasks) {
@@ -423,7 +400,7 @@ TEST_F(CliTest, DrawWritesDecodablePngs) {
 }
 
 TEST_F(CliTest, HelpExitsZeroForEverySubcommand) {
-  for (const char* cmd : {"extract", "match", "draw"}) {
+  for (const char* cmd : {"extract", "match", "draw", "camera"}) {
     const Result r = run({cmd, "--help"});
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << cmd;

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -13,6 +14,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "camera_construction.hpp"
+#include "camera_formats.hpp"
+#include "camera_yaml_reader.hpp"
 #include "mdbrief/camera_double_sphere.hpp"
 #include "mdbrief/camera_kannala_brandt.hpp"
 #include "mdbrief/camera_ocam.hpp"
@@ -20,156 +24,16 @@
 #include "mdbrief/camera_radial.hpp"
 #include "mdbrief/camera_radtan.hpp"
 #include "mdbrief/camera_unified.hpp"
+#include "mdbrief/camera_omni.hpp"
 #include "mdbrief/internal/atomic_file.hpp"
 #include "mdbrief/internal/input_file.hpp"
 
 namespace mdbrief {
 namespace {
 
-// Reads typed values out of one YAML map, with errors "<file>: key '<prefix><key>' ...".
-class YamlReader {
- public:
-  YamlReader(std::string path, YAML::Node map, std::string prefix = "")
-      : path_(std::move(path)), map_(std::move(map)), prefix_(std::move(prefix)) {}
-
-  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    throw std::runtime_error(path_ + ": key '" + prefix_ + key + "' " + what);
-  }
-
-  bool has(const std::string& key) const { return static_cast<bool>(map_[key]); }
-
-  YAML::Node node(const std::string& key) const {
-    const YAML::Node n = map_[key];
-    if (!n) fail(key, "is missing");
-    return n;
-  }
-
-  double number(const std::string& key) const {
-    const YAML::Node n = node(key);
-    double value = 0.0;
-    if (!n.IsScalar() || !YAML::convert<double>::decode(n, value)) fail(key, "is not a number");
-    if (!std::isfinite(value)) fail(key, "is NaN or infinite");
-    return value;
-  }
-
-  double number(const std::string& key, double fallback) const {
-    return has(key) ? number(key) : fallback;
-  }
-
-  int size(const std::string& key) const {
-    const double value = number(key);
-    if (value <= 0.0 || value != std::floor(value) || value > 1e6)
-      fail(key, "must be a positive integer (got " + node(key).Scalar() + ")");
-    return static_cast<int>(value);
-  }
-
-  std::vector<double> numbers(const std::string& key) const {
-    const YAML::Node n = node(key);
-    if (!n.IsSequence()) fail(key, "must be a list of numbers");
-    std::vector<double> values;
-    for (std::size_t i = 0; i < n.size(); ++i) {
-      double value = 0.0;
-      if (!n[i].IsScalar() || !YAML::convert<double>::decode(n[i], value))
-        fail(key, "element " + std::to_string(i) + " is not a number");
-      if (!std::isfinite(value)) fail(key, "element " + std::to_string(i) + " is NaN or infinite");
-      values.push_back(value);
-    }
-    return values;
-  }
-
-  YamlReader sub(const std::string& key) const {
-    const YAML::Node n = node(key);
-    if (!n.IsMap()) fail(key, "must be a map");
-    return {path_, n, prefix_ + key + "."};
-  }
-
-  std::set<std::string> keys() const {
-    std::set<std::string> result;
-    for (const auto& kv : map_) result.insert(kv.first.as<std::string>());
-    return result;
-  }
-
-  // Rejects keys outside `allowed` so that typos do not silently fall back to defaults.
-  void requireOnly(const std::set<std::string>& allowed, const std::string& model) const {
-    for (const std::string& key : keys())
-      if (!allowed.count(key)) fail(key, "is not part of the '" + model + "' schema");
-  }
-
- private:
-  std::string path_;
-  YAML::Node map_;
-  std::string prefix_;
-};
-
-// The model's parameters as "key: value, ..." (its YAML form without the image size), for
-// errors about the model as a whole.
-std::string parameterList(const Camera& camera) {
-  std::istringstream yaml(cameraToYaml(camera));
-  std::string line, list;
-  while (std::getline(yaml, line))
-    if (line.rfind("model:", 0) != 0 && line.rfind("width:", 0) != 0 && line.rfind("height:", 0) != 0)
-      list += (list.empty() ? "" : ", ") + line;
-  return list;
-}
-
-// A calibration can parse and still be no lens: checked along 16 rays from the principal point
-// to the image border, over the pixels the model calls valid, the angle to the optical axis
-// must grow with the distance (the distortion is monotonic over the field of view), every
-// pixel must unproject and project back within 0.01 px (the inverse converges), and the image
-// must span at least half a degree. Throws std::runtime_error naming the file, the parameters
-// and the failing pixel.
-void requirePlausible(const Camera& camera, const std::string& path) {
-  const auto fail = [&](const std::string& problem) {
-    return std::runtime_error(path + ": " + camera.modelName() + " camera with " + parameterList(camera) + ": " +
-                              problem);
-  };
-  cv::Point2d centre;
-  if (!camera.bearingToPixel({0, 0, 1}, centre) || !camera.isValid(centre))
-    throw fail("the optical axis does not project into the image");
-  const cv::Size size = camera.imageSize();
-  double widest = 0.0;
-  for (int k = 0; k < 16; ++k) {
-    const cv::Point2d dir(std::cos(k * CV_PI / 8), std::sin(k * CV_PI / 8));
-    double previous = -1.0;
-    for (double r = 1.0; r < size.width + size.height; r += 1.0) {
-      const cv::Point2d px = centre + r * dir;
-      if (!camera.isValid(px)) break;
-      cv::Vec3d b;
-      cv::Point2d back;
-      if (!camera.pixelToBearing(px, b) || !camera.bearingToPixel(b, back) || !(cv::norm(back - px) < 0.01))
-        throw fail("the inverse does not converge at pixel (" + std::to_string(px.x) + ", " + std::to_string(px.y) + ")");
-      const double angle = std::atan2(std::hypot(b[0], b[1]), b[2]);
-      if (!(angle > previous))
-        throw fail("the distortion is not monotonic: the ray angle stops growing at pixel (" + std::to_string(px.x) +
-                   ", " + std::to_string(px.y) + ")");
-      previous = angle;
-      widest = std::max(widest, angle);
-    }
-  }
-  if (!(widest * 180.0 / CV_PI >= 0.5))
-    throw fail("the image spans only " + std::to_string(widest * 180.0 / CV_PI) + " degrees from the axis");
-}
-
-// Builds a camera, turning the constructors' std::invalid_argument into a runtime_error that
-// names the file (the constructors already name the parameter), and checks that it is a lens.
-template <class CameraType, class Params>
-std::shared_ptr<Camera> construct(const std::string& path, const Params& params) {
-  std::shared_ptr<Camera> camera;
-  try {
-    camera = std::make_shared<CameraType>(params);
-  } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(path + ": " + e.what());
-  }
-  requirePlausible(*camera, path);
-  return camera;
-}
-
-// a0 > 0 means z points forward (fisheye-calib-adapter); OCamCalib's convention is a0 < 0.
-std::shared_ptr<Camera> makeOcam(const std::string& path, OcamParams p) {
-  if (!p.forward.empty() && p.forward.front() > 0.0)
-    for (double& a : p.forward) a = -a;
-  return construct<OcamCamera>(path, p);
-}
+using detail::construct;
+using detail::makeOcam;
+using detail::YamlReader;
 
 CameraIntrinsics readIntrinsics(const YamlReader& r, int width, int height) {
   return {width, height, r.number("fx"), r.number("fy"), r.number("cx"), r.number("cy")};
@@ -302,10 +166,14 @@ const std::vector<ModelFormat>& modelFormats() {
          out << YAML::Key << "beta" << YAML::Value << p.beta;
        },
        {{"alpha", "beta"}}},
-      {"radtan", {"fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3"},
+      {"radtan", {"fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3", "k4", "k5", "k6", "max_radius"},
        [](const std::string& path, const YamlReader& r, int width, int height) {
-         const RadTanParams p{readIntrinsics(r, width, height), r.number("k1"), r.number("k2"),
-                              r.number("p1"), r.number("p2"), r.number("k3", 0.0)};
+         RadTanParams p{readIntrinsics(r, width, height), r.number("k1"), r.number("k2"),
+                        r.number("p1"), r.number("p2"), r.number("k3", 0.0)};
+         p.k4 = r.number("k4", 0.0);
+         p.k5 = r.number("k5", 0.0);
+         p.k6 = r.number("k6", 0.0);
+         p.maxRadius = r.number("max_radius", 0.0);
          return construct<RadTanCamera>(path, p);
        },
        [](const Camera& camera, YAML::Emitter& out) {
@@ -314,8 +182,27 @@ const std::vector<ModelFormat>& modelFormats() {
          out << YAML::Key << "k1" << YAML::Value << p.k1 << YAML::Key << "k2" << YAML::Value << p.k2
              << YAML::Key << "p1" << YAML::Value << p.p1 << YAML::Key << "p2" << YAML::Value << p.p2
              << YAML::Key << "k3" << YAML::Value << p.k3;
+         // The rational model's terms only when used, so a polynomial model's file stays as it was.
+         if (p.k4 != 0.0 || p.k5 != 0.0 || p.k6 != 0.0)
+           out << YAML::Key << "k4" << YAML::Value << p.k4 << YAML::Key << "k5" << YAML::Value << p.k5
+               << YAML::Key << "k6" << YAML::Value << p.k6;
+         if (p.maxRadius > 0.0) out << YAML::Key << "max_radius" << YAML::Value << p.maxRadius;
        },
        {{"k1", "k2", "p1", "p2"}, {"k1", "k2", "k3", "p1", "p2"}}},
+      {"omni", {"fx", "fy", "cx", "cy", "xi", "k1", "k2", "p1", "p2"},
+       [](const std::string& path, const YamlReader& r, int width, int height) {
+         const OmniParams p{readIntrinsics(r, width, height), r.number("xi"), r.number("k1"), r.number("k2"),
+                            r.number("p1"), r.number("p2")};
+         return construct<OmniCamera>(path, p);
+       },
+       [](const Camera& camera, YAML::Emitter& out) {
+         const OmniParams& p = as<OmniCamera>(camera).params();
+         emitIntrinsics(out, p.intrinsics);
+         out << YAML::Key << "xi" << YAML::Value << p.xi;
+         out << YAML::Key << "k1" << YAML::Value << p.k1 << YAML::Key << "k2" << YAML::Value << p.k2
+             << YAML::Key << "p1" << YAML::Value << p.p1 << YAML::Key << "p2" << YAML::Value << p.p2;
+       },
+       {}},
   };
   return formats;
 }
@@ -326,21 +213,28 @@ const ModelFormat* findFormat(const std::string& name) {
   return nullptr;
 }
 
+std::string modelList() {
+  std::string known;
+  for (const ModelFormat& f : modelFormats()) known += (known.empty() ? "" : ", ") + std::string(f.name);
+  return known;
+}
+
+// The model's keys of r (the image size read by the caller), nothing else.
+std::shared_ptr<Camera> readModel(const std::string& source, const YamlReader& r, const std::string& model, int width,
+                                  int height, const std::set<std::string>& alsoAllowed) {
+  const ModelFormat* format = findFormat(model);
+  if (!format) r.fail("model", "names an unknown model '" + model + "' (known: " + modelList() + ")");
+  std::set<std::string> allowed = format->keys;
+  allowed.insert(alsoAllowed.begin(), alsoAllowed.end());
+  r.requireOnly(allowed, model);
+  return format->read(source, r, width, height);
+}
+
 std::shared_ptr<Camera> loadProjectYaml(const std::string& path, const YamlReader& r) {
   const YAML::Node modelNode = r.node("model");
   if (!modelNode.IsScalar()) r.fail("model", "must be a model name");
-  const std::string model = modelNode.Scalar();
   const int width = r.size("width"), height = r.size("height");
-  const ModelFormat* format = findFormat(model);
-  if (!format) {
-    std::string known;
-    for (const ModelFormat& f : modelFormats()) known += (known.empty() ? "" : ", ") + std::string(f.name);
-    r.fail("model", "names an unknown model '" + model + "' (known: " + known + ")");
-  }
-  std::set<std::string> allowed = format->keys;
-  allowed.insert({"model", "width", "height"});
-  r.requireOnly(allowed, model);
-  return format->read(path, r, width, height);
+  return readModel(path, r, modelNode.Scalar(), width, height, {"model", "width", "height"});
 }
 
 std::shared_ptr<Camera> loadCalibAdapterYaml(const std::string& path, const YamlReader& root) {
@@ -470,31 +364,133 @@ std::string readText(const std::string& path) {
   return text;
 }
 
-}  // namespace
+// One entry per file format, in the order `auto` tries them. A reader gets the YAML root when
+// the file parsed as a YAML map (null otherwise) and the camera choice.
+struct FileFormat {
+  CameraFormat format;
+  const char* signature;  // what recognises it, for the message listing the formats tried
+  bool yaml;              // read from the YAML map (else from the text)
+  bool manyCameras;       // takes a camera choice
+  bool (*recognises)(const std::string& text, const YAML::Node* map);
+  std::shared_ptr<Camera> (*read)(const std::string& path, const std::string& text, const YAML::Node* map,
+                                  const std::string& camera);
+};
 
-std::shared_ptr<Camera> loadCamera(const std::string& path) {
-  const std::string text = readText(path);
-  YAML::Node root;
+const std::vector<FileFormat>& fileFormats() {
+  static const std::vector<FileFormat> formats = {
+      {CameraFormat::Mdbrief, "the project's YAML (a 'model' key)", true, false,
+       [](const std::string&, const YAML::Node* map) { return map && (*map)["model"]; },
+       [](const std::string& path, const std::string&, const YAML::Node* map, const std::string&) {
+         return loadProjectYaml(path, YamlReader(path, *map));
+       }},
+      {CameraFormat::CalibAdapter, "fisheye-calib-adapter YAML ('image' and 'parameter')", true, false,
+       [](const std::string&, const YAML::Node* map) { return map && (*map)["parameter"]; },
+       [](const std::string& path, const std::string&, const YAML::Node* map, const std::string&) {
+         return loadCalibAdapterYaml(path, YamlReader(path, *map));
+       }},
+      {CameraFormat::Kalibr, "Kalibr camchain.yaml (camN maps with 'camera_model')", true, true,
+       [](const std::string&, const YAML::Node* map) { return map && detail::isKalibrCamchain(*map); },
+       [](const std::string& path, const std::string&, const YAML::Node* map, const std::string& camera) {
+         return detail::readKalibrCamchain(path, *map, camera);
+       }},
+      {CameraFormat::Basalt, "basalt calib.json ('value0' with 'intrinsics')", true, true,
+       [](const std::string&, const YAML::Node* map) { return map && detail::isBasaltCalibration(*map); },
+       [](const std::string& path, const std::string&, const YAML::Node* map, const std::string& camera) {
+         return detail::readBasaltCalibration(path, *map, camera);
+       }},
+      {CameraFormat::OrbSlam3, "ORB-SLAM3 settings ('Camera.type')", true, true,
+       [](const std::string&, const YAML::Node* map) { return map && detail::isOrbSlam3Settings(*map); },
+       [](const std::string& path, const std::string&, const YAML::Node* map, const std::string& camera) {
+         return detail::readOrbSlam3Settings(path, *map, camera);
+       }},
+      {CameraFormat::OpenCv, "OpenCV calibration YAML ('camera_matrix')", true, false,
+       [](const std::string&, const YAML::Node* map) { return map && detail::isOpenCvCalibration(*map); },
+       [](const std::string& path, const std::string&, const YAML::Node* map, const std::string&) {
+         return detail::readOpenCvCalibration(path, *map);
+       }},
+      {CameraFormat::Colmap, "COLMAP cameras.txt (lines 'CAMERA_ID MODEL WIDTH HEIGHT PARAMS...')", false, true,
+       [](const std::string& text, const YAML::Node*) { return detail::isColmapCameras(text); },
+       [](const std::string& path, const std::string& text, const YAML::Node*, const std::string& camera) {
+         return detail::readColmapCameras(path, text, camera);
+       }},
+      {CameraFormat::OcamCalib, "OCamCalib calib_results.txt (lines of numbers)", false, false,
+       [](const std::string& text, const YAML::Node*) { return looksLikeOcamText(text); },
+       [](const std::string& path, const std::string& text, const YAML::Node*, const std::string&) {
+         return loadOcamText(path, text);
+       }},
+  };
+  return formats;
+}
+
+std::shared_ptr<Camera> readAs(const FileFormat& format, const std::string& path, const std::string& text,
+                               const YAML::Node* map, const std::string& yamlError, const std::string& camera) {
+  if (!format.manyCameras && !camera.empty())
+    throw std::runtime_error(path + ": a " + toString(format.format) + " file holds one camera; the camera choice '" +
+                             camera + "' does not apply");
+  if (format.yaml && !map)
+    throw std::runtime_error(path + (yamlError.empty() ? ": a " + toString(format.format) + " file is a YAML map"
+                                                       : ": unparsable camera file (YAML: " + yamlError + ")"));
   try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    if (looksLikeOcamText(text)) return loadOcamText(path, text);
-    throw std::runtime_error(path + ": unparsable camera file (YAML: " + e.msg + ")");
-  }
-  try {
-    if (root.IsMap()) {
-      const YamlReader reader(path, root);
-      if (reader.has("model")) return loadProjectYaml(path, reader);
-      if (reader.has("parameter")) return loadCalibAdapterYaml(path, reader);
-      throw std::runtime_error(path + ": key 'model' is missing (and no 'parameter' key of a "
-                               "fisheye-calib-adapter file either)");
-    }
+    return format.read(path, text, map, camera);
   } catch (const YAML::Exception& e) {
     throw std::runtime_error(path + ": malformed camera YAML (" + e.msg + ")");
   }
-  if (looksLikeOcamText(text)) return loadOcamText(path, text);
-  throw std::runtime_error(path + ": unrecognised camera file (neither YAML with a 'model' key "
-                           "nor an OCamCalib calib_results.txt)");
+}
+
+}  // namespace
+
+namespace detail {
+
+std::string chooseCamera(const std::string& path, const std::string& what, const std::vector<std::string>& ids,
+                         const std::string& wanted) {
+  std::string list;
+  for (const std::string& id : ids) list += (list.empty() ? "" : ", ") + id;
+  if (wanted.empty()) {
+    if (ids.size() == 1) return ids.front();
+    throw std::runtime_error(path + ": " + what + (ids.empty() ? " holds no camera" : " holds cameras " + list +
+                                                                                          ": choose one by its id"));
+  }
+  if (std::find(ids.begin(), ids.end(), wanted) == ids.end())
+    throw std::runtime_error(path + ": " + what + " has no camera '" + wanted + "' (it has " +
+                             (list.empty() ? "none" : list) + ")");
+  return wanted;
+}
+
+}  // namespace detail
+
+CameraFile readCameraFile(const std::string& path, const CameraFileOptions& options) {
+  const std::string text = readText(path);
+  YAML::Node root;
+  std::string yamlError;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    yamlError = e.msg;
+  }
+  const YAML::Node* map = yamlError.empty() && root.IsMap() ? &root : nullptr;
+  for (const FileFormat& format : fileFormats()) {
+    bool chosen = format.format == options.format;
+    if (options.format == CameraFormat::Auto) {
+      try {
+        chosen = format.recognises(text, map);
+      } catch (const YAML::Exception& e) {
+        throw std::runtime_error(path + ": malformed camera YAML (" + e.msg + ")");
+      }
+    }
+    if (chosen) return {readAs(format, path, text, map, yamlError, options.cameraId), format.format};
+  }
+  // A file that did not parse is reported as such: a damaged calibration more often than an
+  // unknown format.
+  if (!yamlError.empty()) throw std::runtime_error(path + ": unparsable camera file (YAML: " + yamlError + ")");
+  std::string tried;
+  for (const FileFormat& format : fileFormats())
+    tried += (tried.empty() ? "" : "; ") + toString(format.format) + ": " + format.signature;
+  throw std::runtime_error(path + ": unrecognised camera file: none of the formats tried matches (" + tried +
+                           "); to read it as one of them, choose the format");
+}
+
+std::shared_ptr<Camera> loadCamera(const std::string& path, const CameraFileOptions& options) {
+  return readCameraFile(path, options).camera;
 }
 
 std::string cameraToYaml(const Camera& camera) {
@@ -514,6 +510,56 @@ std::string cameraToYaml(const Camera& camera) {
 
 void saveCamera(const Camera& camera, const std::string& path) {
   internal::writeFileAtomically(path, cameraToYaml(camera));
+}
+
+}  // namespace mdbrief
+
+namespace mdbrief {
+
+std::vector<std::string> cameraModelNames() {
+  std::vector<std::string> names;
+  for (const ModelFormat& f : modelFormats()) names.emplace_back(f.name);
+  return names;
+}
+
+std::vector<std::string> cameraModelKeys(const std::string& model) {
+  const ModelFormat* format = findFormat(model);
+  if (!format) throw std::invalid_argument("unknown camera model '" + model + "' (known: " + modelList() + ")");
+  return {format->keys.begin(), format->keys.end()};
+}
+
+std::shared_ptr<Camera> makeCamera(const std::string& model, cv::Size size, const CameraParameters& parameters,
+                                   const std::string& source, const std::string& noun) {
+  YAML::Node map(YAML::NodeType::Map);
+  for (const auto& [key, value] : parameters) {
+    if (const auto* number = std::get_if<double>(&value)) {
+      map[key] = *number;
+    } else {
+      YAML::Node list(YAML::NodeType::Sequence);
+      for (const double v : std::get<std::vector<double>>(value)) list.push_back(v);
+      map[key] = list;
+    }
+  }
+  const YamlReader r(source, map, "", noun);
+  for (const auto& [side, value] : {std::pair<const char*, int>{"width", size.width}, {"height", size.height}})
+    if (value <= 0 || value > 1000000)
+      throw std::runtime_error(source + ": " + noun + " '" + side + "' must be a positive integer (got " +
+                               std::to_string(value) + ")");
+  return readModel(source, r, model, size.width, size.height, {});
+}
+
+CameraParameters cameraParameters(const Camera& camera) {
+  const YAML::Node map = YAML::Load(cameraToYaml(camera));
+  CameraParameters parameters;
+  for (const auto& kv : map) {
+    const std::string key = kv.first.Scalar();
+    if (key == "model" || key == "width" || key == "height") continue;
+    if (kv.second.IsSequence())
+      parameters[key] = kv.second.as<std::vector<double>>();
+    else
+      parameters[key] = kv.second.as<double>();
+  }
+  return parameters;
 }
 
 }  // namespace mdbrief

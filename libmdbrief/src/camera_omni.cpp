@@ -1,0 +1,67 @@
+#include "mdbrief/camera_omni.hpp"
+
+#include "camera_model_utils.hpp"
+#include "radtan_distortion.hpp"
+
+namespace mdbrief {
+namespace {
+// As the radtan model's: the distortion is searched for its monotonic range up to |m| = 50.
+constexpr double kRadiusSearchLimit = 50.0;
+}  // namespace
+
+OmniCamera::OmniCamera(const OmniParams& params) : p_(params) {
+  validateIntrinsics(p_.intrinsics, "omni");
+  if (!(p_.xi >= 0.0) || !std::isfinite(p_.xi)) detail::throwBadParameter("omni", "xi", "must be finite and >= 0", p_.xi);
+  // d|m|/dtheta = (1 + xi cos theta) / (cos theta + xi)^2: the projection turns back at
+  // cos theta = -1 / xi, and the plane is reached only where cos theta > -xi.
+  w_ = p_.xi <= 1.0 ? p_.xi : 1.0 / p_.xi;
+  distortion_ = std::make_shared<detail::RadTanDistortion>(detail::RadTanCoefficients{p_.k1, p_.k2, p_.p1, p_.p2},
+                                                           "omni", kRadiusSearchLimit);
+}
+
+OmniCamera::~OmniCamera() = default;
+
+bool OmniCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const {
+  const CameraIntrinsics& k = p_.intrinsics;
+  cv::Vec2d m;
+  if (!distortion_->undistort((pixel.x - k.cx) / k.fx, (pixel.y - k.cy) / k.fy, m)) return false;
+  const double r2 = m[0] * m[0] + m[1] * m[1], xi = p_.xi;
+  // The sphere point s = lambda (mx, my, 1) - (0, 0, xi) with |s| = 1: the root of
+  // (1 + r2) lambda^2 - 2 xi lambda + xi^2 - 1 = 0 on the side z > -w.
+  const double discriminant = 1.0 + (1.0 - xi * xi) * r2;
+  if (!(discriminant >= 0.0)) return false;
+  const double lambda = (xi + std::sqrt(discriminant)) / (1.0 + r2);
+  const cv::Vec3d s(lambda * m[0], lambda * m[1], lambda - xi);
+  if (!(s[2] > -w_)) return false;
+  bearing = detail::normalized(s);
+  return true;
+}
+
+bool OmniCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
+  const double norm = cv::norm(b);
+  if (!(norm > 0.0) || !std::isfinite(norm)) return false;
+  const double z = b[2] / norm;
+  // z > -w >= -xi keeps z + xi positive (an exact difference near the bound).
+  if (!(z > -w_)) return false;
+  const double denom = z + p_.xi;
+  const double mx = b[0] / norm / denom, my = b[1] / norm / denom;
+  if (!(std::hypot(mx, my) < distortion_->maxRadius())) return false;
+  const cv::Vec2d d = distortion_->distort(mx, my);
+  const CameraIntrinsics& k = p_.intrinsics;
+  pixel = {k.fx * d[0] + k.cx, k.fy * d[1] + k.cy};
+  return std::isfinite(pixel.x) && std::isfinite(pixel.y);
+}
+
+bool OmniCamera::isValid(const cv::Point2d& pixel) const {
+  // As for radtan, the inversion itself decides the border the distortion folds at.
+  cv::Vec3d bearing;
+  return detail::insideImage(pixel, p_.intrinsics.size()) && pixelToBearing(pixel, bearing);
+}
+
+std::shared_ptr<Camera> OmniCamera::resized(cv::Size newSize) const {
+  OmniParams r = p_;
+  r.intrinsics = resizeIntrinsics(p_.intrinsics, newSize);
+  return std::make_shared<OmniCamera>(r);
+}
+
+}  // namespace mdbrief
