@@ -196,3 +196,28 @@ TEST(VocabularyTraining, RefusesMissingMasksMixedWidthsAndNoDescriptors) {
   o.branching = 1;
   EXPECT_THROW(trainVocabulary(groupImages(false), o), std::invalid_argument);
 }
+
+// TF and binary weighting have no idf part (DBoW2 sets it to 1): a word that every training
+// image holds still counts. Before, they took the idf weights, 0 for such words, so a vocabulary
+// trained with --weighting tf gave empty bags of words for images made of common words.
+TEST(VocabularyTraining, TfAndBinaryWeightsAreOneEvenForWordsEveryImageHolds) {
+  std::vector<TrainingImage> images(3);
+  cv::RNG rng(5);
+  for (auto& im : images) {
+    im.descriptors.create(200, 32, CV_8UC1);
+    rng.fill(im.descriptors, cv::RNG::UNIFORM, 0, 256);
+  }
+  VocabularyTrainingOptions o;
+  o.masked = false;
+  o.branching = 3;
+  o.depth = 1;
+  for (const Weighting w : {Weighting::Tf, Weighting::Binary}) {
+    o.weighting = w;
+    const Vocabulary v = trainVocabulary(images, o);
+    for (uint32_t word = 0; word < v.wordCount(); ++word) EXPECT_EQ(v.wordWeight(word), 1.0f) << toString(w);
+    EXPECT_FALSE(v.transform(images[0].descriptors).bow.empty()) << toString(w);
+  }
+  o.weighting = Weighting::TfIdf;
+  const Vocabulary idf = trainVocabulary(images, o);
+  for (uint32_t word = 0; word < idf.wordCount(); ++word) EXPECT_EQ(idf.wordWeight(word), 0.0f) << "every image holds it";
+}

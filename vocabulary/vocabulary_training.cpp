@@ -58,7 +58,12 @@ void validate(const std::vector<TrainingImage>& images, const VocabularyTraining
 
 }  // namespace
 
-Vocabulary withIdfWeights(const Vocabulary& vocabulary, const std::vector<TrainingImage>& images) {
+Vocabulary withWordWeights(const Vocabulary& vocabulary, const std::vector<TrainingImage>& images) {
+  VocabularyTree t = vocabulary.tree();
+  if (t.weighting == Weighting::Tf || t.weighting == Weighting::Binary) {
+    std::fill(t.wordWeights.begin(), t.wordWeights.end(), 1.0f);
+    return Vocabulary::create(t);
+  }
   std::vector<std::vector<uint32_t>> seen(images.size());
   tbb::parallel_for(size_t(0), images.size(), [&](size_t i) {
     if (images[i].descriptors.empty()) return;
@@ -70,7 +75,6 @@ Vocabulary withIdfWeights(const Vocabulary& vocabulary, const std::vector<Traini
   std::vector<uint32_t> holding(vocabulary.wordCount(), 0);
   for (const auto& w : seen)
     for (const uint32_t word : w) ++holding[word];
-  VocabularyTree t = vocabulary.tree();
   const double n = static_cast<double>(images.size());
   for (size_t w = 0; w < t.wordWeights.size(); ++w)
     t.wordWeights[w] = static_cast<float>(std::log(n / std::max<uint32_t>(holding[w], 1)));
@@ -145,7 +149,7 @@ Vocabulary trainVocabulary(const std::vector<TrainingImage>& images, const Vocab
   for (const auto& im : images)
     if (im.digest) t.trainingImages.push_back(im.digest);
   if (progress) progress("weighting words", 0, 1);
-  Vocabulary weighted = withIdfWeights(Vocabulary::create(t), images);
+  Vocabulary weighted = withWordWeights(Vocabulary::create(t), images);
   if (progress) progress("weighting words", 1, 1);
   return weighted;
 }

@@ -2,7 +2,8 @@
 // Training a vocabulary (mdbrief/vocabulary.hpp) from the descriptors of training images:
 // hierarchical k-majority clustering (kmajority.hpp) from the root down, k children per node and
 // at most L levels, then the words' weights from the same images (idf = log(N / n_w), N images,
-// n_w of which reach word w through the trained tree, exactly as transform() quantises).
+// n_w of which reach word w through the trained tree, exactly as transform() quantises; 1 for tf
+// and binary weighting).
 //
 // The nodes of one level are clustered in parallel (and each node's clustering is parallel
 // itself); node i's seed is a function of the training seed and i, nodes are numbered breadth
@@ -46,8 +47,9 @@ using TrainingProgress = std::function<void(const std::string& stage, size_t don
 Vocabulary trainVocabulary(const std::vector<TrainingImage>& images, const VocabularyTrainingOptions& options,
                            const TrainingProgress& progress = {});
 
-// idf weights of `vocabulary`'s words from the images (log(N / n_w); a word no image reaches
-// counts as reached by one), with the vocabulary's masks rule; returns the vocabulary with them.
-Vocabulary withIdfWeights(const Vocabulary& vocabulary, const std::vector<TrainingImage>& images);
+// The words' weights from the images, returned with the vocabulary: for tf-idf and idf weighting
+// idf = log(N / n_w) (a word no image reaches counts as reached by one; the images are quantised
+// with the vocabulary's masks rule); for tf and binary 1, as DBoW2 (they have no idf part).
+Vocabulary withWordWeights(const Vocabulary& vocabulary, const std::vector<TrainingImage>& images);
 
 }  // namespace mdbrief::vocab
