@@ -6,6 +6,10 @@
     kp1, d1, m1 = features.detect_and_compute(cv2.imread("a.png"))
     kp2, d2, m2 = features.detect_and_compute(cv2.imread("b.png"))
     matches = mdbrief.match(d1, d2, m1, m2)             # the preset's ratio test and mutual check
+    vocabulary = mdbrief.Vocabulary.load("vocabulary.mdbvoc")   # place recognition (docs/vocabulary.md)
+    database = mdbrief.Database(vocabulary)
+    database.add(d1, m1)
+    best = database.query(d2, m2, max_results=5)        # [(entry, score), ...], best first
 
 Keypoints are cv2.KeyPoint and matches cv2.DMatch objects, so cv2.drawKeypoints,
 cv2.drawMatches and cv2.BFMatcher(cv2.NORM_HAMMING) take them unchanged. The C++ work runs
@@ -13,8 +17,9 @@ without the GIL.
 """
 import cv2  # noqa: F401  (the keypoint and match types the module returns)
 
-from ._mdbrief import (Camera, MdBrief, TestSet, default_pattern, limit_simd_level, load_camera, load_pattern,
-                       match, option_fields, patterns, presets, simd_level, supported_simd_level, train)
+from ._mdbrief import (Camera, Database, MdBrief, TestSet, Vocabulary, default_pattern, limit_simd_level, load_camera,
+                       load_pattern, match, option_fields, patterns, presets, simd_level, supported_simd_level, train)
 
-__all__ = ["Camera", "MdBrief", "TestSet", "default_pattern", "limit_simd_level", "load_camera", "load_pattern",
-           "match", "option_fields", "patterns", "presets", "simd_level", "supported_simd_level", "train"]
+__all__ = ["Camera", "Database", "MdBrief", "TestSet", "Vocabulary", "default_pattern", "limit_simd_level",
+           "load_camera", "load_pattern", "match", "option_fields", "patterns", "presets", "simd_level",
+           "supported_simd_level", "train"]

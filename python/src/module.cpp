@@ -11,4 +11,6 @@ PYBIND11_MODULE(_mdbrief, m) {
   mdbrief::python::bindPatterns(m);
   mdbrief::python::bindPresets(m);
   mdbrief::python::bindSimdLevel(m);
+  mdbrief::python::bindVocabulary(m);
+  mdbrief::python::bindDatabase(m);
 }
