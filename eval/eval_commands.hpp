@@ -1,6 +1,6 @@
 #pragma once
 // The subcommands of mdbrief-eval (and of `mdbrief sim` / `mdbrief eval`): sim, eval, pipelines,
-// tracker, map-poster-points, timing, export-user-sample, export-rotated-views, held-out-images.
+// tracker, map-poster-points, retrieval, timing, export-user-sample, export-rotated-views, held-out-images.
 // Bad input (unreadable file, inconsistent flags) is reported by throwing InputError, a
 // std::invalid_argument, whose message starts with the file or flag at fault: callers exit 2.
 #include <stdexcept>
@@ -19,6 +19,7 @@ void addEvalCommand(CLI::App& app);
 void addPipelinesCommand(CLI::App& app);
 void addTrackerCommand(CLI::App& app);         // tracker_command.cpp
 void addMapPosterPointsCommand(CLI::App& app);  // tracker_command.cpp
+void addRetrievalCommand(CLI::App& app);         // retrieval_command.cpp
 void addTimingCommand(CLI::App& app);
 void addExportUserSampleCommand(CLI::App& app);
 void addExportRotatedViewsCommand(CLI::App& app);

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   mdbrief::eval::addPipelinesCommand(app);
   mdbrief::eval::addTrackerCommand(app);
   mdbrief::eval::addMapPosterPointsCommand(app);
+  mdbrief::eval::addRetrievalCommand(app);
   mdbrief::eval::addTimingCommand(app);
   mdbrief::eval::addExportUserSampleCommand(app);
   mdbrief::eval::addExportRotatedViewsCommand(app);

@@ -2,15 +2,13 @@
 // poster frames, the Oxford sequences, the rendered fisheye sequences and the turned-lens photos.
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
 #include <functional>
 #include <memory>
 
+#include "benchmark_datasets.hpp"
 #include "command_helpers.hpp"
 #include "eval_commands.hpp"
-#include "eval_datasets.hpp"
 #include "held_out.hpp"
-#include "mdbrief/camera_io.hpp"
 #include "poster_dev.hpp"
 #include "tracker_experiment.hpp"
 #include "toolkit/photo_camera.hpp"
@@ -18,62 +16,13 @@
 namespace mdbrief::eval {
 namespace {
 
-namespace fs = std::filesystem;
-
-const std::vector<std::string> kTrackerDatasets{"poster-dev", "oxford", "rendered-fisheye", "turned-lens"};
-
 struct Args {
-  std::string data = sharedData();
-  std::string opencvDocDir;
+  BenchmarkDataPaths paths;
   std::vector<std::string> datasets;
   std::vector<std::string> only;
   std::vector<std::string> library;  // name=options.yml
-  std::vector<std::string> fisheyeCameras{"configs/cameras/lafida_fisheye0.yaml",
-                                          "configs/cameras/double_sphere_example.yaml",
-                                          "configs/cameras/kannala_brandt_example.yaml"};
   TrackerExperimentOptions options;
 };
-
-// One data set as a group; appends the files it read to `images`. Throws std::runtime_error
-// naming the file at fault.
-EvalGroup loadDataset(const std::string& name, const Args& a, std::vector<std::string>& images) {
-  EvalGroup g{name, {}};
-  if (name == "poster-dev") {
-    const PosterDev poster = loadPosterDev(a.data + "/fisheye/poster-dev");
-    for (const auto& f : poster.frames) images.push_back(f.path);
-    g.sequences.push_back(posterDevSequence(poster));
-  } else if (name == "oxford") {
-    for (const auto& s : kOxfordSequences) {
-      const std::string dir = a.data + "/oxford-affine/" + s;
-      auto seq = loadOxfordSequence(dir, s);
-      if (!seq) throw std::runtime_error(dir + ": not found or incomplete (img1..6, H1to2p..H1to6p)");
-      for (int k = 1; k <= 6; ++k) images.push_back(dir + "/img" + std::to_string(k) + ".png");
-      g.sequences.push_back(std::move(*seq));
-    }
-  } else if (name == "rendered-fisheye") {
-    // img1 of every Oxford sequence found and the opencv-doc photos, as `eval` renders them.
-    std::vector<std::string> textures;
-    for (const auto& s : kOxfordSequences)
-      if (const std::string t = a.data + "/oxford-affine/" + s + "/img1.png"; fs::exists(t)) textures.push_back(t);
-    for (const auto& p : kDocFisheyeTextures) textures.push_back(a.opencvDocDir + "/" + p);
-    for (const auto& cameraPath : a.fisheyeCameras) {
-      const CameraPtr camera = loadCamera(cameraPath);
-      for (const auto& t : textures) {
-        const std::string seqName = fs::path(cameraPath).stem().string() + ":" + fs::path(t).parent_path().filename().string() +
-                                    "/" + fs::path(t).stem().string();
-        g.sequences.push_back(renderedFisheyeSequence(seqName, loadEvaluationImage(t), camera, 6));
-      }
-    }
-    images.insert(images.end(), textures.begin(), textures.end());
-  } else if (name == "turned-lens") {
-    for (const auto& p : kTurnedLensPhotos) {
-      const std::string image = a.data + "/" + p.image;
-      g.sequences.push_back(turnedLensSequence(p.name, loadEvaluationImage(image), loadCamera(a.data + "/" + p.camera), 6));
-      images.push_back(image);
-    }
-  }
-  return g;
-}
 
 // Extra library pipelines: name=file, a cv::FileStorage file of MdBrief::write's schema.
 std::vector<TrackerPipeline> libraryPipelines(const std::vector<std::string>& specs) {
@@ -144,14 +93,14 @@ void addTrackerCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("tracker", "What a tracker keeps: ratio-test matches, their precision and robust "
                                             "two-view fits, for every pipeline on real and rendered pairs");
   auto a = std::make_shared<Args>();
-  addOpencvDocFlag(cmd, a->opencvDocDir);
-  cmd->add_option("--data", a->data, "The shared data folder (poster-dev, Oxford, fisheye photos; default relative "
+  addOpencvDocFlag(cmd, a->paths.opencvDocDir);
+  cmd->add_option("--data", a->paths.data, "The shared data folder (poster-dev, Oxford, fisheye photos; default relative "
                                      "to the working directory, or $MDBRIEF_DATA)")
       ->capture_default_str();
   cmd->add_option("--datasets", a->datasets,
                   "Only these data sets: poster-dev, oxford, rendered-fisheye, turned-lens (default: every one "
                   "found; one named here that cannot be read is an error)")
-      ->check(CLI::IsMember(kTrackerDatasets));
+      ->check(CLI::IsMember(kBenchmarkDatasets));
   cmd->add_option("--only", a->only, "Only the pipelines whose name starts with one of these");
   cmd->add_option("--library", a->library,
                   "Also evaluate the library with these options: name=file (cv::FileStorage, as MdBrief::write "
@@ -160,7 +109,7 @@ void addTrackerCommand(CLI::App& app) {
   cmd->add_option("--ratios", a->options.ratios, "Ratio-test sweep (1 = mutual nearest neighbours only)")
       ->check(CLI::Range(0.05, 1.0))
       ->capture_default_str();
-  cmd->add_option("--fisheye-camera", a->fisheyeCameras, "Calibrations the rendered fisheye sequences use")
+  cmd->add_option("--fisheye-camera", a->paths.fisheyeCameras, "Calibrations the rendered fisheye sequences use")
       ->capture_default_str();
   cmd->add_option("--out", a->options.outDir, "Output folder for tracker_pairs.csv and tracker_summary.csv")->required();
   cmd->callback([a] {
@@ -174,10 +123,10 @@ void addTrackerCommand(CLI::App& app) {
     const bool named = !a->datasets.empty();
     std::vector<EvalGroup> groups;
     std::vector<std::string> images;
-    for (const auto& name : named ? a->datasets : kTrackerDatasets) {
+    for (const auto& name : named ? a->datasets : kBenchmarkDatasets) {
       std::vector<std::string> read;
       try {
-        groups.push_back(loadDataset(name, *a, read));
+        groups.push_back(loadBenchmarkDataset(name, a->paths, read));
       } catch (const std::exception& e) {
         if (named) throw InputError(name + ": " + e.what());
         std::fprintf(stderr, "tracker: skipping %s: %s\n", name.c_str(), e.what());

@@ -1,0 +1,120 @@
+// The place-recognition evaluation of eval/ (retrieval_experiment.hpp) on synthetic textures
+// whose answers are known: every query is its sequence's first image made brighter (the same
+// features), so every method finds it first among distractors; a distractor that is also a
+// training image is refused.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "eval/eval_commands.hpp"
+#include "eval/retrieval_experiment.hpp"
+#include "test_data.hpp"
+#include "toolkit/photo_camera.hpp"
+
+namespace mdbrief::eval {
+namespace {
+
+// A blurred random texture: corners and blobs everywhere, different for every seed.
+cv::Mat texture(int seed, cv::Size size = {400, 300}) {
+  cv::Mat m(size, CV_8UC1);
+  cv::RNG rng(static_cast<uint64>(seed));
+  rng.fill(m, cv::RNG::UNIFORM, 0, 256);
+  cv::GaussianBlur(m, m, {0, 0}, 2.0);
+  cv::normalize(m, m, 0, 255, cv::NORM_MINMAX);
+  return m;
+}
+
+std::vector<std::string> writeTextures(const std::filesystem::path& dir, const std::string& tag, int first, int n) {
+  std::vector<std::string> out;
+  for (int i = 0; i < n; ++i) {
+    const auto path = dir / (tag + std::to_string(i) + ".png");
+    EXPECT_TRUE(cv::imwrite(path.string(), texture(first + i)));
+    out.push_back(path.string());
+  }
+  return out;
+}
+
+// Two sequences: the texture, then brighter copies of it.
+EvalGroup brighterSequences() {
+  EvalGroup g{"synthetic", {}};
+  for (int s = 0; s < 2; ++s) {
+    EvalSequence seq;
+    seq.name = "seq" + std::to_string(s);
+    cv::Mat dim;
+    texture(100 + s).convertTo(dim, CV_8UC1, 0.8);
+    for (int offset : {0, 10, 20}) seq.images.push_back(dim + offset);
+    seq.camera = photoCamera({400, 300});
+    g.sequences.push_back(seq);
+  }
+  return g;
+}
+
+RetrievalOptions smallOptions(const std::string& out) {
+  RetrievalOptions o;
+  o.training.branching = 4;
+  o.training.depth = 3;
+  o.nfeatures = 300;
+  o.outDir = out;
+  return o;
+}
+
+std::vector<std::vector<std::string>> readCsv(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+TEST(Retrieval, BrighterCopiesFindTheirSequenceAmongDistractors) {
+  testing::TempDir dir("retrieval");
+  const auto training = writeTextures(dir.path, "train", 1, 3);
+  const auto distractors = writeTextures(dir.path, "distractor", 10, 4);
+  runRetrieval({brighterSequences()}, training, distractors, smallOptions((dir.path / "out").string()));
+
+  const auto recall = readCsv((dir.path / "out/retrieval.csv").string());
+  ASSERT_EQ(recall.size(), 7u);  // header + 3 methods x (the group, all)
+  EXPECT_EQ(recall[0], (std::vector<std::string>{"method", "group", "words", "queries", "recall_at_1", "recall_at_5"}));
+  std::vector<std::string> methods;
+  for (size_t r = 1; r < recall.size(); ++r) {
+    methods.push_back(recall[r][0]);
+    EXPECT_EQ(recall[r][3], "4") << recall[r][0];
+    EXPECT_EQ(recall[r][4], "1") << recall[r][0] << " " << recall[r][1];
+  }
+  EXPECT_EQ(methods, (std::vector<std::string>{"mdbrief-masked", "mdbrief-masked", "mdbrief-blind", "mdbrief-blind",
+                                               "orb", "orb"}));
+  const auto speed = readCsv((dir.path / "out/retrieval_speed.csv").string());
+  ASSERT_EQ(speed.size(), 4u);
+  EXPECT_EQ(speed[1][3], "6") << "database: 2 sequences + 4 distractors";
+  EXPECT_EQ(speed[1][10], "-1") << "no DBoW2 text of a masked vocabulary";
+  EXPECT_NE(speed[2][10], "-1");
+  EXPECT_TRUE(std::filesystem::exists(dir.path / "out/mdbrief-masked.mdbvoc"));
+  EXPECT_TRUE(std::filesystem::exists(dir.path / "out/orb.dbow2.txt"));
+}
+
+TEST(Retrieval, RefusesADistractorThatIsATrainingImage) {
+  testing::TempDir dir("retrieval_overlap");
+  const auto training = writeTextures(dir.path, "train", 1, 2);
+  auto distractors = writeTextures(dir.path, "distractor", 10, 2);
+  const auto copy = dir.path / "renamed_copy.png";
+  std::filesystem::copy_file(training[1], copy);
+  distractors.push_back(copy.string());
+  try {
+    runRetrieval({brighterSequences()}, training, distractors, smallOptions((dir.path / "out").string()));
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("renamed_copy.png"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir.path / "out/retrieval.csv"));
+}
+
+}  // namespace
+}  // namespace mdbrief::eval
