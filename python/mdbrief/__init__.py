@@ -13,7 +13,7 @@
 
 Keypoints are cv2.KeyPoint and matches cv2.DMatch objects, so cv2.drawKeypoints,
 cv2.drawMatches and cv2.BFMatcher(cv2.NORM_HAMMING) take them unchanged. The C++ work runs
-without the GIL.
+without the GIL (but a Database's index, which adding changes, is used with it held).
 """
 import cv2  # noqa: F401  (the keypoint and match types the module returns)
 

@@ -9,6 +9,18 @@
 namespace mdbrief::python {
 namespace {
 
+// The bag of words of descriptors, computed without the GIL: the Vocabulary is immutable. The
+// Database itself is only touched with the GIL held, since add() must not run alongside anything
+// else on it and Python threads may share one.
+BowVector bowOf(const Database& db, const py::handle& descriptors, const py::handle& masks) {
+  py::object keepD, keepM;
+  const cv::Mat d = descriptorsFromArray(descriptors, "descriptors", keepD);
+  cv::Mat mk;
+  if (!masks.is_none()) mk = descriptorsFromArray(masks, "masks", keepM);
+  py::gil_scoped_release release;
+  return db.vocabulary().transform(d, mk).bow;
+}
+
 py::list resultsToPython(const std::vector<QueryResult>& results) {
   py::list out;
   for (const auto& r : results) out.append(py::make_tuple(r.entry, r.score));
@@ -25,12 +37,7 @@ index; query returns the entries of highest L1 score. Entry ids are the order of
       .def(
           "add",
           [](Database& db, const py::handle& descriptors, const py::handle& masks) {
-            py::object keepD, keepM;
-            const cv::Mat d = descriptorsFromArray(descriptors, "descriptors", keepD);
-            cv::Mat mk;
-            if (!masks.is_none()) mk = descriptorsFromArray(masks, "masks", keepM);
-            py::gil_scoped_release release;
-            return db.addDescriptors(d, mk);
+            return db.add(bowOf(db, descriptors, masks));
           },
           py::arg("descriptors"), py::arg("masks") = py::none(),
           "Adds one image from its descriptors and masks (as Vocabulary.transform takes them); returns its entry id.")
@@ -42,16 +49,7 @@ index; query returns the entries of highest L1 score. Entry ids are the order of
       .def(
           "query",
           [](const Database& db, const py::handle& descriptors, const py::handle& masks, int maxResults) {
-            py::object keepD, keepM;
-            const cv::Mat d = descriptorsFromArray(descriptors, "descriptors", keepD);
-            cv::Mat mk;
-            if (!masks.is_none()) mk = descriptorsFromArray(masks, "masks", keepM);
-            std::vector<QueryResult> results;
-            {
-              py::gil_scoped_release release;
-              results = db.queryDescriptors(d, mk, maxResults);
-            }
-            return resultsToPython(results);
+            return resultsToPython(db.query(bowOf(db, descriptors, masks), maxResults));
           },
           py::arg("descriptors"), py::arg("masks") = py::none(), py::kw_only(), py::arg("max_results") = 5, R"doc(
 The at most max_results entries most similar to the image of these descriptors and masks, as a
@@ -60,13 +58,7 @@ word in common are not returned. score is the L1 score in (0, 1].)doc")
       .def(
           "query_bow",
           [](const Database& db, const py::handle& bow, int maxResults) {
-            const BowVector v = bowFromPython(bow, "bow");
-            std::vector<QueryResult> results;
-            {
-              py::gil_scoped_release release;
-              results = db.query(v, maxResults);
-            }
-            return resultsToPython(results);
+            return resultsToPython(db.query(bowFromPython(bow, "bow"), maxResults));
           },
           py::arg("bow"), py::kw_only(), py::arg("max_results") = 5, "query from a bag of words {word: value}.")
       .def(
