@@ -79,6 +79,7 @@ void runRetrieval(const std::vector<EvalGroup>& groups, const std::vector<std::s
   std::vector<Query> queries;
   for (size_t g = 0; g < groups.size(); ++g)
     for (const auto& s : groups[g].sequences) {
+      if (s.images.empty()) continue;
       const auto region = [&](size_t i) { return s.regions.empty() ? cv::Mat() : s.regions[i]; };
       const auto entry = static_cast<uint32_t>(database.size());
       database.push_back({&s.images[0], s.camera, region(0)});
