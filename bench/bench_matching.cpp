@@ -84,7 +84,7 @@ void setCounters(benchmark::State& state) {
 void BM_MatchPlain(benchmark::State& state) {
   const MatchData& d = data(static_cast<int>(state.range(0)));
   const Threads threads(state.range(1) == 1);
-  mdbrief::MatchOptions options;
+  mdbrief::MatchOptions options = mdbrief::nearestNeighbourOptions();  // as cv::BFMatcher::match
   options.parallel = state.range(1) != 1;
   for (auto _ : state) {
     benchmark::DoNotOptimize(mdbrief::matchBruteForce(d.query, d.train, options));
@@ -95,7 +95,7 @@ void BM_MatchPlain(benchmark::State& state) {
 void BM_MatchMasked(benchmark::State& state) {
   const MatchData& d = data(static_cast<int>(state.range(0)));
   const Threads threads(state.range(1) == 1);
-  mdbrief::MatchOptions options;
+  mdbrief::MatchOptions options = mdbrief::nearestNeighbourOptions();  // as cv::BFMatcher::match
   options.parallel = state.range(1) != 1;
   for (auto _ : state) {
     benchmark::DoNotOptimize(

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "mdbrief/detector.hpp"
 #include "mdbrief/matcher.hpp"
 #include "mdbrief/masked_hamming.hpp"
 #include "mdbrief/hamming.hpp"
@@ -47,15 +46,15 @@ bool isDistorted(const MethodSpec& method) {
 }
 
 Features describe(const MethodSpec& m, const cv::Mat& image, const CameraPtr& camera,
-                  std::vector<cv::KeyPoint> keypoints, int maxKeypoints, const cv::Mat& validMask) {
+                  std::vector<cv::KeyPoint> keypoints, int maxKeypoints, const cv::Mat& validMask,
+                  const PyramidOptions& pyramid) {
   switch (m.family) {
     case MethodFamily::Library: {
       const DescriptorExtractor ex(isDistorted(m) ? camera : nullptr, m.options);
       Features f;
       f.bits = m.options.bits;
       f.keypoints = std::move(keypoints);
-      // On the pyramid the library's detector builds, as MdBrief describes its own keypoints.
-      ex.compute(image, f.keypoints, f.descriptors, f.masks, DetectorOptions{}.pyramid);
+      ex.compute(image, f.keypoints, f.descriptors, f.masks, pyramid);
       return f;
     }
     case MethodFamily::Orb: {
@@ -121,8 +120,9 @@ std::vector<cv::DMatch> nearestNeighbours(const Features& query, const Features&
     return out;
   }
   if (!query.masks.empty() && !train.masks.empty())
-    return matchBruteForceMasked(query.descriptors, query.masks, train.descriptors, train.masks);
-  return matchBruteForce(query.descriptors, train.descriptors);
+    return matchBruteForceMasked(query.descriptors, query.masks, train.descriptors, train.masks,
+                                 nearestNeighbourOptions());
+  return matchBruteForce(query.descriptors, train.descriptors, nearestNeighbourOptions());
 }
 
 MethodSpec briefFamilyMethod(const std::string& name, DescriptorKind kind, int bits, bool oriented,

@@ -11,6 +11,7 @@
 
 #include "mdbrief/camera.hpp"
 #include "mdbrief/descriptor.hpp"
+#include "mdbrief/image_pyramid.hpp"
 
 namespace mdbrief::eval {
 
@@ -40,13 +41,14 @@ bool ownsKeypoints(MethodFamily family);  // AKAZE detects its own keypoints
 bool isMasked(const MethodSpec& method);      // masked distance (mdBRIEF, masked BRIEF)
 bool isDistorted(const MethodSpec& method);   // through the camera model (dBRIEF, mdBRIEF)
 
-// Describes `keypoints` (level-0 pixels, octave as the library's pyramid) in `image`.
+// Describes `keypoints` (input pixels) in `image`; the library's family samples them on a
+// pyramid with `pyramid`'s options (the detector's, so that keypoints and descriptors share one).
 // Keypoints the method cannot describe are dropped. For AKAZE `keypoints` is ignored and the
 // `maxKeypoints` strongest AKAZE keypoints (inside validMask if not empty) are used.
 // camera may be null except for dBRIEF/mdBRIEF.
 Features describe(const MethodSpec& method, const cv::Mat& image, const CameraPtr& camera,
                   std::vector<cv::KeyPoint> keypoints, int maxKeypoints = 300,
-                  const cv::Mat& validMask = {});
+                  const cv::Mat& validMask = {}, const PyramidOptions& pyramid = {});
 
 // Describes keypoints that the method's own OpenCV detector found (AKAZE: class_id is its
 // evolution level; SIFT: octave and size are its own), as detectAndCompute would. Other

@@ -32,11 +32,12 @@ MethodSpec mdBriefAt(double supportScale) {
 
 // A detector's own descriptor sees its keypoints as detectAndCompute would.
 Features describeKeypoints(const PipelineSpec& p, const cv::Mat& image, const CameraPtr& camera,
-                           const std::vector<cv::KeyPoint>& keypoints, int budget, const cv::Mat& mask) {
+                           const std::vector<cv::KeyPoint>& keypoints, int budget, const cv::Mat& mask,
+                           const PyramidOptions& pyramid) {
   const bool own = (p.detector == KeypointSource::Akaze && p.descriptor.family == MethodFamily::Akaze) ||
                    (p.detector == KeypointSource::Sift && p.descriptor.family == MethodFamily::Sift);
   return own ? describeOwnKeypoints(p.descriptor, image, keypoints)
-             : describe(p.descriptor, image, camera, keypoints, budget, mask);
+             : describe(p.descriptor, image, camera, keypoints, budget, mask, pyramid);
 }
 
 }  // namespace
@@ -96,7 +97,7 @@ void runPipelines(const std::vector<EvalGroup>& groups, const std::vector<Pipeli
           for (const auto& img : seq.images) {
             masks.push_back(seq.cameraIsModel ? validAreaMask(*seq.camera, img.size()) : cv::Mat());
             kps.push_back(detectKeypoints(p.detector, img, detectorCamera, masks.back(), budget, o.library));
-            f.push_back(describeKeypoints(p, img, seq.camera, kps.back(), budget, masks.back()));
+            f.push_back(describeKeypoints(p, img, seq.camera, kps.back(), budget, masks.back(), o.library.pyramid));
             detected += static_cast<double>(kps.back().size());
             described += static_cast<double>(f.back().keypoints.size());
             ++images;

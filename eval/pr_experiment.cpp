@@ -126,9 +126,11 @@ void runPrecisionRecall(const std::vector<EvalGroup>& groups, const std::vector<
       for (const auto& img : seq.images) {
         masks[s].push_back(seq.cameraIsModel ? validAreaMask(*seq.camera, img.size()) : cv::Mat());
         kps[s].push_back(detectKeypoints(o.keypointSource, img, seq.cameraIsModel ? seq.camera : nullptr,
-                                         masks[s].back(), o.keypoints));
+                                         masks[s].back(), o.keypoints, o.library));
         if (o.commonKeypoints && !methods.empty())
-          kps[s].back() = describe(methods.back(), img, seq.camera, kps[s].back(), o.keypoints, masks[s].back()).keypoints;
+          kps[s].back() =
+              describe(methods.back(), img, seq.camera, kps[s].back(), o.keypoints, masks[s].back(), o.library.pyramid)
+                  .keypoints;
       }
     }
     CsvTable curves({"method", "threshold", "one_minus_precision", "recall"});
@@ -138,7 +140,7 @@ void runPrecisionRecall(const std::vector<EvalGroup>& groups, const std::vector<
         const auto& seq = g.sequences[s];
         std::vector<Features> f;
         for (size_t i = 0; i < seq.images.size(); ++i)
-          f.push_back(describe(m, seq.images[i], seq.camera, kps[s][i], o.keypoints, masks[s][i]));
+          f.push_back(describe(m, seq.images[i], seq.camera, kps[s][i], o.keypoints, masks[s][i], o.library.pyramid));
         std::vector<PairMatches> mine;
         for (const auto& p : seq.pairs) mine.push_back(matchPair(f[p.first], f[p.second], p.map, o.radiusPx));
         const PrSummary ss = summarize(meanCurve(mine, o.curveSteps));

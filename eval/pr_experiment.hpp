@@ -9,6 +9,7 @@
 #include "descriptor_method.hpp"
 #include "eval_datasets.hpp"
 #include "mdbrief/detector.hpp"
+#include "mdbrief/presets.hpp"
 #include "patchextract/keypoint_detectors.hpp"
 
 namespace mdbrief::eval {
@@ -48,6 +49,9 @@ struct PrOptions {
   bool commonKeypoints = false;
   double radiusPx = 3.0;
   int curveSteps = 100;
+  // The library's detector for modorb / hessian keypoints: the paper's (cv::ORB's pyramid of 8
+  // levels of 1.2), whose keypoints every method describes on that pyramid, as in the paper.
+  DetectorOptions library = presetSettings(Preset::Paper).features.detector;
 };
 
 // The paper's comparison set; with studies also the length study (32, 64 bits) and the

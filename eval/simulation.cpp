@@ -16,6 +16,7 @@
 #include "eval_datasets.hpp"
 #include "mdbrief/detector.hpp"
 #include "mdbrief/patterns.hpp"
+#include "mdbrief/presets.hpp"
 #include "plane_geometry.hpp"
 #include "toolkit/image_file.hpp"
 
@@ -301,7 +302,8 @@ void runDetectedVariant(const SimCamera& sc, const SimOptions& o, const std::str
     }
   }
   const size_t nm = methods.size();
-  DetectorOptions dopt;
+  // The paper's detector: modORB on cv::ORB's pyramid.
+  DetectorOptions dopt = presetSettings(Preset::Paper).features.detector;
   dopt.nfeatures = o.detectedKeypoints;
   const Detector detector(sc.camera, dopt);
 

@@ -10,6 +10,7 @@
 #include "mdbrief/descriptor.hpp"
 #include "mdbrief/detector.hpp"
 #include "mdbrief/matcher.hpp"
+#include "mdbrief/presets.hpp"
 
 namespace mdbrief::eval {
 namespace {
@@ -40,11 +41,13 @@ std::vector<Pipeline> pipelines(const CameraPtr& camera, int n) {
   auto brisk = cv::BRISK::create();
   auto akaze = cv::AKAZE::create();
   auto sift = cv::SIFT::create(n);
-  DetectorOptions dopt;
-  dopt.nfeatures = n;
-  auto modOrb = std::make_shared<Detector>(camera, dopt);
-  dopt.method = DetectorMethod::Hessian;
-  auto hessian = std::make_shared<Detector>(camera, dopt);
+  // modORB as the paper ran it (cv::ORB's pyramid); Hessian as the library's defaults run it.
+  DetectorOptions paper = presetSettings(Preset::Paper).features.detector;
+  paper.nfeatures = n;
+  auto modOrb = std::make_shared<Detector>(camera, paper);
+  DetectorOptions defaults;
+  defaults.nfeatures = n;
+  auto hessian = std::make_shared<Detector>(camera, defaults);
   auto extractor = [camera](DescriptorKind kind) {
     DescriptorOptions o;
     o.kind = kind;
@@ -72,9 +75,12 @@ std::vector<Pipeline> pipelines(const CameraPtr& camera, int n) {
       cv::BFMatcher(norm).match(a, b, m);
     };
   };
-  auto ourMatch = [](const cv::Mat& a, const cv::Mat&, const cv::Mat& b, const cv::Mat&) { matchBruteForce(a, b); };
+  // Nearest neighbours, as cv::BFMatcher::match above.
+  auto ourMatch = [](const cv::Mat& a, const cv::Mat&, const cv::Mat& b, const cv::Mat&) {
+    matchBruteForce(a, b, nearestNeighbourOptions());
+  };
   auto ourMaskedMatch = [](const cv::Mat& a, const cv::Mat& ma, const cv::Mat& b, const cv::Mat& mb) {
-    matchBruteForceMasked(a, ma, b, mb);
+    matchBruteForceMasked(a, ma, b, mb, nearestNeighbourOptions());
   };
   auto modOrbDetect = [modOrb](const cv::Mat& img) { return modOrb->detect(img); };
   auto hessianDetect = [hessian](const cv::Mat& img) { return hessian->detect(img); };

@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "mdbrief/camera_io.hpp"
+#include "mdbrief/detector.hpp"
 #include "mdbrief/image_pyramid.hpp"
 #include "mdbrief/internal/patch_sampling.hpp"
 #include "mdbrief/internal/size_text.hpp"
@@ -24,6 +25,11 @@ namespace mdbrief::train {
 namespace fs = std::filesystem;
 
 namespace {
+
+// The pyramid the library's defaults describe on (its levels and smoothing), so that training
+// patches are sampled as the run time samples them.
+const PyramidOptions kTrainingPyramid = DetectorOptions{}.pyramid;
+
 
 bool isImageFile(const fs::path& p) {
   std::string ext = p.extension().string();
@@ -82,7 +88,7 @@ cv::Mat renderThrough(const Camera& camera, const cv::Mat& photo, double halfFov
 
 // The keypoints whose whole patch can be sampled (camera: null = the photo camera).
 std::vector<cv::KeyPoint> detectUsable(const cv::Mat& grey, const ExtractionOptions& o, const CameraPtr& camera) {
-  const ImagePyramid pyramid(grey, PyramidOptions{});
+  const ImagePyramid pyramid(grey, kTrainingPyramid);
   std::vector<cv::KeyPoint> detected = detectKeypoints(grey, o.detector, o.keypointsPerImage);
   for (auto& kp : detected) kp.size = static_cast<float>(patchDiameter(o.detector, kp));
   std::vector<cv::KeyPoint> usable;
@@ -332,11 +338,11 @@ PatchSet extractPatches(const ExtractionOptions& o, ExtractionReport& report,
   tbb::parallel_for(size_t(0), images.size(), [&](size_t i) {
     if (take[i] > 0) {
       const cv::Mat grey = o.renderThroughCamera ? pools[i].rendered : decodeGreyImage(images[i]);
-      const ImagePyramid pyramid(grey.empty() ? cv::Mat(1, 1, CV_8UC1) : grey, PyramidOptions{});
+      const ImagePyramid pyramid(grey.empty() ? cv::Mat(1, 1, CV_8UC1) : grey, kTrainingPyramid);
       pyramid.prepareSmoothed(-1);
       std::vector<ImagePyramid> views;
       for (const auto& v : pools[i].views) {
-        views.emplace_back(v.image, PyramidOptions{});
+        views.emplace_back(v.image, kTrainingPyramid);
         views.back().prepareSmoothed(-1);
       }
       size_t c = counterpartOffset[i];

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <sstream>
 
@@ -231,5 +232,27 @@ TEST(OptionFields, TrainerStructAndCommandLineNameTheOptionRangeAndValue) {
     EXPECT_EQ(code, 2) << f.flag;
     EXPECT_EQ(err.str(), "error: " + std::string(f.flag) + " " + c.problem + "\n");
   }
+  EXPECT_TRUE(fs::is_empty(dir.path));
+}
+
+// A flag given a value CLI11 cannot read as true or false (fuzz/regressions/train_config/
+// crash-b93041fd...: `make-default = tpue` in a config) ended in std::terminate.
+TEST(OptionFields, FlagValuesThatAreNeitherTrueNorFalseAreRefusedNamingTheFlag) {
+  mdbrief::testing::TempDir dir("train_flag_values");
+  const fs::path config = dir.path / "bad.toml";
+  std::ofstream(config) << "make-default = tpue\n";
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"--make-default=tpue", "--out", dir.path.string()},
+        std::vector<std::string>{"--make-default=99999999999999999999", "--out", dir.path.string()},
+        std::vector<std::string>{"--config", config.string(), "--out", dir.path.string()}}) {
+    std::ostringstream out, err;
+    EXPECT_EQ(train::runTrainCli(args, out, err), 2) << args[0];
+    EXPECT_NE(err.str().find("--make-default"), std::string::npos) << err.str();
+    EXPECT_NE(err.str().find("neither true nor false"), std::string::npos) << err.str();
+  }
+  std::ostringstream out, err;
+  EXPECT_EQ(train::runTrainCli({"--make-default=false", "--patches=-1", "--out", dir.path.string()}, out, err), 2);
+  EXPECT_EQ(err.str().find("neither true nor false"), std::string::npos) << err.str();
+  fs::remove(config);
   EXPECT_TRUE(fs::is_empty(dir.path));
 }

@@ -42,8 +42,9 @@ class OptionFlags {
           const bool turned = !std::get<bool>(value);
           if (!turned) help = "turn off (on by default): " + help;
           option = app.add_flag_function(f.flag, [this, i, turned](std::int64_t count) {
-            if (count > 0) given_.emplace_back(i, turned);
-          });
+                         if (count > 0) given_.emplace_back(i, turned);
+                       })
+                       ->check(flagValue());
           break;
         }
         case FieldType::Text:
@@ -88,6 +89,23 @@ class OptionFlags {
   }
 
  private:
+  // CLI11 turns a flag's value (`--make-default=yes`, `make-default = yes` in a config) into a
+  // count with std::stoll, which throws std::invalid_argument past the parse's error handling on
+  // anything but its true/false words and integers; checked first, a bad one is a parse error
+  // naming the flag.
+  static CLI::Validator flagValue() {
+    return CLI::Validator(
+        [](std::string& v) -> std::string {
+          try {
+            CLI::detail::to_flag_value(v);
+          } catch (const std::exception&) {
+            return "'" + v + "' is neither true nor false";
+          }
+          return {};
+        },
+        "BOOLEAN");
+  }
+
   const OptionTable<Options>* table_ = nullptr;
   std::vector<std::pair<std::size_t, FieldValue>> given_;
 };

@@ -220,7 +220,16 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
   std::vector<cv::Mat> responses(levels);
   std::vector<double> scales(levels);
   for (int k = 0; k < levels; ++k) scales[k] = pyramid.scale(k);
-  tbb::parallel_for(0, levels, [&](int k) { responses[k] = detail::hessianResponse(pyramid.image(k), options_.hessianSigma); });
+  // The descriptors' smoothed levels when the sigmas and the kernel agree (the defaults): one
+  // blur for detection and description.
+  const PyramidOptions& po = pyramid.options();
+  const bool shared = po.smoothingSigma == options_.hessianSigma &&
+                      po.smoothingKernel == 2 * static_cast<int>(std::ceil(3.0 * options_.hessianSigma)) + 1;
+  tbb::parallel_for(0, levels, [&](int k) {
+    responses[k] = detail::hessianResponse(
+        shared ? pyramid.smoothedFloat(k) : detail::gaussianSmoothed(pyramid.image(k), options_.hessianSigma),
+        options_.hessianSigma);
+  });
   std::vector<detail::Blob> blobs = detail::hessianMaxima(
       responses, scales, static_cast<float>(options_.hessianThreshold), options_.borderMargin, allowed);
   // The mask after the refinement, which moves a blob up to half a level pixel from its maximum

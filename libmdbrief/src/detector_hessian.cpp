@@ -9,14 +9,17 @@
 
 namespace mdbrief::detail {
 
-cv::Mat hessianResponse(const cv::Mat& level, double sigma) {
-  // The Gaussian truncated at 3 sigma (OpenCV's default for float images reaches 4 sigma, a
-  // third more taps for weights below 0.3 % of the total), filtering the 8-bit level straight
-  // into float intensities in [0, 1]: one pass fewer than converting first.
+cv::Mat gaussianSmoothed(const cv::Mat& level, double sigma) {
+  // Truncated at 3 sigma: OpenCV's default for float images reaches 4 sigma, a third more taps
+  // for weights below 0.3 % of the total.
   const int taps = 2 * static_cast<int>(std::ceil(3.0 * sigma)) + 1;
   const cv::Mat kernel = cv::getGaussianKernel(taps, sigma, CV_32F);
   cv::Mat smooth;
   cv::sepFilter2D(level, smooth, CV_32F, kernel / 255.0, kernel, cv::Point(-1, -1), 0, cv::BORDER_REFLECT_101);
+  return smooth;
+}
+
+cv::Mat hessianResponse(const cv::Mat& smooth, double sigma) {
   // Central second differences and det * sigma^4 in one pass. It replaced eight OpenCV passes
   // (sepFilter2D and arithmetic) at a third of the time, with the same operations in the same
   // order (the scalings by 0.5 and 2 are exact; no fused multiply-add, libmdbrief/CMakeLists.txt),

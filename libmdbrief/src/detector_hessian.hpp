@@ -11,9 +11,13 @@
 
 namespace mdbrief::detail {
 
-// det(Hessian) * sigma^4 of the level (8UC1) smoothed by a Gaussian of `sigma` level pixels,
-// intensities in [0, 1]: CV_32F of the level's size.
-cv::Mat hessianResponse(const cv::Mat& level, double sigma);
+// det(Hessian) * sigma^4 of a level already smoothed by a Gaussian of `sigma` level pixels
+// (CV_32F intensities in [0, 1]): CV_32F of the level's size.
+cv::Mat hessianResponse(const cv::Mat& smoothed, double sigma);
+
+// A level (8UC1) smoothed by a Gaussian of `sigma` level pixels truncated at 3 sigma, as CV_32F
+// intensities in [0, 1]: what hessianResponse takes when the pyramid's own smoothing differs.
+cv::Mat gaussianSmoothed(const cv::Mat& level, double sigma);
 
 struct Blob {
   int level = 0;

@@ -64,13 +64,20 @@ ImagePyramid::ImagePyramid(const cv::Mat& image, const PyramidOptions& options, 
   smoothed_ = std::make_shared<SmoothedLevels>(images_.size());
 }
 
-const cv::Mat& ImagePyramid::smoothed(int level) const {
+const cv::Mat& ImagePyramid::smoothedFloat(int level) const {
   const cv::Mat& source = images_.at(level);
-  cv::Mat& target = smoothed_->images[level];
-  std::call_once(smoothed_->once[level], [&] {
-    cv::GaussianBlur(source, target, cv::Size(options_.smoothingKernel, options_.smoothingKernel),
-                     options_.smoothingSigma, options_.smoothingSigma, cv::BORDER_REFLECT_101);
+  cv::Mat& target = smoothed_->floats[level];
+  std::call_once(smoothed_->floatOnce[level], [&] {
+    // From the 8-bit level straight into float intensities: one pass fewer than converting first.
+    const cv::Mat kernel = cv::getGaussianKernel(options_.smoothingKernel, options_.smoothingSigma, CV_32F);
+    cv::sepFilter2D(source, target, CV_32F, kernel / 255.0, kernel, cv::Point(-1, -1), 0, cv::BORDER_REFLECT_101);
   });
+  return target;
+}
+
+const cv::Mat& ImagePyramid::smoothed(int level) const {
+  cv::Mat& target = smoothed_->bytes.at(level);
+  std::call_once(smoothed_->byteOnce[level], [&] { smoothedFloat(level).convertTo(target, CV_8U, 255.0); });
   return target;
 }
 

@@ -61,8 +61,9 @@ struct DetectorOptions {
   // 1.2 and 0 are PyramidOptions' defaults). Here a level below the input (the image enlarged
   // by the scale factor) finds the small blobs that carry most of a wide-angle frame's detail,
   // and 11 levels of 1.25 span the scale changes of wide baselines (docs/RESULTS.md "Real images:
-  // what a tracker keeps").
-  PyramidOptions pyramid{11, 1.25, 1};
+  // what a tracker keeps"). The smoothing is the Hessian's own Gaussian (hessianSigma, 3 sigma
+  // wide), so detection and description share one blur per level.
+  PyramidOptions pyramid{11, 1.25, 1, 13, 2.0};
   // FAST-9/16 or AGAST OAST-9/16. FAST by default: OpenCV 4.6's AGAST has no SIMD path and
   // is the slower one here, unlike in the paper (docs/RESULTS.md "Detector (issue 3)").
   CornerDetector corners = CornerDetector::Fast;

@@ -42,18 +42,21 @@ class ImagePyramid {
   double scale(int level) const { return scales_.at(level); }
   const PyramidOptions& options() const { return options_; }
   const cv::Mat& image(int level) const { return images_.at(level); }
-  // Smoothed level, computed once on first use: safe to call from several threads (each level
-  // is blurred exactly once; a detector alone never pays for it). prepareSmoothed() blurs the
-  // levels 0..maxLevel (all if negative) in parallel ahead of parallel sampling.
+  // The level smoothed by the options' Gaussian, as CV_32F intensities in [0, 1], and the same
+  // rounded to 8 bits (what the descriptors sample). Each is computed once, on first use: safe
+  // to call from several threads; a detector that needs neither never pays for them, and the
+  // Hessian detector's response and the descriptors share one blur. prepareSmoothed() makes the
+  // 8-bit levels 0..maxLevel (all if negative) in parallel ahead of parallel sampling.
+  const cv::Mat& smoothedFloat(int level) const;
   const cv::Mat& smoothed(int level) const;
   void prepareSmoothed(int maxLevel) const;
 
  private:
   // Shared by copies of the pyramid, whose levels are the same images.
   struct SmoothedLevels {
-    explicit SmoothedLevels(size_t levels) : images(levels), once(levels) {}
-    std::vector<cv::Mat> images;
-    std::vector<std::once_flag> once;
+    explicit SmoothedLevels(size_t levels) : floats(levels), bytes(levels), floatOnce(levels), byteOnce(levels) {}
+    std::vector<cv::Mat> floats, bytes;
+    std::vector<std::once_flag> floatOnce, byteOnce;
   };
 
   PyramidOptions options_;

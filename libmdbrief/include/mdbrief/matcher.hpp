@@ -37,6 +37,15 @@ const OptionTable<MatchOptions>& matchOptionFields();
 // Throws OptionError naming the first option out of its field's range.
 void validate(const MatchOptions& options);
 
+// Every query's nearest neighbour, as cv::BFMatcher::match gives it: no ratio test, no mutual
+// check (for precision-recall curves and speed comparisons).
+inline MatchOptions nearestNeighbourOptions() {
+  MatchOptions o;
+  o.ratio.reset();
+  o.crossCheck = false;
+  return o;
+}
+
 // One match per query that passes the enabled tests, in query order: queryIdx = query row,
 // trainIdx = train row, distance = Hamming distance in bits, imgIdx = 0.
 // query and train: N x bytes CV_8UC1, the same width, a multiple of 4 in [4, 64] (read once per
