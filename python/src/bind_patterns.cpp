@@ -9,6 +9,8 @@
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/patterns.hpp"
 #include "option_keywords.hpp"
+#include "mdbrief/internal/atomic_file.hpp"
+#include "toolkit/pattern_writer.hpp"
 #include "trainer/training.hpp"
 
 namespace mdbrief::python {
@@ -26,7 +28,46 @@ py::array_t<int8_t> testsArray(const TestSet& set) {
   return out;
 }
 
+// The JSON form mdbrief-train writes (<name>.json), which load_pattern and MdBrief read back.
+void saveTestSet(const TestSet& set, const py::handle& pathArgument) {
+  const std::string path = pathFrom(pathArgument, "path");
+  PatternDocument document;
+  document.name = set.name;
+  document.description = "saved by mdbrief.TestSet.save";
+  document.tests = set.tests;
+  document.trainingImages = set.trainingImages;
+  try {
+    validate(document);
+    internal::writeFileAtomically(path, patternJsonText(document));
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
+  }
+}
+
+py::tuple testSetState(const TestSet& set) {
+  py::list tests;
+  for (const TestPair& t : set.tests) tests.append(py::make_tuple(t.x1, t.y1, t.x2, t.y2));
+  return py::make_tuple(set.name, tests, set.trainingImages);
+}
+
+TestSet testSetFromState(const py::tuple& state) {
+  if (state.size() != 3) throw py::value_error("TestSet: bad pickled state");
+  TestSet set;
+  set.name = state[0].cast<std::string>();
+  for (const py::handle t : state[1]) {
+    const auto v = t.cast<std::tuple<int, int, int, int>>();
+    const auto offset = [](int x) {
+      if (x < -16 || x > 15) throw py::value_error("TestSet: bad pickled state (offset outside [-16, 15])");
+      return static_cast<int8_t>(x);
+    };
+    set.tests.push_back({offset(std::get<0>(v)), offset(std::get<1>(v)), offset(std::get<2>(v)), offset(std::get<3>(v))});
+  }
+  set.trainingImages = state[2].cast<std::vector<std::string>>();
+  return set;
+}
+
 TestSet loadPattern(const py::handle& argument) {
+  if (py::isinstance<TestSet>(argument)) return argument.cast<TestSet>();
   const std::string nameOrPath = pathFrom(argument, "name_or_path");
   const auto names = builtinTestSetNames();
   if (std::find(names.begin(), names.end(), nameOrPath) == names.end()) requireFile(nameOrPath);
@@ -123,6 +164,10 @@ void bindPatterns(py::module_& m) {
       .def_readonly("training_images", &TestSet::trainingImages,
                     "Digests of the images the set was learned from (empty for a random set).")
       .def("__len__", [](const TestSet& s) { return s.tests.size(); })
+      .def("save", &saveTestSet, py::arg("path"),
+           "Writes the set as mdbrief-train's <name>.json (path: str, bytes or os.PathLike), atomically;\n"
+           "load_pattern(path) and MdBrief(camera, pattern=path) read it back.")
+      .def(py::pickle(&testSetState, &testSetFromState))
       .def(
           "first",
           [](const TestSet& s, int n) {
@@ -140,8 +185,9 @@ void bindPatterns(py::module_& m) {
   m.def("patterns", &builtinTestSetNames, "Names of the compiled-in test sets, sorted.");
   m.def("default_pattern", &defaultTestSetName, "The set MdBrief uses when pattern is ''.");
   m.def("load_pattern", &loadPattern, py::arg("name_or_path"),
-        "A compiled-in set by name, or a JSON test set file (str, bytes or os.PathLike, as\n"
-        "mdbrief-train writes it). The same works as MdBrief(camera, pattern=...).");
+        "A compiled-in set by name, a JSON test set file (str, bytes or os.PathLike, as\n"
+        "mdbrief-train writes it), or a TestSet (returned as is). The same works as\n"
+        "MdBrief(camera, pattern=...).");
   m.def("train", &train, trainDoc().c_str());
 }
 
