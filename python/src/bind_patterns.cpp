@@ -50,20 +50,33 @@ py::tuple testSetState(const TestSet& set) {
   return py::make_tuple(set.name, tests, set.trainingImages);
 }
 
+// A set from Python: tests as (N, 4) rows (x1, y1, x2, y2) of offsets in [-16, 15].
+TestSet makeTestSet(const std::string& name, const py::handle& rows, const std::vector<std::string>& trainingImages) {
+  TestSet set;
+  set.name = name;
+  set.trainingImages = trainingImages;
+  for (const py::handle row : rows) {
+    std::vector<int> v;
+    try {
+      v = row.cast<std::vector<int>>();
+    } catch (const py::cast_error&) {
+      throw py::type_error("TestSet: tests must be rows of 4 ints (x1, y1, x2, y2)");
+    }
+    if (v.size() != 4) throw py::value_error("TestSet: tests must be rows of 4 ints (x1, y1, x2, y2)");
+    for (int x : v)
+      if (x < -16 || x > 15)
+        throw py::value_error("TestSet: test " + std::to_string(set.tests.size()) + " has offset " +
+                              std::to_string(x) + " outside [-16, 15]");
+    set.tests.push_back({static_cast<int8_t>(v[0]), static_cast<int8_t>(v[1]), static_cast<int8_t>(v[2]),
+                         static_cast<int8_t>(v[3])});
+  }
+  if (set.tests.empty()) throw py::value_error("TestSet: tests is empty");
+  return set;
+}
+
 TestSet testSetFromState(const py::tuple& state) {
   if (state.size() != 3) throw py::value_error("TestSet: bad pickled state");
-  TestSet set;
-  set.name = state[0].cast<std::string>();
-  for (const py::handle t : state[1]) {
-    const auto v = t.cast<std::tuple<int, int, int, int>>();
-    const auto offset = [](int x) {
-      if (x < -16 || x > 15) throw py::value_error("TestSet: bad pickled state (offset outside [-16, 15])");
-      return static_cast<int8_t>(x);
-    };
-    set.tests.push_back({offset(std::get<0>(v)), offset(std::get<1>(v)), offset(std::get<2>(v)), offset(std::get<3>(v))});
-  }
-  set.trainingImages = state[2].cast<std::vector<std::string>>();
-  return set;
+  return makeTestSet(state[0].cast<std::string>(), state[1], state[2].cast<std::vector<std::string>>());
 }
 
 TestSet loadPattern(const py::handle& argument) {
@@ -159,6 +172,10 @@ std::string trainDoc() {
 
 void bindPatterns(py::module_& m) {
   py::class_<TestSet>(m, "TestSet", "A binary test set: (x1, y1, x2, y2) offsets in the 32x32 patch, in [-16, 15].")
+      .def(py::init(&makeTestSet), py::arg("name"), py::arg("tests"),
+           py::arg("training_images") = std::vector<std::string>{},
+           "TestSet(name, tests, training_images=()): tests as (N, 4) rows (x1, y1, x2, y2), e.g. an\n"
+           "int array; offsets in [-16, 15].")
       .def_readonly("name", &TestSet::name)
       .def_property_readonly("tests", &testsArray, "(N, 4) int8 array, the first rows form the shortest descriptor.")
       .def_readonly("training_images", &TestSet::trainingImages,

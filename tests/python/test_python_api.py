@@ -119,10 +119,10 @@ def test_test_sets_are_passed_saved_and_pickled(tmp_path, image_pair):
 
     # A set of our own (the default's tests reversed): saved, loaded and pickled it describes
     # the same, and differently from the default.
-    reversed_tests = pickle.loads(pickle.dumps(default))
-    state = reversed_tests.__getstate__()
-    own = mdbrief.TestSet.__new__(mdbrief.TestSet)
-    own.__setstate__(("reversed_set", list(reversed(state[1])), []))
+    own = mdbrief.TestSet("reversed_set", default.tests[::-1])
+    unpickled = pickle.loads(pickle.dumps(own))
+    assert unpickled.name == own.name and unpickled.training_images == own.training_images
+    np.testing.assert_array_equal(unpickled.tests, own.tests)
     path = tmp_path / "reversed_set.json"
     own.save(path)
     loaded = mdbrief.load_pattern(path)
@@ -140,11 +140,13 @@ def test_test_sets_are_passed_saved_and_pickled(tmp_path, image_pair):
     np.testing.assert_array_equal(pickle.loads(blob).detect_and_compute(first)[1], d_object)
     assert mdbrief.load_pattern(own) is not None
 
-    with pytest.raises(ValueError, match="name"):
-        bad = mdbrief.TestSet.__new__(mdbrief.TestSet)
-        bad.__setstate__(("Not A Name", state[1], []))
-        bad.save(tmp_path / "bad.json")
+    with pytest.raises(ValueError, match="Not A Name"):
+        mdbrief.TestSet("Not A Name", default.tests).save(tmp_path / "bad.json")
     assert not (tmp_path / "bad.json").exists()
+    with pytest.raises(ValueError, match="outside"):
+        mdbrief.TestSet("far", [[0, 0, 16, 0]])
+    with pytest.raises(ValueError, match="4 ints"):
+        mdbrief.TestSet("short", [[0, 0, 1]])
 
 
 def test_module_holds_only_its_own_names():
