@@ -33,9 +33,12 @@ struct MatchArgs {
 // stand-in spanning the keypoints (pixelPlaneCamera).
 CameraPtr cameraForInliers(const CameraPtr& calibration, const Features& features) {
   if (calibration) return calibration;
+  // Bounded, so that a file's far-off or infinite keypoint cannot overflow the size.
+  const float limit = 1e6f;
   float width = 1, height = 1;
   for (const auto& kp : features.keypoints) width = std::max(width, kp.pt.x + 1), height = std::max(height, kp.pt.y + 1);
-  return pixelPlaneCamera({static_cast<int>(std::ceil(width)), static_cast<int>(std::ceil(height))});
+  return pixelPlaneCamera({static_cast<int>(std::ceil(std::min(width, limit))),
+                           static_cast<int>(std::ceil(std::min(height, limit)))});
 }
 
 // "<count> inliers (<method>)" for the matches, whose rows index a and b.

@@ -4,16 +4,18 @@
 #include <cmath>
 #include <sstream>
 
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera_pinhole.hpp"
 #include "toolkit/bearing_homography.hpp"
 
 namespace mdbrief::cli {
 
 CameraPtr pixelPlaneCamera(cv::Size size) {
   // Any focal length gives the same homography test; the width keeps angles moderate.
-  const double f = std::max(1, size.width);
-  return makeCamera("pinhole", size,
-                    {{"fx", f}, {"fy", f}, {"cx", 0.5 * (size.width - 1)}, {"cy", 0.5 * (size.height - 1)}});
+  CameraIntrinsics k;
+  k.width = size.width, k.height = size.height;
+  k.fx = k.fy = std::max(1, size.width);
+  k.cx = 0.5 * (size.width - 1), k.cy = 0.5 * (size.height - 1);
+  return std::make_shared<PinholeCamera>(k);
 }
 
 MatchConsistency classifyMatches(const Camera& cameraA, const Camera& cameraB, const std::vector<cv::Point2f>& pointsA,

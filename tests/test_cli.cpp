@@ -20,6 +20,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/storage_io.hpp"
 #include "cli_runner.hpp"
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/feature2d.hpp"
@@ -493,6 +494,15 @@ TEST_F(CliTest, MatchInliersWithoutCameraFitsPixelsAndNeedsKeypoints) {
   out.release();
   expectOneLineNaming(run({"match", path("bare.yml"), path("a.yml"), "--inliers", "-o", path("x.yml")}),
                       path("bare.yml"));
+
+  // Far-off keypoints (a file written by another program): counted, never an overflow.
+  cli::Features far;
+  for (int i = 0; i < 8; ++i) far.keypoints.emplace_back(cv::Point2f(1e30f * static_cast<float>(i + 1), 3e9f), 7.f);
+  far.descriptors = descriptors.rowRange(0, 8).clone();
+  cli::writeFeatureFile(path("far.yml"), far);
+  const Result f = run({"match", path("far.yml"), path("far.yml"), "--inliers", "-o", path("f.yml")});
+  ASSERT_EQ(f.code, 0) << f.err;
+  EXPECT_GE(countBefore(f.out, "inliers"), 0) << f.out;
 }
 
 TEST_F(CliTest, DrawNoKeypointsLeavesTheImageGrey) {
