@@ -106,6 +106,8 @@ def test_cameras_and_features_pickle(image_pair):
     assert [k.pt for k in kp1] == [k.pt for k in kp2]
     np.testing.assert_array_equal(d1, d2)
     np.testing.assert_array_equal(m1, m2)
+    brief = pickle.loads(pickle.dumps(mdbrief.MdBrief(None, descriptor="brief", bits=128)))
+    assert brief.camera is None and brief.options["descriptor"] == "brief" and brief.descriptor_size == 16
 
 
 def test_test_sets_are_passed_saved_and_pickled(tmp_path, image_pair):
