@@ -484,6 +484,11 @@ TEST_F(CliTest, MatchInliersWithoutCameraFitsPixelsAndNeedsKeypoints) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_GT(countBefore(r.out, "matches,"), 50) << r.out;
   EXPECT_EQ(countBefore(r.out, "inliers"), countBefore(r.out, "matches,")) << r.out;
+  // draw fits the same pixel-plane homography without a calibration.
+  const Result d = run({"draw", "--descriptor", "brief", a, "--other", a, "--matches", path("m.yml"), "-o", path("d.png")});
+  ASSERT_EQ(d.code, 0) << d.err;
+  EXPECT_EQ(countBefore(d.out, "correct"), countBefore(r.out, "inliers")) << d.out;
+  EXPECT_EQ(countBefore(d.out, "wrong"), 0) << d.out;
 
   cv::FileStorage in(path("a.yml"), cv::FileStorage::READ);
   cv::Mat descriptors;
