@@ -425,6 +425,34 @@ TEST(HessianDetector, FindsBlobsAtTheirSubPixelPositionWithSizesInProportion) {
   EXPECT_NEAR(sizes[2] / sizes[0], 1.5, 0.2);
 }
 
+// Elongated blobs turned by 45 degrees: the response's cross term moves the vertex off the row
+// and column through the maximum pixel, which separate parabolas along x and y cannot see.
+TEST(HessianDetector, TurnedElongatedBlobsAreLocatedByTheJointQuadratic) {
+  cv::Mat image(480, 560, CV_32F, cv::Scalar(200));
+  const std::vector<cv::Point2d> centres{{140.35, 150.65}, {300.6, 170.3}, {420.45, 330.55}, {200.7, 340.4}};
+  const double along = 7.0, across = 2.5;
+  for (int y = 0; y < image.rows; ++y)
+    for (int x = 0; x < image.cols; ++x)
+      for (size_t i = 0; i < centres.size(); ++i) {
+        const double turn = (i % 2 ? -1 : 1) * CV_PI / 4;
+        const double u = (x - centres[i].x) * std::cos(turn) + (y - centres[i].y) * std::sin(turn);
+        const double v = -(x - centres[i].x) * std::sin(turn) + (y - centres[i].y) * std::cos(turn);
+        image.at<float>(y, x) -= static_cast<float>(
+            150.0 * std::exp(-u * u / (2 * along * along) - v * v / (2 * across * across)));
+      }
+  cv::Mat gray;
+  image.convertTo(gray, CV_8U);
+  const std::vector<cv::KeyPoint> kps = Detector(nullptr, hessianOptions(50)).detect(gray);
+  double worst = 0;
+  for (const cv::Point2d& c : centres) {
+    double nearest = INFINITY;
+    for (const cv::KeyPoint& k : kps) nearest = std::min(nearest, cv::norm(cv::Point2d(k.pt) - c));
+    worst = std::max(worst, nearest);
+  }
+  // Separate parabolas: 0.59 px.
+  EXPECT_LT(worst, 0.45) << "farthest blob centre from its keypoint, pixels";
+}
+
 // The same photo at 1 / 1.5 of its size: keypoints found in both agree in position and their
 // sizes differ by the zoom.
 TEST(HessianDetector, ScaleFollowsAZoom) {

@@ -86,6 +86,25 @@ float parabolaOffset(float a, float b, float c) {
   return std::clamp(0.5f * (a - c) / curvature, -0.5f, 0.5f);
 }
 
+// The vertex of the quadratic through the 3x3 neighbourhood (its cross term included), when the
+// surface is a cap whose vertex lies within half a pixel; otherwise the two parabolas alone.
+void subPixelOffset(const float* above, const float* row, const float* below, float& dx, float& dy) {
+  const float gx = 0.5f * (row[1] - row[-1]), gy = 0.5f * (below[0] - above[0]);
+  const float hxx = row[-1] - 2.f * row[0] + row[1], hyy = above[0] - 2.f * row[0] + below[0];
+  const float hxy = 0.25f * ((below[1] - below[-1]) - (above[1] - above[-1]));
+  const float det = hxx * hyy - hxy * hxy;
+  if (hxx < 0.f && det > 0.f) {
+    const float ox = -(hyy * gx - hxy * gy) / det, oy = -(hxx * gy - hxy * gx) / det;
+    if (std::abs(ox) <= 0.5f && std::abs(oy) <= 0.5f) {
+      dx = ox;
+      dy = oy;
+      return;
+    }
+  }
+  dx = parabolaOffset(row[-1], row[0], row[1]);
+  dy = parabolaOffset(above[0], row[0], below[0]);
+}
+
 }  // namespace
 
 namespace {
@@ -119,8 +138,7 @@ std::vector<Blob> levelMaxima(const std::vector<cv::Mat>& responses, const std::
       b.x = x;
       b.y = y;
       b.response = value;
-      b.dx = parabolaOffset(row[x - 1], value, row[x + 1]);
-      b.dy = parabolaOffset(above[x], value, below[x]);
+      subPixelOffset(above + x, row + x, below + x, b.dx, b.dy);
       b.dlevel = parabolaOffset(finer, value, coarser);
       blobs.push_back(b);
     }
