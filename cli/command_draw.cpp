@@ -1,5 +1,6 @@
 // `mdbrief draw`: a PNG showing what the camera model does: the keypoints (colour = octave),
-// with --other/--matches the matches between two images side by side, and with --keypoint the
+// with --other/--matches the matches between two images side by side (green: consistent with the
+// ground truth or a robust fit, red: not; match_consistency.hpp), and with --keypoint the
 // keypoint's test pairs as distorted on the image (the paper's test-set figure).
 #include <iostream>
 #include <memory>
@@ -9,8 +10,10 @@
 
 #include "cli/commands.hpp"
 #include "cli/extraction_flags.hpp"
+#include "cli/match_consistency.hpp"
 #include "cli/storage_io.hpp"
 #include "mdbrief/image_pyramid.hpp"
+#include "toolkit/homography_file.hpp"
 
 namespace mdbrief::cli {
 namespace {
@@ -22,6 +25,9 @@ struct DrawArgs {
   std::string other;
   std::string otherKeypoints;
   std::string matches;
+  std::string homography;  // ground truth for --matches; empty: a robust fit
+  double thresholdPx = MatchConsistencyOptions{}.thresholdPx;
+  bool hideKeypoints = false;
   std::optional<int> keypoint;
   std::string output;
 };
@@ -94,6 +100,7 @@ std::vector<std::pair<int, int>> loadMatches(const std::string& path, size_t que
 
 void runDraw(const DrawArgs& args) {
   if (args.other.empty() != args.matches.empty()) throw InputError("--other and --matches go together");
+  if (!args.homography.empty() && args.matches.empty()) throw InputError("--homography needs --matches");
   checkImageOutput(args.output);
   const CameraPtr calibration = loadCalibration(args.flags);
   const cv::Mat image = loadImage(args.image, args.flags.strict);
@@ -103,7 +110,7 @@ void runDraw(const DrawArgs& args) {
 
   cv::Mat canvas;
   cv::cvtColor(image, canvas, cv::COLOR_GRAY2BGR);
-  drawKeypoints(canvas, f.keypoints, {0, 0});
+  if (!args.hideKeypoints) drawKeypoints(canvas, f.keypoints, {0, 0});
   if (args.keypoint) {
     const int k = *args.keypoint;
     if (k < 0 || k >= static_cast<int>(f.keypoints.size()))
@@ -116,25 +123,52 @@ void runDraw(const DrawArgs& args) {
     drawTests(canvas, image, tests, f.keypoints[k]);
   }
 
+  std::string summary = std::to_string(f.keypoints.size()) + " keypoints drawn";
   if (!args.other.empty()) {
+    MatchConsistencyOptions consistency;
+    consistency.thresholdPx = args.thresholdPx;
+    if (!args.homography.empty()) {
+      try {
+        consistency.groundTruth = readHomography(args.homography);
+      } catch (const std::runtime_error& e) {
+        throw InputError(std::string("--homography: ") + e.what());
+      }
+    }
     const cv::Mat otherImage = loadImage(args.other, args.flags.strict);
     std::optional<std::vector<cv::KeyPoint>> otherGiven;
     if (!args.otherKeypoints.empty()) otherGiven = loadKeypoints(args.otherKeypoints);
     const Features g = extractFeatures(args.flags, calibration, args.other, otherImage, otherGiven);
     const auto pairs = loadMatches(args.matches, f.keypoints.size(), g.keypoints.size(), args.image, args.other);
+    // The calibration as each image was described (rescaled with --allow-size-mismatch).
+    const auto cameraFor = [&](cv::Size size) -> CameraPtr {
+      if (!calibration) return pixelPlaneCamera(size);
+      return calibration->imageSize() == size ? calibration : calibration->resized(size);
+    };
+    std::vector<cv::Point2f> pointsA, pointsB;
+    for (const auto& kp : f.keypoints) pointsA.push_back(kp.pt);
+    for (const auto& kp : g.keypoints) pointsB.push_back(kp.pt);
+    const MatchConsistency verdict = classifyMatches(*cameraFor(image.size()), *cameraFor(otherImage.size()),
+                                                     pointsA, pointsB, pairs, consistency);
     cv::Mat right;
     cv::cvtColor(otherImage, right, cv::COLOR_GRAY2BGR);
     const cv::Point2f offset(static_cast<float>(canvas.cols), 0.f);
     cv::Mat both(std::max(canvas.rows, right.rows), canvas.cols + right.cols, CV_8UC3, cv::Scalar::all(0));
     canvas.copyTo(both(cv::Rect(0, 0, canvas.cols, canvas.rows)));
     right.copyTo(both(cv::Rect(canvas.cols, 0, right.cols, right.rows)));
-    drawKeypoints(both, g.keypoints, offset);
-    for (const auto& [q, t] : pairs)
-      cv::line(both, f.keypoints[q].pt, g.keypoints[t].pt + offset, {0, 255, 0}, 1, cv::LINE_AA);
+    if (!args.hideKeypoints) drawKeypoints(both, g.keypoints, offset);
+    // Wrong matches first, so the correct ones stay visible where lines cross.
+    for (const bool correct : {false, true})
+      for (size_t k = 0; k < pairs.size(); ++k)
+        if (static_cast<bool>(verdict.correct[k]) == correct)
+          cv::line(both, f.keypoints[pairs[k].first].pt, g.keypoints[pairs[k].second].pt + offset,
+                   correct ? cv::Scalar(0, 255, 0) : cv::Scalar(0, 0, 255), 1, cv::LINE_AA);
     canvas = both;
+    const int total = static_cast<int>(pairs.size());
+    summary = std::to_string(total) + " matches: " + std::to_string(verdict.correctCount) + " correct, " +
+              std::to_string(total - verdict.correctCount) + " wrong (" + verdict.method + ")";
   }
   writeImageAtomically(args.output, canvas);
-  std::cout << args.image << ": " << f.keypoints.size() << " keypoints drawn -> " << args.output << "\n";
+  std::cout << args.image << ": " << summary << " -> " << args.output << "\n";
 }
 
 }  // namespace
@@ -143,7 +177,8 @@ void addDrawCommand(CLI::App& app) {
   auto args = std::make_shared<DrawArgs>();
   CLI::App* cmd = app.add_subcommand(
       "draw",
-      "Draw keypoints (colour = octave), matches between two images, and one keypoint's test pairs as the camera "
+      "Draw keypoints (colour = octave), matches between two images (green: correct, red: wrong, by --homography "
+      "or else a robust homography fitted on the matches' bearings), and one keypoint's test pairs as the camera "
       "model distorts them (green lines, red = first point, blue = second). Keypoints are re-extracted with the "
       "extraction flags: give the flags used for extract so match indices agree.");
   addExtractionFlags(*cmd, args->flags);
@@ -152,6 +187,12 @@ void addDrawCommand(CLI::App& app) {
   cmd->add_option("--other", args->other, "Second image, drawn to the right, for --matches");
   cmd->add_option("--other-keypoints", args->otherKeypoints, "Keypoints of the second image (as --keypoints)");
   cmd->add_option("--matches", args->matches, "Output of match (IMAGE's features as A, --other's as B)");
+  cmd->add_option("--homography", args->homography,
+                  "Ground truth for --matches: the pixel homography from IMAGE to --other (nine numbers, row by row)");
+  cmd->add_option("--inlier-threshold", args->thresholdPx, "A match is correct within this many pixels of the model")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
+  cmd->add_flag("--no-keypoints", args->hideKeypoints, "Do not draw the keypoint circles");
   cmd->add_option("--keypoint", args->keypoint, "Draw the test pairs of this keypoint (row of the extract output)");
   cmd->add_option("-o,--output", args->output, "Output image (.png)")->required();
   cmd->callback([args] { runDraw(*args); });

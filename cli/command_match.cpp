@@ -1,9 +1,14 @@
 // `mdbrief match`: brute-force matching of two `extract` outputs, masked (mdBRIEF's masked
-// Hamming distance) when both files have masks, plain Hamming otherwise.
+// Hamming distance) when both files have masks, plain Hamming otherwise; with --inliers, how many
+// matches agree with a robust fit (match_consistency.hpp).
+#include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "cli/extraction_flags.hpp"
+#include "cli/match_consistency.hpp"
 #include "cli/storage_io.hpp"
 #include "mdbrief/matcher.hpp"
 #include "mdbrief/presets.hpp"
@@ -18,8 +23,42 @@ struct MatchArgs {
   std::string preset = toString(Preset::Tracking);
   OptionFlags<MatchOptions> options;  // MatchOptions' field table: --ratio, --no-cross-check, --max-distance
   bool noRatio = false;
+  bool inliers = false;
+  CameraFileFlags camera;  // the bearings for --inliers; none: the pixels' own plane
+  double thresholdPx = MatchConsistencyOptions{}.thresholdPx;
   std::string output;
 };
+
+// The camera the keypoints of `features` were detected with; without a calibration, a pinhole
+// stand-in spanning the keypoints (pixelPlaneCamera).
+CameraPtr cameraForInliers(const CameraPtr& calibration, const Features& features) {
+  if (calibration) return calibration;
+  // Bounded, so that a file's far-off or infinite keypoint cannot overflow the size.
+  const float limit = 1e6f;
+  float width = 1, height = 1;
+  for (const auto& kp : features.keypoints) width = std::max(width, kp.pt.x + 1), height = std::max(height, kp.pt.y + 1);
+  return pixelPlaneCamera({static_cast<int>(std::ceil(std::min(width, limit))),
+                           static_cast<int>(std::ceil(std::min(height, limit)))});
+}
+
+// "<count> inliers (<method>)" for the matches, whose rows index a and b.
+std::string inlierSummary(const MatchArgs& args, const Features& a, const Features& b,
+                          const std::vector<cv::DMatch>& matches) {
+  for (const auto* f : {&a, &b})
+    if (f->keypoints.size() != static_cast<size_t>(f->descriptors.rows))
+      throw InputError((f == &a ? args.query : args.train) + ": --inliers needs the keypoints (node 'keypoints')");
+  const CameraPtr calibration = args.camera.path.empty() ? nullptr : CameraPtr(readCalibrationFile(args.camera).camera);
+  std::vector<cv::Point2f> pointsA, pointsB;
+  for (const auto& kp : a.keypoints) pointsA.push_back(kp.pt);
+  for (const auto& kp : b.keypoints) pointsB.push_back(kp.pt);
+  std::vector<std::pair<int, int>> pairs;
+  for (const auto& m : matches) pairs.emplace_back(m.queryIdx, m.trainIdx);
+  MatchConsistencyOptions consistency;
+  consistency.thresholdPx = args.thresholdPx;
+  const MatchConsistency verdict = classifyMatches(*cameraForInliers(calibration, a), *cameraForInliers(calibration, b),
+                                                   pointsA, pointsB, pairs, consistency);
+  return std::to_string(verdict.correctCount) + " inliers (" + verdict.method + ")";
+}
 
 void runMatch(const MatchArgs& args) {
   MatchOptions options;
@@ -30,6 +69,9 @@ void runMatch(const MatchArgs& args) {
     throw InputError(e.what());
   }
   if (args.noRatio) options.ratio.reset();
+  if (!args.inliers && !args.camera.path.empty()) throw InputError("--camera is used only with --inliers");
+  if (args.camera.path.empty() && (!args.camera.id.empty() || args.camera.format != toString(CameraFormat::Auto)))
+    throw InputError("--camera-format and --camera-id need --camera");
   checkStorageOutput(args.output);
   const Features a = readFeatureFile(args.query);
   const Features b = readFeatureFile(args.train);
@@ -50,13 +92,14 @@ void runMatch(const MatchArgs& args) {
     table.at<double>(i, 1) = matches[i].trainIdx;
     table.at<double>(i, 2) = matches[i].distance;
   }
+  const std::string inliers = args.inliers ? ", " + inlierSummary(args, a, b, matches) : "";
   writeStorageAtomically(args.output, [&](cv::FileStorage& storage) {
     storage << "query" << args.query << "train" << args.train;
     storage << "masked" << static_cast<int>(masked);
     storage << "matches" << table;
   });
   std::cout << args.query << " x " << args.train << ": " << matches.size() << (masked ? " masked" : "")
-            << " matches -> " << args.output << "\n";
+            << " matches" << inliers << " -> " << args.output << "\n";
 }
 
 }  // namespace
@@ -76,6 +119,15 @@ void addMatchCommand(CLI::App& app) {
       ->capture_default_str();
   args->options.add(*cmd, matchOptionFields());
   cmd->add_flag("--no-ratio", args->noRatio, "Disable the ratio test");
+  cmd->add_flag("--inliers", args->inliers,
+                "Also print how many matches agree with a robust homography fitted on their bearings (needs the "
+                "keypoints in A and B)");
+  cmd->add_option("--camera", args->camera.path,
+                  "Calibration of A and B for --inliers; without it the homography is fitted on pixels");
+  addCameraFileFlags(*cmd, args->camera, "--camera-format", "--camera-id");
+  cmd->add_option("--inlier-threshold", args->thresholdPx, "--inliers: a match agrees within this many pixels of the fit")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
   cmd->add_option("-o,--output", args->output, "Output FileStorage file (.yml, .yml.gz, .json)")->required();
   cmd->callback([args] { runMatch(*args); });
 }

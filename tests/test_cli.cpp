@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -16,8 +17,10 @@
 #include <unistd.h>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/storage_io.hpp"
 #include "cli_runner.hpp"
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/feature2d.hpp"
@@ -397,6 +400,128 @@ TEST_F(CliTest, DrawWritesDecodablePngs) {
   expectOneLineNaming(run({"draw", "--camera", kCamera, a, "--keypoint", "100000", "-o", path("x.png")}),
                       "--keypoint");
   expectOneLineNaming(run({"draw", "--camera", kCamera, a, "--other", b, "-o", path("x.png")}), "--matches");
+}
+
+// Number of pixels whose colour is exactly (b, g, r).
+int countColour(const cv::Mat& image, cv::Vec3b colour) {
+  int n = 0;
+  for (int y = 0; y < image.rows; ++y)
+    for (int x = 0; x < image.cols; ++x) n += image.at<cv::Vec3b>(y, x) == colour;
+  return n;
+}
+
+// "<n> <word>" in text (the number just before the word), or -1.
+int countBefore(const std::string& text, const std::string& word) {
+  const size_t at = text.find(" " + word);
+  if (at == std::string::npos) return -1;
+  size_t start = at;
+  while (start > 0 && std::isdigit(static_cast<unsigned char>(text[start - 1]))) --start;
+  return start == at ? -1 : std::stoi(text.substr(start, at - start));
+}
+
+// Two views of one plane: a homography relates their bearings, so the matches of a correct
+// matcher mostly agree with the robust fit, and matches shuffled against each other mostly do not.
+TEST_F(CliTest, DrawMatchesColoursCorrectAndWrongAndMatchCountsInliers) {
+  REQUIRE_IMAGE(a, "a.png", 0.3);
+  const std::string b = fisheyeImage("b.png", 0.25);
+  ASSERT_EQ(run({"extract", "--camera", kCamera, a, "-o", path("a.yml")}).code, 0);
+  ASSERT_EQ(run({"extract", "--camera", kCamera, b, "-o", path("b.yml")}).code, 0);
+  const Result m = run({"match", path("a.yml"), path("b.yml"), "--inliers", "--camera", kCamera, "-o", path("m.yml")});
+  ASSERT_EQ(m.code, 0) << m.err;
+  const int matches = countBefore(m.out, "masked matches"), inliers = countBefore(m.out, "inliers");
+  ASSERT_GT(matches, 50) << m.out;
+  EXPECT_GT(inliers, matches / 2) << m.out;
+  EXPECT_LE(inliers, matches);
+
+  const Result d = run({"draw", "--camera", kCamera, a, "--other", b, "--matches", path("m.yml"), "-o", path("d.png")});
+  ASSERT_EQ(d.code, 0) << d.err;
+  // The same fit on the same matches: draw's correct count is match's inlier count.
+  EXPECT_EQ(countBefore(d.out, "matches:"), matches) << d.out;
+  EXPECT_EQ(countBefore(d.out, "correct"), inliers) << d.out;
+  EXPECT_EQ(countBefore(d.out, "wrong"), matches - inliers) << d.out;
+  const cv::Mat drawn = cv::imread(path("d.png"));
+  EXPECT_GT(countColour(drawn, {0, 255, 0}), 0);
+
+  // Train indices rotated by one: nearly every match is wrong, drawn red.
+  cv::FileStorage in(path("m.yml"), cv::FileStorage::READ);
+  cv::Mat table;
+  in["matches"] >> table;
+  in.release();
+  const cv::Mat trainColumn = table.col(1).clone();
+  for (int i = 0; i < table.rows; ++i) table.at<double>(i, 1) = trainColumn.at<double>((i + 1) % table.rows);
+  cv::FileStorage out(path("shuffled.yml"), cv::FileStorage::WRITE);
+  out << "matches" << table;
+  out.release();
+  const Result s =
+      run({"draw", "--camera", kCamera, a, "--other", b, "--matches", path("shuffled.yml"), "-o", path("s.png")});
+  ASSERT_EQ(s.code, 0) << s.err;
+  EXPECT_LT(countBefore(s.out, "correct"), matches / 10) << s.out;
+  EXPECT_GT(countColour(cv::imread(path("s.png")), {0, 0, 255}), countColour(cv::imread(path("d.png")), {0, 0, 255}));
+
+  // A ground-truth homography that maps nothing onto its match: every match wrong.
+  std::ofstream(path("h.txt")) << "1 0 5000\n0 1 0\n0 0 1\n";
+  const Result g = run({"draw", "--camera", kCamera, a, "--other", b, "--matches", path("m.yml"), "--homography",
+                        path("h.txt"), "-o", path("g.png")});
+  ASSERT_EQ(g.code, 0) << g.err;
+  EXPECT_EQ(countBefore(g.out, "correct"), 0) << g.out;
+  EXPECT_NE(g.out.find("ground-truth homography"), std::string::npos) << g.out;
+
+  std::ofstream(path("bad_h.txt")) << "1 0 0\n";
+  expectOneLineNaming(run({"draw", "--camera", kCamera, a, "--other", b, "--matches", path("m.yml"), "--homography",
+                           path("bad_h.txt"), "-o", path("x.png")}),
+                      path("bad_h.txt"));
+  expectOneLineNaming(run({"draw", "--camera", kCamera, a, "--homography", path("h.txt"), "-o", path("x.png")}),
+                      "--homography");
+  expectOneLineNaming(run({"match", path("a.yml"), path("b.yml"), "--camera", kCamera, "-o", path("x.yml")}),
+                      "--inliers");
+}
+
+TEST_F(CliTest, MatchInliersWithoutCameraFitsPixelsAndNeedsKeypoints) {
+  REQUIRE_IMAGE(a, "a.png", 0.3);
+  ASSERT_EQ(run({"extract", "--descriptor", "brief", a, "-o", path("a.yml")}).code, 0);
+  // An image against itself: every match is the identity, which a homography explains.
+  const Result r = run({"match", path("a.yml"), path("a.yml"), "--inliers", "-o", path("m.yml")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_GT(countBefore(r.out, "matches,"), 50) << r.out;
+  EXPECT_EQ(countBefore(r.out, "inliers"), countBefore(r.out, "matches,")) << r.out;
+  // draw fits the same pixel-plane homography without a calibration.
+  const Result d = run({"draw", "--descriptor", "brief", a, "--other", a, "--matches", path("m.yml"), "-o", path("d.png")});
+  ASSERT_EQ(d.code, 0) << d.err;
+  EXPECT_EQ(countBefore(d.out, "correct"), countBefore(r.out, "inliers")) << d.out;
+  EXPECT_EQ(countBefore(d.out, "wrong"), 0) << d.out;
+
+  cv::FileStorage in(path("a.yml"), cv::FileStorage::READ);
+  cv::Mat descriptors;
+  in["descriptors"] >> descriptors;
+  in.release();
+  cv::FileStorage out(path("bare.yml"), cv::FileStorage::WRITE);
+  out << "descriptors" << descriptors;
+  out.release();
+  expectOneLineNaming(run({"match", path("bare.yml"), path("a.yml"), "--inliers", "-o", path("x.yml")}),
+                      path("bare.yml"));
+
+  // Far-off keypoints (a file written by another program): counted, never an overflow.
+  cli::Features far;
+  for (int i = 0; i < 8; ++i) far.keypoints.emplace_back(cv::Point2f(1e30f * static_cast<float>(i + 1), 3e9f), 7.f);
+  far.descriptors = descriptors.rowRange(0, 8).clone();
+  cli::writeFeatureFile(path("far.yml"), far);
+  const Result f = run({"match", path("far.yml"), path("far.yml"), "--inliers", "-o", path("f.yml")});
+  ASSERT_EQ(f.code, 0) << f.err;
+  EXPECT_GE(countBefore(f.out, "inliers"), 0) << f.out;
+}
+
+TEST_F(CliTest, DrawNoKeypointsLeavesTheImageGrey) {
+  REQUIRE_IMAGE(a, "a.png", 0.3);
+  ASSERT_EQ(run({"draw", "--camera", kCamera, a, "--no-keypoints", "-o", path("plain.png")}).code, 0);
+  const cv::Mat plain = cv::imread(path("plain.png"));
+  const cv::Mat grey = cv::imread(a, cv::IMREAD_GRAYSCALE);
+  ASSERT_EQ(plain.size(), grey.size());
+  cv::Mat expected;
+  cv::cvtColor(grey, expected, cv::COLOR_GRAY2BGR);
+  EXPECT_EQ(cv::norm(plain, expected, cv::NORM_INF), 0);
+  // Drawn keypoints are coloured.
+  ASSERT_EQ(run({"draw", "--camera", kCamera, a, "-o", path("circles.png")}).code, 0);
+  EXPECT_GT(cv::norm(cv::imread(path("circles.png")), expected, cv::NORM_INF), 0);
 }
 
 TEST_F(CliTest, HelpExitsZeroForEverySubcommand) {

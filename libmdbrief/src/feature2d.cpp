@@ -51,6 +51,12 @@ MdBrief::MdBrief(CameraPtr camera, const MdBriefOptions& options)
       detector_(camera_, options.detector),
       extractor_(camera_, options.descriptor) {}
 
+MdBrief::MdBrief(CameraPtr camera, const MdBriefOptions& options, const TestSet& tests)
+    : camera_(std::move(camera)),
+      options_((validate(options), options)),
+      detector_(camera_, options.detector),
+      extractor_(camera_, options.descriptor, tests) {}
+
 void MdBrief::detectAndCompute(cv::InputArray image, cv::InputArray mask, std::vector<cv::KeyPoint>& keypoints,
                                cv::OutputArray descriptors, bool useProvidedKeypoints) {
   detectAndComputeWithMasks(image, mask, keypoints, descriptors, cv::noArray(), useProvidedKeypoints);

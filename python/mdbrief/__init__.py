@@ -1,7 +1,7 @@
 """mdbrief: distorted binary descriptors for calibrated wide-angle and fisheye cameras.
 
     import cv2, mdbrief
-    camera = mdbrief.load_camera("configs/cameras/lafida_fisheye0.yaml")
+    camera = mdbrief.load_camera("/usr/local/share/mdbrief/cameras/lafida_fisheye0.yaml")
     features = mdbrief.MdBrief(camera)                  # preset="tracking": the library's defaults
     kp1, d1, m1 = features.detect_and_compute(cv2.imread("a.png"))
     kp2, d2, m2 = features.detect_and_compute(cv2.imread("b.png"))
@@ -11,10 +11,13 @@ Keypoints are cv2.KeyPoint and matches cv2.DMatch objects, so cv2.drawKeypoints,
 cv2.drawMatches and cv2.BFMatcher(cv2.NORM_HAMMING) take them unchanged. The C++ work runs
 without the GIL.
 """
-import cv2  # noqa: F401  (the keypoint and match types the module returns)
+# Imported first so that a missing OpenCV module fails here (the keypoint and match types the
+# module returns are cv2's); private, so the package's namespace holds only its own names.
+import cv2 as _cv2  # noqa: F401
 
-from ._mdbrief import (Camera, MdBrief, TestSet, default_pattern, limit_simd_level, load_camera, load_pattern,
-                       match, option_fields, patterns, presets, simd_level, supported_simd_level, train)
+from ._mdbrief import (Camera, MdBrief, TestSet, camera_models, default_pattern, limit_simd_level, load_camera,
+                       load_pattern, match, option_fields, patterns, presets, simd_level, supported_simd_level, train)
 
-__all__ = ["Camera", "MdBrief", "TestSet", "default_pattern", "limit_simd_level", "load_camera", "load_pattern",
-           "match", "option_fields", "patterns", "presets", "simd_level", "supported_simd_level", "train"]
+__all__ = ["Camera", "MdBrief", "TestSet", "camera_models", "default_pattern", "limit_simd_level", "load_camera",
+           "load_pattern", "match", "option_fields", "patterns", "presets", "simd_level", "supported_simd_level",
+           "train"]

@@ -1,8 +1,10 @@
 // mdbrief.Camera and mdbrief.load_camera: the camera models behind camera.hpp, vectorised over
-// numpy arrays of points.
+// numpy arrays of points; built from parameters named as the project's YAML keys or from
+// OpenCV's K / D, and pickled as those parameters.
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <variant>
 
 #include "bindings.hpp"
 #include "conversions.hpp"
@@ -72,6 +74,67 @@ py::object isValid(const Camera& camera, const py::handle& pixels) {
   return std::move(out);
 }
 
+// A camera parameter from Python: a number, or a sequence of numbers (OCam's polynomials).
+CameraParameter parameterFrom(const std::string& name, const py::handle& value) {
+  const auto number = [&](const py::handle& v) {
+    if (py::isinstance<py::bool_>(v) || !(py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v)))
+      throw py::type_error("Camera: keyword '" + name + "' must be a number" +
+                           (name == "poly" || name == "inv_poly" ? std::string(" list") : std::string()));
+    return v.cast<double>();
+  };
+  if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value) || !py::isinstance<py::iterable>(value))
+    return number(value);
+  std::vector<double> list;
+  for (const py::handle item : value) list.push_back(number(item));
+  return list;
+}
+
+py::object parameterObject(const CameraParameter& p) {
+  if (const double* number = std::get_if<double>(&p)) return py::float_(*number);
+  py::list list;
+  for (double v : std::get<std::vector<double>>(p)) list.append(v);
+  return std::move(list);
+}
+
+cv::Size sizeFrom(int width, int height) { return {width, height}; }
+
+std::shared_ptr<Camera> cameraFromKeywords(const std::string& model, int width, int height, const py::dict& keywords) {
+  CameraParameters parameters;
+  for (const auto& [key, value] : keywords) {
+    const std::string name = py::str(key);
+    parameters[name] = parameterFrom(name, value);
+  }
+  try {
+    return makeCamera(model, sizeFrom(width, height), parameters, "Camera", "keyword");
+  } catch (const std::exception& e) {
+    throw py::value_error(e.what());
+  }
+}
+
+py::dict parameterDict(const Camera& camera) {
+  py::dict d;
+  for (const auto& [name, value] : cameraParameters(camera)) d[py::str(name)] = parameterObject(value);
+  return d;
+}
+
+// K (3 x 3) and D (any shape, flattened) as cv2.fisheye.calibrate and cv2.calibrateCamera return them.
+std::shared_ptr<Camera> cameraFromOpenCvArrays(const py::handle& kObject, const py::handle& dObject,
+                                               std::pair<int, int> size, bool fisheye) {
+  const auto k = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(kObject);
+  if (!k || k.size() != 9 || (k.ndim() != 2 && k.ndim() != 1))
+    throw py::value_error("Camera.from_opencv: K must be a 3 x 3 array");
+  const auto d = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(dObject);
+  if (!d) throw py::value_error("Camera.from_opencv: D must be an array of numbers");
+  cv::Matx33d K;
+  std::copy_n(k.data(), 9, K.val);
+  const std::vector<double> D(d.data(), d.data() + d.size());
+  try {
+    return cameraFromOpenCv(K, D, sizeFrom(size.first, size.second), fisheye, "Camera.from_opencv");
+  } catch (const std::exception& e) {
+    throw py::value_error(e.what());
+  }
+}
+
 }  // namespace
 
 void bindCamera(py::module_& m) {
@@ -79,7 +142,37 @@ void bindCamera(py::module_& m) {
 A calibrated camera model (pinhole, radial, OCamCalib, Kannala-Brandt, double sphere, UCM/EUCM,
 radial-tangential). Pixels follow OpenCV: u = column, v = row, origin at the centre of the
 top-left pixel. Bearings are unit vectors, x right, y down, z along the optical axis.
-Create one with mdbrief.load_camera(path).)doc")
+Create one with mdbrief.load_camera(path), from parameters named as the YAML's keys
+(configs/cameras/README.md):
+
+    mdbrief.Camera("kannala_brandt", 1280, 800, fx=..., fy=..., cx=..., cy=..., k1=..., k2=..., k3=..., k4=...)
+
+or from cv2.fisheye.calibrate's K and D with Camera.from_opencv(K, D, (width, height)).
+Cameras pickle (as model, size and parameters).)doc")
+      .def(py::init([](const std::string& model, int width, int height, const py::kwargs& parameters) {
+             return cameraFromKeywords(model, width, height, parameters);
+           }),
+           py::arg("model"), py::arg("width"), py::arg("height"),
+           "Camera(model, width, height, **parameters): parameters are the model's keys of the project's\n"
+           "YAML (mdbrief.camera_models() lists them). ValueError naming the keyword for a missing,\n"
+           "unknown or bad one.")
+      .def_static("from_opencv", &cameraFromOpenCvArrays, py::arg("K"), py::arg("D"), py::arg("image_size"),
+                  py::arg("fisheye") = true,
+                  "A camera from OpenCV's calibration: K (3 x 3), D and image_size (width, height).\n"
+                  "fisheye=True: cv2.fisheye.calibrate's 4 coefficients (kannala_brandt); False:\n"
+                  "cv2.calibrateCamera's 4, 5, 8, 12 or 14 (radtan).")
+      .def_property_readonly("parameters", &parameterDict,
+                             "The model's parameters by their YAML keys: Camera(model, width, height, **parameters)\n"
+                             "is the same camera.")
+      .def(py::pickle(
+          [](const Camera& c) {
+            return py::make_tuple(c.modelName(), c.imageSize().width, c.imageSize().height, parameterDict(c));
+          },
+          [](const py::tuple& t) {
+            if (t.size() != 4) throw py::value_error("Camera: bad pickled state");
+            return cameraFromKeywords(t[0].cast<std::string>(), t[1].cast<int>(), t[2].cast<int>(),
+                                      t[3].cast<py::dict>());
+          }))
       .def_property_readonly("model", &Camera::modelName, "Model name as in the project's YAML ('ocam', ...).")
       .def_property_readonly(
           "image_size", [](const Camera& c) { return py::make_tuple(c.imageSize().width, c.imageSize().height); },
@@ -97,7 +190,13 @@ Create one with mdbrief.load_camera(path).)doc")
       .def("is_valid", &isValid, py::arg("pixels"),
            "(N, 2) pixels -> (N,) bool: inside the image and the lens' usable area.")
       .def(
-          "resized", [](const Camera& c, std::pair<int, int> size) { return c.resized({size.first, size.second}); },
+          "resized",
+          [](const Camera& c, std::pair<int, int> size) {
+            if (size.first <= 0 || size.second <= 0)
+              throw py::value_error("Camera.resized: size must be (width, height), both positive, got (" +
+                                    std::to_string(size.first) + ", " + std::to_string(size.second) + ")");
+            return c.resized({size.first, size.second});
+          },
           py::arg("size"), "The same lens at another (width, height) (a uniform resample of the image).")
       .def(
           "to_yaml", [](const Camera& c) { return cameraToYaml(c); },
@@ -112,19 +211,40 @@ Create one with mdbrief.load_camera(path).)doc")
 
   m.def(
       "load_camera",
-      [](const py::handle& pathArgument) -> std::shared_ptr<Camera> {
+      [](const py::handle& pathArgument, const std::string& format, const py::handle& cameraId) -> std::shared_ptr<Camera> {
         const std::string path = pathFrom(pathArgument, "path");
+        CameraFileOptions options;
+        try {
+          options.format = parseCameraFormat(format);
+        } catch (const std::exception& e) {
+          throw py::value_error(std::string("format: ") + e.what());
+        }
+        if (!cameraId.is_none()) options.cameraId = py::str(cameraId);
         requireFile(path);
         try {
-          return loadCamera(path);
+          return readCameraFile(path, options).camera;
         } catch (const std::runtime_error& e) {
-          throw py::value_error(e.what());
+          const std::string what = e.what();
+          // The library's message says "by its id"; Python's spelling of the choice:
+          throw py::value_error(what.find("by its id") == std::string::npos ? what : what + " (camera_id=...)");
         }
       },
-      py::arg("path"), R"doc(
-Reads a calibration (path: str, bytes or os.PathLike), recognising the format from the content:
-the project's YAML, OCamCalib's calib_results.txt, or a fisheye-calib-adapter YAML. Raises
-FileNotFoundError for a missing file and ValueError naming the key for a bad one.)doc");
+      py::arg("path"), py::kw_only(), py::arg("format") = toString(CameraFormat::Auto), py::arg("camera_id") = py::none(),
+      R"doc(
+Reads a calibration (path: str, bytes or os.PathLike), recognising the format from the content
+or by format= (auto, mdbrief, calib-adapter, kalibr, basalt, orbslam3, opencv, colmap,
+ocamcalib; configs/cameras/README.md). camera_id chooses the camera of a file that holds
+several: Kalibr's 'cam0', 'cam1', ...; basalt's index; ORB-SLAM3's 1 or 2; COLMAP's CAMERA_ID.
+Raises FileNotFoundError for a missing file and ValueError naming the key for a bad one.)doc");
+
+  m.def(
+      "camera_models",
+      [] {
+        py::dict d;
+        for (const std::string& model : cameraModelNames()) d[py::str(model)] = cameraModelKeys(model);
+        return d;
+      },
+      "Every model name and its parameter keywords for Camera(model, width, height, **parameters).");
 }
 
 }  // namespace mdbrief::python

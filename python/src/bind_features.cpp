@@ -1,6 +1,7 @@
 // mdbrief.MdBrief: the cv::Feature2D adapter (feature2d.hpp) with every MdBriefOptions field as a
 // keyword argument. The keywords, their docs and ranges come from the library's field table
 // (mdBriefOptionFields()); defaults from a default-constructed MdBriefOptions.
+#include <optional>
 #include <string>
 
 #include "bindings.hpp"
@@ -13,9 +14,51 @@
 namespace mdbrief::python {
 namespace {
 
-MdBriefOptions optionsFrom(const std::string& preset, const py::kwargs& kwargs) {
-  return optionsFromKeywords(mdBriefOptionFields(), kwargs, "MdBrief", [](const MdBriefOptions& o) { validate(o); },
-                             {}, presetSettings(presetFrom(preset)).features);
+using FeaturePtr = std::shared_ptr<MdBrief>;
+
+// pattern may also be a TestSet (one just trained, say): then the options' pattern is
+// `patternText` (default: the set's name), and the set itself describes.
+FeaturePtr makeFeature(std::shared_ptr<Camera> camera, MdBriefOptions base, const py::dict& keywords,
+                       const std::optional<std::string>& patternText = std::nullopt) {
+  std::optional<TestSet> tests;
+  if (keywords.contains("pattern") && py::isinstance<TestSet>(keywords["pattern"])) {
+    tests = keywords["pattern"].cast<TestSet>();
+    base.descriptor.pattern = patternText.value_or(tests->name);
+  }
+  const MdBriefOptions options = optionsFromKeywords(
+      mdBriefOptionFields(), py::kwargs(keywords), "MdBrief", [](const MdBriefOptions& o) { validate(o); },
+      tests ? std::vector<std::string>{"pattern"} : std::vector<std::string>{}, base);
+  try {
+    return tests ? std::make_shared<MdBrief>(camera, options, *tests) : std::make_shared<MdBrief>(camera, options);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());  // a missing camera or an unusable pattern
+  }
+}
+
+// The C++ check's message names Camera::resized; Python users call camera.resized.
+void requireCameraSize(const MdBrief& feature, const cv::Mat& image) {
+  const auto& camera = feature.camera();
+  if (!camera || image.empty() || image.size() == camera->imageSize()) return;
+  throw py::value_error("MdBrief: image size " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
+                        " differs from the camera's " + std::to_string(camera->imageSize().width) + "x" +
+                        std::to_string(camera->imageSize().height) +
+                        " (use MdBrief(camera.resized((width, height)), ...))");
+}
+
+// Pickled as the camera, every option by keyword and the test set in use, so a set given as a
+// TestSet or a file need not exist where it is unpickled.
+py::tuple featureState(const MdBrief& f) {
+  return py::make_tuple(std::const_pointer_cast<Camera>(f.camera()), keywordDict(mdBriefOptionFields(), f.options()),
+                        py::cast(f.extractor().testSet()));
+}
+
+FeaturePtr featureFromState(const py::tuple& state) {
+  if (state.size() != 3 || !py::isinstance<py::dict>(state[1]) || !py::isinstance<TestSet>(state[2]))
+    throw py::value_error("MdBrief: bad pickled state");
+  py::dict keywords = state[1].cast<py::dict>();
+  const std::string pattern = keywords.contains("pattern") ? pathFrom(keywords["pattern"], "pattern") : "";
+  keywords["pattern"] = state[2];
+  return makeFeature(state[0].cast<std::shared_ptr<Camera>>(), MdBriefOptions{}, keywords, pattern);
 }
 
 std::string initDoc() {
@@ -23,13 +66,13 @@ std::string initDoc() {
          "Detector + descriptor, as mdbrief::MdBrief in C++. camera: an mdbrief.Camera (None only for\n"
          "descriptor='brief' or 'mbrief'). preset: the options to start from (mdbrief.presets():\n"
          "tracking, the library's defaults; matching; paper). Every option of MdBriefOptions is a\n"
-         "keyword that changes the preset's value; the defaults (docs/RESULTS.md says why):\n\n" +
+         "keyword that changes the preset's value; pattern may also be a TestSet (mdbrief.train()'s).\n"
+         "MdBrief objects pickle (camera, options and the test set in use). The defaults\n"
+         "(docs/RESULTS.md says why):\n\n" +
          keywordDoc(mdBriefOptionFields(), MdBriefOptions{}) +
          "\nA bad value raises ValueError naming the keyword, its range and the value; an unknown keyword,\n"
          "TypeError; an unknown preset, ValueError listing the presets.";
 }
-
-using FeaturePtr = std::shared_ptr<MdBrief>;
 
 // Keypoints, descriptors and masks of one call; the C++ work runs without the GIL.
 py::tuple run(MdBrief& feature, const py::handle& image, const py::handle& mask, std::vector<cv::KeyPoint> keypoints,
@@ -38,6 +81,7 @@ py::tuple run(MdBrief& feature, const py::handle& image, const py::handle& mask,
   const cv::Mat img = imageFromArray(image, "image", keepImage);
   const cv::Mat msk = imageFromArray(mask, "mask", keepMask, true);
   if (!msk.empty() && msk.channels() != 1) throw py::value_error("mask must have shape (H, W)");
+  requireCameraSize(feature, img);
   cv::Mat descriptors, masks;
   try {
     py::gil_scoped_release release;
@@ -56,12 +100,7 @@ py::tuple run(MdBrief& feature, const py::handle& image, const py::handle& mask,
 void bindFeatures(py::module_& m) {
   py::class_<MdBrief, FeaturePtr>(m, "MdBrief", "Keypoint detection and BRIEF / dBRIEF / mdBRIEF description.")
       .def(py::init([](std::shared_ptr<Camera> camera, const std::string& preset, const py::kwargs& kwargs) {
-             const MdBriefOptions options = optionsFrom(preset, kwargs);
-             try {
-               return std::make_shared<MdBrief>(camera, options);
-             } catch (const std::invalid_argument& e) {
-               throw py::value_error(e.what());  // a missing camera or an unusable pattern
-             }
+             return makeFeature(camera, presetSettings(presetFrom(preset)).features, kwargs);
            }),
            py::arg("camera").none(true), py::kw_only(), py::arg("preset") = toString(Preset::Tracking),
            initDoc().c_str())
@@ -72,6 +111,7 @@ void bindFeatures(py::module_& m) {
             const cv::Mat img = imageFromArray(image, "image", keepImage);
             const cv::Mat msk = imageFromArray(mask, "mask", keepMask, true);
             if (!msk.empty() && msk.channels() != 1) throw py::value_error("mask must have shape (H, W)");
+            requireCameraSize(f, img);
             std::vector<cv::KeyPoint> keypoints;
             try {
               py::gil_scoped_release release;
@@ -101,6 +141,9 @@ void bindFeatures(py::module_& m) {
           },
           py::arg("image"), py::arg("mask") = py::none(),
           "detect() then compute() on one image pyramid: (keypoints, descriptors, masks).")
+      .def(py::pickle(&featureState, &featureFromState))
+      .def_property_readonly("test_set", [](const MdBrief& f) { return f.extractor().testSet(); },
+                             "The tests in use (the pattern's first `bits`).")
       .def_property_readonly("options", [](const MdBrief& f) { return keywordDict(mdBriefOptionFields(), f.options()); },
                              "Every option, by keyword name.")
       .def_property_readonly("camera", [](const MdBrief& f) { return std::const_pointer_cast<Camera>(f.camera()); })

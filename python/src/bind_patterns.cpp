@@ -9,6 +9,8 @@
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/patterns.hpp"
 #include "option_keywords.hpp"
+#include "mdbrief/internal/atomic_file.hpp"
+#include "toolkit/pattern_writer.hpp"
 #include "trainer/training.hpp"
 
 namespace mdbrief::python {
@@ -26,7 +28,59 @@ py::array_t<int8_t> testsArray(const TestSet& set) {
   return out;
 }
 
+// The JSON form mdbrief-train writes (<name>.json), which load_pattern and MdBrief read back.
+void saveTestSet(const TestSet& set, const py::handle& pathArgument) {
+  const std::string path = pathFrom(pathArgument, "path");
+  PatternDocument document;
+  document.name = set.name;
+  document.description = "saved by mdbrief.TestSet.save";
+  document.tests = set.tests;
+  document.trainingImages = set.trainingImages;
+  try {
+    validate(document);
+    internal::writeFileAtomically(path, patternJsonText(document));
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
+  }
+}
+
+py::tuple testSetState(const TestSet& set) {
+  py::list tests;
+  for (const TestPair& t : set.tests) tests.append(py::make_tuple(t.x1, t.y1, t.x2, t.y2));
+  return py::make_tuple(set.name, tests, set.trainingImages);
+}
+
+// A set from Python: tests as (N, 4) rows (x1, y1, x2, y2) of offsets in [-16, 15].
+TestSet makeTestSet(const std::string& name, const py::handle& rows, const std::vector<std::string>& trainingImages) {
+  TestSet set;
+  set.name = name;
+  set.trainingImages = trainingImages;
+  for (const py::handle row : rows) {
+    std::vector<int> v;
+    try {
+      v = row.cast<std::vector<int>>();
+    } catch (const py::cast_error&) {
+      throw py::type_error("TestSet: tests must be rows of 4 ints (x1, y1, x2, y2)");
+    }
+    if (v.size() != 4) throw py::value_error("TestSet: tests must be rows of 4 ints (x1, y1, x2, y2)");
+    for (int x : v)
+      if (x < -16 || x > 15)
+        throw py::value_error("TestSet: test " + std::to_string(set.tests.size()) + " has offset " +
+                              std::to_string(x) + " outside [-16, 15]");
+    set.tests.push_back({static_cast<int8_t>(v[0]), static_cast<int8_t>(v[1]), static_cast<int8_t>(v[2]),
+                         static_cast<int8_t>(v[3])});
+  }
+  if (set.tests.empty()) throw py::value_error("TestSet: tests is empty");
+  return set;
+}
+
+TestSet testSetFromState(const py::tuple& state) {
+  if (state.size() != 3) throw py::value_error("TestSet: bad pickled state");
+  return makeTestSet(state[0].cast<std::string>(), state[1], state[2].cast<std::vector<std::string>>());
+}
+
 TestSet loadPattern(const py::handle& argument) {
+  if (py::isinstance<TestSet>(argument)) return argument.cast<TestSet>();
   const std::string nameOrPath = pathFrom(argument, "name_or_path");
   const auto names = builtinTestSetNames();
   if (std::find(names.begin(), names.end(), nameOrPath) == names.end()) requireFile(nameOrPath);
@@ -118,11 +172,19 @@ std::string trainDoc() {
 
 void bindPatterns(py::module_& m) {
   py::class_<TestSet>(m, "TestSet", "A binary test set: (x1, y1, x2, y2) offsets in the 32x32 patch, in [-16, 15].")
+      .def(py::init(&makeTestSet), py::arg("name"), py::arg("tests"),
+           py::arg("training_images") = std::vector<std::string>{},
+           "TestSet(name, tests, training_images=()): tests as (N, 4) rows (x1, y1, x2, y2), e.g. an\n"
+           "int array; offsets in [-16, 15].")
       .def_readonly("name", &TestSet::name)
       .def_property_readonly("tests", &testsArray, "(N, 4) int8 array, the first rows form the shortest descriptor.")
       .def_readonly("training_images", &TestSet::trainingImages,
                     "Digests of the images the set was learned from (empty for a random set).")
       .def("__len__", [](const TestSet& s) { return s.tests.size(); })
+      .def("save", &saveTestSet, py::arg("path"),
+           "Writes the set as mdbrief-train's <name>.json (path: str, bytes or os.PathLike), atomically;\n"
+           "load_pattern(path) and MdBrief(camera, pattern=path) read it back.")
+      .def(py::pickle(&testSetState, &testSetFromState))
       .def(
           "first",
           [](const TestSet& s, int n) {
@@ -140,8 +202,9 @@ void bindPatterns(py::module_& m) {
   m.def("patterns", &builtinTestSetNames, "Names of the compiled-in test sets, sorted.");
   m.def("default_pattern", &defaultTestSetName, "The set MdBrief uses when pattern is ''.");
   m.def("load_pattern", &loadPattern, py::arg("name_or_path"),
-        "A compiled-in set by name, or a JSON test set file (str, bytes or os.PathLike, as\n"
-        "mdbrief-train writes it). The same works as MdBrief(camera, pattern=...).");
+        "A compiled-in set by name, a JSON test set file (str, bytes or os.PathLike, as\n"
+        "mdbrief-train writes it), or a TestSet (returned as is). The same works as\n"
+        "MdBrief(camera, pattern=...).");
   m.def("train", &train, trainDoc().c_str());
 }
 

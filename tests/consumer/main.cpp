@@ -1,8 +1,10 @@
 // Detect, describe (mdBRIEF with the default compiled-in pattern) and match a synthetic image
-// against a shifted copy; exit 0 when most keypoints find their shifted partner.
+// against a shifted copy; exit 0 when most keypoints find their shifted partner. With an
+// argument, also load that calibration file (an installed example camera).
 #include <cstdio>
 #include <memory>
 
+#include <mdbrief/camera_io.hpp>
 #include <mdbrief/camera_pinhole.hpp>
 #include <mdbrief/descriptor.hpp>
 #include <mdbrief/detector.hpp>
@@ -10,7 +12,12 @@
 #include <mdbrief/patterns.hpp>
 #include <opencv2/imgproc.hpp>
 
-int main() {
+int main(int argc, char** argv) {
+  if (argc > 1) {
+    const auto installed = mdbrief::loadCamera(argv[1]);
+    std::printf("%s: %s %dx%d\n", argv[1], installed->modelName().c_str(), installed->imageSize().width,
+                installed->imageSize().height);
+  }
   cv::Mat image(480, 640, CV_8U);
   cv::randu(image, 0, 256);
   cv::GaussianBlur(image, image, cv::Size(0, 0), 2.0);

@@ -116,6 +116,11 @@ def test_training_is_deterministic_and_writes_what_the_tool_writes(tmp_path):
     # The default criterion is the shipped sets' (configs/training/*.toml).
     assert "--seed 3 --counterparts 1 --selection separation --tests 64 --name tiny_64" in header
     assert np.array_equal(mdbrief.load_pattern(str(tmp_path / "out" / "tiny_64.json")).tests, first.tests)
+    # The trained set saves as the trainer's JSON and describes as a pattern.
+    again.save(tmp_path / "saved.json")
+    assert np.array_equal(mdbrief.load_pattern(tmp_path / "saved.json").tests, first.tests)
+    assert mdbrief.load_pattern(tmp_path / "saved.json").training_images == first.training_images
+    assert mdbrief.MdBrief(None, descriptor="brief", bits=64, pattern=again).test_set.name == "tiny_64"
     other = mdbrief.train(images=str(images), patches=800, tests=64, seed=4)
     assert not np.array_equal(other.tests, first.tests)
 

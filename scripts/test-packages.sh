@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Packaging checks (README "Build and install"), run by CI after the test suite:
+#  1. the .deb CPack makes of BUILD_DIR (library, tools, Python module) is unpacked with dpkg -x
+#     into a scratch root (no root rights, the machine's packages untouched): its mdbrief tool
+#     converts an installed example camera, and /usr/bin/python3 imports its module and loads it;
+#  2. a library-only build with -DBUILD_SHARED_LIBS=ON is installed, and the test consumer
+#     (tests/consumer) is built against libmdbrief.so with find_package and with pkg-config alone,
+#     and run.
+# Usage: scripts/test-packages.sh BUILD_DIR [SHARED_BUILD_DIR]   (default: BUILD_DIR-shared)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD_DIR=$(realpath "$1")
+SHARED_DIR=$(realpath -m "${2:-$1-shared}")
+SCRATCH=$(mktemp -d)
+trap 'rm -rf "$SCRATCH"' EXIT
+
+# 1. The .deb.
+(cd "$BUILD_DIR" && cpack -G DEB -B "$SCRATCH/deb" >/dev/null)
+deb=$(ls "$SCRATCH"/deb/*.deb)
+dpkg-deb --field "$deb" Package Version Depends
+dpkg -x "$deb" "$SCRATCH/root"
+prefix=$(grep '^CMAKE_INSTALL_PREFIX:' "$BUILD_DIR/CMakeCache.txt" | cut -d= -f2)
+python_dir=$(grep '^MDBRIEF_PYTHON_INSTALL_DIR:' "$BUILD_DIR/CMakeCache.txt" | cut -d= -f2)
+root="$SCRATCH/root$prefix"
+camera="$root/share/mdbrief/cameras/lafida_fisheye0.yaml"
+"$root/bin/mdbrief" camera convert "$camera" -o "$SCRATCH/camera.yaml"
+env -i PATH=/usr/bin:/bin PYTHONPATH="$root/$python_dir" /usr/bin/python3 -c "
+import sys, mdbrief
+assert mdbrief.__file__.startswith('$root'), mdbrief.__file__
+camera = mdbrief.load_camera(sys.argv[1])
+assert camera.to_yaml() == open(sys.argv[2]).read()
+print('deb: import mdbrief from', mdbrief.__file__, '->', camera)" "$camera" "$SCRATCH/camera.yaml"
+
+# 2. The shared library.
+cmake -S . -B "$SHARED_DIR" -DCMAKE_BUILD_TYPE=Release -DBUILD_SHARED_LIBS=ON -DMDBRIEF_BUILD_TOOLS=OFF \
+  -DMDBRIEF_BUILD_TESTS=OFF -DMDBRIEF_BUILD_BENCH=OFF >/dev/null
+cmake --build "$SHARED_DIR" -j"$(nproc)"
+cmake --install "$SHARED_DIR" --component library --prefix "$SCRATCH/shared" >/dev/null
+lib=$(find "$SCRATCH/shared" -name 'libmdbrief.so*' -type f)
+test -n "$lib"
+export LD_LIBRARY_PATH=$(dirname "$lib")
+cmake -S tests/consumer -B "$SCRATCH/consumer" -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$SCRATCH/shared" >/dev/null
+cmake --build "$SCRATCH/consumer" >/dev/null
+ldd "$SCRATCH/consumer/consumer" | grep "libmdbrief\.so" >/dev/null || { echo "the consumer did not link libmdbrief.so" >&2; exit 1; }
+"$SCRATCH/consumer/consumer" "$SCRATCH/shared/share/mdbrief/cameras/lafida_fisheye0.yaml"
+PKG_CONFIG_PATH=$(dirname "$lib")/pkgconfig c++ -std=c++17 -O1 tests/consumer/main.cpp -o "$SCRATCH/pc_consumer" \
+  $(PKG_CONFIG_PATH=$(dirname "$lib")/pkgconfig pkg-config --cflags --libs mdbrief)
+"$SCRATCH/pc_consumer"
+echo "packages: .deb imports, shared library consumers build and run"

@@ -1,0 +1,215 @@
+#include "toolkit/bearing_homography.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace mdbrief {
+namespace {
+
+double angleBetween(const cv::Vec3d& u, const cv::Vec3d& v) { return std::atan2(cv::norm(u.cross(v)), u.dot(v)); }
+
+// Least-squares DLT of b ~ H a over `indices`: each pair gives b x (H a) = 0, three equations
+// of rank two. Bearings are unit vectors, so no normalisation is needed. Empty when degenerate.
+std::optional<cv::Matx33d> solveHomography(const std::vector<cv::Vec3d>& a, const std::vector<cv::Vec3d>& b,
+                                           const std::vector<int>& indices) {
+  cv::Mat m(static_cast<int>(indices.size()) * 3, 9, CV_64F, cv::Scalar(0));
+  for (size_t k = 0; k < indices.size(); ++k) {
+    const cv::Vec3d& p = a[indices[k]];
+    const cv::Vec3d& q = b[indices[k]];
+    double* r0 = m.ptr<double>(static_cast<int>(3 * k));
+    double* r1 = m.ptr<double>(static_cast<int>(3 * k + 1));
+    double* r2 = m.ptr<double>(static_cast<int>(3 * k + 2));
+    for (int c = 0; c < 3; ++c) {
+      // row 0: q_y (h3 . p) - q_z (h2 . p)
+      r0[3 + c] = -q[2] * p[c];
+      r0[6 + c] = q[1] * p[c];
+      // row 1: q_z (h1 . p) - q_x (h3 . p)
+      r1[c] = q[2] * p[c];
+      r1[6 + c] = -q[0] * p[c];
+      // row 2: q_x (h2 . p) - q_y (h1 . p)
+      r2[c] = -q[1] * p[c];
+      r2[3 + c] = q[0] * p[c];
+    }
+  }
+  // The null vector of m from the 9x9 normal matrix: an order of magnitude faster than an SVD
+  // of m, and accurate enough in doubles for unit bearings.
+  cv::Mat normal, values, vectors;
+  cv::mulTransposed(m, normal, true);
+  cv::eigen(normal, values, vectors);  // eigenvalues descending
+  // A minimal sample with three collinear points leaves a null space of dimension > 1.
+  if (indices.size() == 4 && !(values.at<double>(7) > 1e-18 * values.at<double>(0))) return std::nullopt;
+  cv::Matx33d h;
+  for (int i = 0; i < 9; ++i) h.val[i] = vectors.at<double>(8, i);
+  const double det = cv::determinant(h);
+  if (!(std::abs(det) > 1e-12) || !std::isfinite(det)) return std::nullopt;
+  return h;
+}
+
+// Orients h so that h a . b > 0 on the sample; empty when the sample disagrees (no plane seen
+// from one side explains it).
+std::optional<cv::Matx33d> orient(cv::Matx33d h, const std::vector<cv::Vec3d>& a, const std::vector<cv::Vec3d>& b,
+                                  const std::vector<int>& indices) {
+  int positive = 0;
+  for (int i : indices) positive += (h * a[i]).dot(b[i]) > 0;
+  if (positive == 0) return cv::Matx33d(-h);
+  if (positive == static_cast<int>(indices.size())) return h;
+  return std::nullopt;
+}
+
+double residualPx(const cv::Matx33d& h, const cv::Vec3d& a, const cv::Vec3d& b, double scale) {
+  const cv::Vec3d v = h * a;
+  if (!(v.dot(b) > 0)) return std::numeric_limits<double>::infinity();
+  return angleBetween(v, b) * scale;
+}
+
+int countInliers(const cv::Matx33d& h, const std::vector<cv::Vec3d>& a, const std::vector<cv::Vec3d>& b,
+                 const std::vector<double>& scale, double threshold, std::vector<char>& inliers) {
+  inliers.assign(a.size(), 0);
+  int n = 0;
+  for (size_t k = 0; k < a.size(); ++k) {
+    inliers[k] = residualPx(h, a[k], b[k], scale[k]) <= threshold;
+    n += inliers[k];
+  }
+  return n;
+}
+
+// Pixel residual of b against h a in b's tangent plane (two components, angles times the local
+// pixel scale); +inf-free: a prediction behind b is penalised by its full angle.
+void tangentResidual(const cv::Matx33d& h, const cv::Vec3d& a, const cv::Vec3d& b, double scale, double* out) {
+  cv::Vec3d v = h * a;
+  v /= cv::norm(v);
+  // An orthonormal basis of b's tangent plane.
+  const cv::Vec3d helper = std::abs(b[0]) < 0.9 ? cv::Vec3d(1, 0, 0) : cv::Vec3d(0, 1, 0);
+  const cv::Vec3d e1 = cv::normalize(b.cross(helper)), e2 = b.cross(e1);
+  out[0] = v.dot(e1) * scale;
+  out[1] = v.dot(e2) * scale;
+}
+
+// Levenberg-Marquardt on the pixel residuals of the inliers (the DLT minimises an algebraic
+// error, which weighs rays by where they are): what a user's pipeline does after RANSAC.
+cv::Matx33d refineHomography(cv::Matx33d h, const std::vector<cv::Vec3d>& a, const std::vector<cv::Vec3d>& b,
+                             const std::vector<double>& scale, const std::vector<int>& members) {
+  const int m = static_cast<int>(members.size()) * 2;
+  const auto residuals = [&](const cv::Matx33d& g, cv::Mat& r) {
+    r.create(m, 1, CV_64F);
+    for (size_t k = 0; k < members.size(); ++k)
+      tangentResidual(g, a[members[k]], b[members[k]], scale[members[k]], r.ptr<double>(static_cast<int>(2 * k)));
+    return r.dot(r);
+  };
+  h *= 1.0 / cv::norm(h);
+  cv::Mat r, trial, jac(m, 9, CV_64F);
+  double cost = residuals(h, r), lambda = 1e-3;
+  for (int iteration = 0; iteration < 20; ++iteration) {
+    for (int p = 0; p < 9; ++p) {  // forward differences: h has unit norm, so steps are relative
+      cv::Matx33d g = h;
+      g.val[p] += 1e-7;
+      residuals(g, trial);
+      jac.col(p) = (trial - r) / 1e-7;
+    }
+    const cv::Mat jtj = jac.t() * jac, jtr = jac.t() * r;
+    bool improved = false;
+    while (lambda < 1e8) {
+      cv::Mat damped = jtj.clone(), step;
+      for (int p = 0; p < 9; ++p) damped.at<double>(p, p) *= 1.0 + lambda;
+      if (!cv::solve(damped, -jtr, step, cv::DECOMP_CHOLESKY)) break;
+      cv::Matx33d g = h;
+      for (int p = 0; p < 9; ++p) g.val[p] += step.at<double>(p);
+      g *= 1.0 / cv::norm(g);
+      const double c = residuals(g, trial);
+      if (c < cost) {
+        improved = cost - c > 1e-10 * cost;
+        h = g, cost = c, r = trial.clone(), lambda = std::max(lambda * 0.1, 1e-9);
+        break;
+      }
+      lambda *= 10;
+    }
+    if (!improved) break;
+  }
+  return h;
+}
+
+}  // namespace
+
+int ransacIterationsNeeded(double w, int sampleSize, double confidence, int cap) {
+  const double good = std::pow(w, sampleSize);
+  if (good >= 1.0) return 1;
+  if (good <= 0.0) return cap;
+  const double k = std::log(1.0 - confidence) / std::log(1.0 - good);
+  return k >= cap ? cap : std::max(1, static_cast<int>(std::ceil(k)));
+}
+
+std::optional<double> pixelsPerRadian(const Camera& camera, const cv::Point2d& pixel) {
+  cv::Vec3d l, r, u, d;
+  const double h = 0.5;
+  if (!camera.pixelToBearing(pixel - cv::Point2d(h, 0), l) || !camera.pixelToBearing(pixel + cv::Point2d(h, 0), r) ||
+      !camera.pixelToBearing(pixel - cv::Point2d(0, h), u) || !camera.pixelToBearing(pixel + cv::Point2d(0, h), d))
+    return std::nullopt;
+  const double radiansPerPixel = 0.5 * (angleBetween(l, r) + angleBetween(u, d)) / (2 * h);
+  if (!(radiansPerPixel > 0)) return std::nullopt;
+  return 1.0 / radiansPerPixel;
+}
+
+std::optional<HomographyFit> fitBearingHomography(const std::vector<cv::Vec3d>& a, const std::vector<cv::Vec3d>& b,
+                                                  const std::vector<double>& scaleB, const RansacOptions& o) {
+  const int n = static_cast<int>(a.size());
+  if (n < 4 || b.size() != a.size() || scaleB.size() != a.size()) return std::nullopt;
+  std::mt19937_64 rng(o.seed);
+  std::uniform_int_distribution<int> pick(0, n - 1);
+  HomographyFit best;
+  std::vector<char> inliers;
+  int needed = o.maxIterations;
+  std::vector<int> sample(4);
+  for (int it = 0; it < needed; ++it) {
+    for (int s = 0; s < 4; ++s) {
+      do sample[s] = pick(rng);
+      while (std::find(sample.begin(), sample.begin() + s, sample[s]) != sample.begin() + s);
+    }
+    auto h = solveHomography(a, b, sample);
+    if (h) h = orient(*h, a, b, sample);
+    if (!h) continue;
+    const int count = countInliers(*h, a, b, scaleB, o.thresholdPx, inliers);
+    if (count > best.inlierCount) {
+      best.h = *h;
+      best.inlierCount = count;
+      best.inliers = inliers;
+      needed = ransacIterationsNeeded(static_cast<double>(count) / n, 4, o.confidence, o.maxIterations);
+    }
+  }
+  if (best.inlierCount < 4) return std::nullopt;
+  // Refit on the inliers while that keeps or adds inliers (a local optimisation step).
+  for (int round = 0; round < 5; ++round) {
+    std::vector<int> members;
+    for (int k = 0; k < n; ++k)
+      if (best.inliers[k]) members.push_back(k);
+    auto h = solveHomography(a, b, members);
+    if (h) {
+      // The least-squares fit keeps the sign convention of the majority.
+      int positive = 0;
+      for (int k : members) positive += ((*h) * a[k]).dot(b[k]) > 0;
+      if (2 * positive < static_cast<int>(members.size())) *h = -*h;
+    }
+    if (!h) break;
+    const int count = countInliers(*h, a, b, scaleB, o.thresholdPx, inliers);
+    if (count < best.inlierCount) break;
+    const bool grew = count > best.inlierCount;
+    best.h = *h;
+    best.inlierCount = count;
+    best.inliers = inliers;
+    if (!grew) break;
+  }
+  std::vector<int> members;
+  for (int k = 0; k < n; ++k)
+    if (best.inliers[k]) members.push_back(k);
+  const cv::Matx33d refined = refineHomography(best.h, a, b, scaleB, members);
+  const int count = countInliers(refined, a, b, scaleB, o.thresholdPx, inliers);
+  if (count >= best.inlierCount) {
+    best.h = refined;
+    best.inlierCount = count;
+    best.inliers = inliers;
+  }
+  return best;
+}
+
+}  // namespace mdbrief
