@@ -1,6 +1,7 @@
 // Trainer stages on synthetic patches (needs mdbrief_trainer_lib): candidate generation,
-// bit-packed response evaluation of all 377,650 candidates, the flip counts on matching pairs,
-// the variance sort with the greedy selection, and the separation forward selection. The full 20,000-patch run is timed by mdbrief-train itself (docs/training.md).
+// the streamed response counts of all 377,650 candidates, the flip counts on matching pairs,
+// the variance sort with the greedy selection (recomputing the columns it screens), and the
+// separation forward selection. The full 20,000-patch run is timed by mdbrief-train itself (docs/training.md).
 #include <algorithm>
 #include <random>
 
@@ -33,23 +34,25 @@ void BM_CandidateTests(benchmark::State& state) {
 }
 BENCHMARK(BM_CandidateTests)->Unit(benchmark::kMillisecond);
 
-void BM_EvaluateAllCandidates(benchmark::State& state) {
+void BM_CountAllCandidates(benchmark::State& state) {
   const size_t patches = static_cast<size_t>(state.range(0));
   const auto px = syntheticPatches(patches);
   const auto tests = candidateTests();
-  for (auto _ : state) benchmark::DoNotOptimize(evaluateTests({px.data(), patches}, tests));
+  for (auto _ : state) benchmark::DoNotOptimize(countResponses({px.data(), patches}, tests));
   state.counters["tests_x_patches/s"] = benchmark::Counter(
       double(tests.size()) * patches, benchmark::Counter::kIsIterationInvariantRate);
 }
-BENCHMARK(BM_EvaluateAllCandidates)->Arg(2048)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CountAllCandidates)->Arg(2048)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_SortAndGreedy512(benchmark::State& state) {
   const size_t patches = 2048;
   const auto px = syntheticPatches(patches);
-  const TestResponses r = evaluateTests({px.data(), patches}, candidateTests());
+  const auto candidates = candidateTests();
+  const ResponseCounts counts{patches, countResponses({px.data(), patches}, candidates), 0, {}};
+  const PatchLanes lanes(PatchRows::of({px.data(), patches}), StreamingOptions{}.chunkWords);
   for (auto _ : state) {
-    const auto sorted = sortByVariance(r);
-    benchmark::DoNotOptimize(selectUncorrelated(r, sorted, GreedyOptions{}));
+    const auto sorted = sortByVariance(counts);
+    benchmark::DoNotOptimize(selectUncorrelated(lanes, candidates, sorted, GreedyOptions{}));
   }
 }
 BENCHMARK(BM_SortAndGreedy512)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -63,6 +66,7 @@ struct Pairs {
     for (auto& v : counterpart) v = static_cast<uint8_t>(std::min<uint32_t>(255, v + rng() % 12));
     for (size_t j = 0; j < count; ++j) of[j] = static_cast<int32_t>(j);
   }
+  Counterparts counterparts() const { return {{counterpart.data(), of.size()}, of.data()}; }
 };
 
 void BM_CountDisagreementsAllCandidates(benchmark::State& state) {
@@ -70,7 +74,7 @@ void BM_CountDisagreementsAllCandidates(benchmark::State& state) {
   const Pairs p(pairs);
   const auto tests = candidateTests();
   for (auto _ : state)
-    benchmark::DoNotOptimize(countDisagreements({p.reference.data(), pairs}, {p.counterpart.data(), pairs}, p.of, tests));
+    benchmark::DoNotOptimize(countDisagreements({p.reference.data(), pairs}, p.counterparts(), tests));
 }
 BENCHMARK(BM_CountDisagreementsAllCandidates)->Arg(2048)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -80,15 +84,14 @@ void BM_SeparationSelection512(benchmark::State& state) {
   const size_t n = 2048;
   const Pairs p(n);
   const auto candidates = candidateTests();
-  const TestResponses r = evaluateTests({p.reference.data(), n}, candidates);
-  const auto flips = countDisagreements({p.reference.data(), n}, {p.counterpart.data(), n}, p.of, candidates);
-  const auto order = sortByCriterion(r, SelectionCriterion::Stability, flips, n);
+  const ResponseCounts counts{n, countResponses({p.reference.data(), n}, candidates), n,
+                              countDisagreements({p.reference.data(), n}, p.counterparts(), candidates)};
+  const auto order = sortByCriterion(counts, SelectionCriterion::Stability);
   SeparationOptions o;
   o.pool = 16384;
-  std::vector<mdbrief::TestPair> poolTests;
-  for (size_t i = 0; i < o.pool; ++i) poolTests.push_back(candidates[order[i]]);
-  const TestResponses poolFlips = disagreementBits({p.reference.data(), n}, {p.counterpart.data(), n}, p.of, poolTests);
-  for (auto _ : state) benchmark::DoNotOptimize(selectBySeparation(r, order, poolFlips, o));
+  for (auto _ : state)
+    benchmark::DoNotOptimize(
+        selectBySeparation({p.reference.data(), n}, p.counterparts(), candidates, counts, order, o));
 }
 BENCHMARK(BM_SeparationSelection512)->Unit(benchmark::kMillisecond)->UseRealTime();
 

@@ -28,9 +28,22 @@ using internal::sizeText;
 // length of 1e-9 px puts every pixel at 90 degrees): the run gives few or no keypoints, so it says why.
 constexpr double kFewPercentOfTheImage = 0.05;
 
+// Whether the descriptor's tangent plane can be placed at p (within its incidence bound) and
+// projects half a plane unit (about a pixel) around it: the Jacobian alone exists up to the
+// edge of the model's domain (a focal length of 1e-9 px), where no footprint fits.
+bool planeProjectsAround(const Camera& camera, const cv::Point2d& p, const DescriptorOptions& descriptor) {
+  const auto frame = tangentPlaneAt(camera, p, descriptor.maxIncidenceDeg, descriptor.form == DistortionForm::Affine);
+  if (!frame) return false;
+  cv::Point2d pixel;
+  for (const cv::Point2d offset :
+       {cv::Point2d(0.5, 0), cv::Point2d(-0.5, 0), cv::Point2d(0, 0.5), cv::Point2d(0, -0.5)})
+    if (!planeToPixel(camera, *frame, offset, pixel)) return false;
+  return true;
+}
+
 // The share of a grid of at most 64 x 64 pixels where a keypoint can be described: valid for
 // the camera and, for descriptors that use the camera model (`descriptor` given), where the
-// descriptor's tangent plane can be placed (within its incidence bound).
+// descriptor's plane projects (planeProjectsAround).
 double describableShare(const Camera& camera, const DescriptorOptions* descriptor) {
   const cv::Size size = camera.imageSize();
   const int nx = std::min(size.width, 64), ny = std::min(size.height, 64);
@@ -38,9 +51,7 @@ double describableShare(const Camera& camera, const DescriptorOptions* descripto
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
       const cv::Point2d p((i + 0.5) * size.width / nx - 0.5, (j + 0.5) * size.height / ny - 0.5);
-      usable += camera.isValid(p) &&
-                (!descriptor || tangentPlaneAt(camera, p, descriptor->maxIncidenceDeg,
-                                               descriptor->form == DistortionForm::Affine));
+      usable += camera.isValid(p) && (!descriptor || planeProjectsAround(camera, p, *descriptor));
     }
   return static_cast<double>(usable) / (nx * ny);
 }

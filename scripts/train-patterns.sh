@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Retrains the shipped learned test sets (configs/training/*.toml) into patterns/ with
-# mdbrief-train, building it first if needed. Each run takes ~15-90 s and ~1.1 GB on 2 cores
+# mdbrief-train, building it first if needed. Each run takes ~15-90 s and ~0.2 GB on 2 cores
 # (docs/training.md). Outputs are byte-identical on every run.
 #   scripts/train-patterns.sh [BUILD_DIR] [CONFIG...]   (default: build/, every config)
 set -euo pipefail

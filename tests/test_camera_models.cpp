@@ -106,6 +106,51 @@ TEST(CameraModels, BearingRoundTripOverTheFieldOfView) {
   }
 }
 
+// The closed-form d pixel / d bearing against central differences of bearingToPixel, at the ray
+// of every valid pixel of an 8-px grid (scaled, since bearings may have any length) and on the
+// axis; the pixel and the refusals are bearingToPixel's own.
+TEST(CameraModels, JacobianMatchesNumericDifferentiationOverTheImage) {
+  // Large enough that OCam's Newton tolerance (1e-10 in rho) stays below the tolerance.
+  constexpr double h = 1e-4;
+  for (const NamedCamera& c : allCameras()) {
+    SCOPED_TRACE(c.name);
+    const Camera& camera = *c.camera;
+    std::vector<cv::Vec3d> rays{{0.0, 0.0, 1.0}};
+    const cv::Size size = camera.imageSize();
+    for (double v = 0.0; v <= size.height - 1.0; v += 8.0)
+      for (double u = 0.0; u <= size.width - 1.0; u += 8.0) {
+        cv::Vec3d b;
+        if (camera.isValid({u, v}) && camera.pixelToBearing({u, v}, b)) rays.push_back(b * 1.7);
+      }
+    ASSERT_GT(rays.size(), 1000u);
+    int compared = 0;
+    double worst = 0.0;
+    for (const cv::Vec3d& b : rays) {
+      cv::Point2d pixel, expected;
+      cv::Matx23d j;
+      const bool projected = camera.bearingToPixel(b, expected);
+      ASSERT_EQ(camera.bearingToPixelJacobian(b, pixel, j), projected);
+      if (!projected) continue;
+      EXPECT_EQ(pixel, expected);
+      cv::Matx23d numeric;
+      bool inside = true;
+      for (int k = 0; k < 3 && inside; ++k) {
+        cv::Vec3d step(0, 0, 0);
+        step[k] = h;
+        cv::Point2d plus, minus;
+        inside = camera.bearingToPixel(b + step, plus) && camera.bearingToPixel(b - step, minus);
+        numeric(0, k) = (plus.x - minus.x) / (2 * h);
+        numeric(1, k) = (plus.y - minus.y) / (2 * h);
+      }
+      if (!inside) continue;  // the stencil leaves the model's domain at its edge
+      ++compared;
+      worst = std::max(worst, cv::norm(j - numeric, cv::NORM_INF) / std::max(1.0, cv::norm(numeric, cv::NORM_INF)));
+    }
+    EXPECT_GT(compared, 1000);
+    EXPECT_LT(worst, 1e-5);
+  }
+}
+
 TEST(CameraModels, RaysOutsideTheModelAreRejected) {
   const cv::Vec3d behind(0.1, 0.2, -1.0);
   cv::Point2d p;

@@ -71,6 +71,8 @@ class DiscCamera : public mdbrief::Camera {
     pixel = rxy == 0 ? centre_ : centre_ + cv::Point2d(bearing[0] / rxy * r, bearing[1] / rxy * r);
     return true;
   }
+  // The detector never projects a ray.
+  bool bearingToPixelJacobian(const cv::Vec3d&, cv::Point2d&, cv::Matx23d&) const override { return false; }
   bool isValid(const cv::Point2d& pixel) const override {
     return pixel.x >= 0 && pixel.y >= 0 && pixel.x <= size_.width - 1 && pixel.y <= size_.height - 1 &&
            std::hypot(pixel.x - centre_.x, pixel.y - centre_.y) <= radius_;

@@ -1,6 +1,8 @@
-// Trainer core: candidates, bit-packed responses, variance sort, greedy selection.
+// Trainer core: candidates, bit-packed responses, streamed counts, variance sort, greedy
+// selection, and the streamed trainer against the tests the full-matrix trainer learned.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <set>
 
@@ -38,6 +40,13 @@ std::vector<uint8_t> structuredPatches(size_t count, uint32_t seed) {
       }
   }
   return px;
+}
+
+ResponseCounts countsOf(const PatchMatrix& patches, const std::vector<TestPair>& tests) {
+  ResponseCounts counts;
+  counts.patches = patches.count;
+  counts.ones = countResponses(patches, tests);
+  return counts;
 }
 
 }  // namespace
@@ -82,6 +91,23 @@ TEST(Responses, MatchAScalarEvaluationIncludingPadding) {
   }
   EXPECT_THROW(evaluateTests({px.data(), 0}, tests), std::invalid_argument);
   EXPECT_THROW(evaluateTests({px.data(), P}, {{0, 0, 16, 0}}), std::invalid_argument);
+  EXPECT_THROW(countResponses({px.data(), P}, {{0, 0, 16, 0}}), std::invalid_argument);
+
+  // The streamed counts and the columns recomputed from kept lanes agree with the columns,
+  // whatever the chunk size (1 word: every chunk boundary, 2: a partial last chunk).
+  for (size_t chunkWords : {1, 2, 8}) {
+    StreamingOptions streaming;
+    streaming.chunkWords = chunkWords;
+    const std::vector<uint32_t> ones = countResponses({px.data(), P}, tests, {}, streaming);
+    const PatchLanes lanes(PatchRows::of({px.data(), P}), chunkWords);
+    const std::vector<PixelPair> pixels = pixelPairsOf(tests);
+    std::vector<uint64_t> columns(tests.size() * lanes.words());
+    evaluateColumns(lanes, pixels.data(), tests.size(), columns.data());
+    for (size_t d = 0; d < tests.size(); ++d) {
+      ASSERT_EQ(ones[d], r.ones(d)) << chunkWords << " " << d;
+      for (size_t w = 0; w < r.words(); ++w) ASSERT_EQ(columns[d * r.words() + w], r.column(d)[w]) << chunkWords;
+    }
+  }
 }
 
 TEST(Greedy, SortIsByVarianceThenIndex) {
@@ -90,7 +116,7 @@ TEST(Greedy, SortIsByVarianceThenIndex) {
   const auto all = candidateTests();
   const std::vector<TestPair> tests(all.begin(), all.begin() + 3000);
   const TestResponses r = evaluateTests({px.data(), P}, tests);
-  const auto order = sortByVariance(r);
+  const auto order = sortByVariance(countsOf({px.data(), P}, tests));
   ASSERT_EQ(order.size(), tests.size());
   for (size_t i = 1; i < order.size(); ++i) {
     const double a = r.ones(order[i - 1]) * double(P - r.ones(order[i - 1]));
@@ -109,10 +135,11 @@ TEST(Greedy, KeptTestsAreBelowTheFinalThresholdAndMatchASequentialWalk) {
   std::vector<TestPair> tests;
   for (size_t i = 0; i < all.size(); i += 97) tests.push_back(all[i]);
   const TestResponses r = evaluateTests({px.data(), P}, tests);
-  const auto order = sortByVariance(r);
+  const auto order = sortByVariance(countsOf({px.data(), P}, tests));
   GreedyOptions opt;
   opt.tests = 128;
-  const GreedyResult g = selectUncorrelated(r, order, opt);
+  const PatchLanes lanes(PatchRows::of({px.data(), P}), StreamingOptions{}.chunkWords);
+  const GreedyResult g = selectUncorrelated(lanes, tests, order, opt);
   ASSERT_EQ(g.kept.size(), 128u);
   EXPECT_GE(g.passes, 1);
   EXPECT_NEAR(g.finalThreshold, 0.2 + 0.1 * (g.passes - 1), 1e-9);
@@ -138,14 +165,23 @@ TEST(Greedy, KeptTestsAreBelowTheFinalThresholdAndMatchASequentialWalk) {
     }
   }
   EXPECT_EQ(kept, g.kept);
+
+  // Screening batches of 5 candidates and 1-word chunks decide the same.
+  StreamingOptions tiny;
+  tiny.chunkWords = 1;
+  tiny.candidateBatch = 5;
+  EXPECT_EQ(selectUncorrelated(PatchLanes(PatchRows::of({px.data(), P}), 1), tests, order, opt, {}, tiny).kept, kept);
 }
 
 TEST(Greedy, TooFewCandidatesThrow) {
   const auto px = randomPatches(64, 1);
-  const TestResponses r = evaluateTests({px.data(), 64}, {{0, 0, 5, 5}, {1, 1, -5, -5}});
+  const std::vector<TestPair> tests{{0, 0, 5, 5}, {1, 1, -5, -5}};
+  const PatchLanes lanes(PatchRows::of({px.data(), 64}), 8);
   GreedyOptions opt;
   opt.tests = 3;
-  EXPECT_THROW(selectUncorrelated(r, sortByVariance(r), opt), std::invalid_argument);
+  EXPECT_THROW(selectUncorrelated(lanes, tests, {0, 1}, opt), std::invalid_argument);
+  opt.tests = 1;
+  EXPECT_THROW(selectUncorrelated(lanes, tests, {2, 0}, opt), std::invalid_argument);
 }
 
 TEST(Trainer, IsDeterministicWithCorrelationsBelowTheFinalThreshold) {
@@ -172,8 +208,16 @@ TEST(Pairs, DisagreementCountsAndBitsMatchAScalarEvaluation) {
   std::vector<int32_t> of(Q);
   for (size_t j = 0; j < Q; ++j) of[j] = static_cast<int32_t>(j * P / Q);
   const std::vector<TestPair> tests{{-3, 2, 5, -7}, {0, 0, 1, 1}, {-15, -15, 14, 14}, {4, -2, -9, 8}};
-  const auto flips = countDisagreements({ref.data(), P}, {cp.data(), Q}, of, tests);
-  const TestResponses bits = disagreementBits({ref.data(), P}, {cp.data(), Q}, of, tests);
+  const Counterparts pairs{{cp.data(), Q}, of.data()};
+  StreamingOptions oneWord;
+  oneWord.chunkWords = 1;
+  const auto flips = countDisagreements({ref.data(), P}, pairs, tests);
+  EXPECT_EQ(countDisagreements({ref.data(), P}, pairs, tests, {}, oneWord), flips);
+  const PatchLanes references(PatchRows::pairedReferences({ref.data(), P}, pairs), 1);
+  const PatchLanes views(PatchRows::of(pairs.patches), 1);
+  const std::vector<PixelPair> pixels = pixelPairsOf(tests);
+  TestResponses bits(tests.size(), Q);
+  evaluateFlipColumns(references, views, pixels.data(), tests.size(), bits.column(0));
   const auto at = [](const std::vector<uint8_t>& px, size_t p, int x, int y) { return px[p * 1024 + (y + 16) * 32 + x + 16]; };
   for (size_t d = 0; d < tests.size(); ++d) {
     const TestPair& t = tests[d];
@@ -186,8 +230,8 @@ TEST(Pairs, DisagreementCountsAndBitsMatchAScalarEvaluation) {
     }
     EXPECT_EQ(flips[d], expected) << d;
   }
-  EXPECT_THROW(countDisagreements({ref.data(), P}, {cp.data(), Q}, std::vector<int32_t>(Q, int32_t(P)), tests),
-               std::invalid_argument);
+  const std::vector<int32_t> outOfRange(Q, int32_t(P));
+  EXPECT_THROW(countDisagreements({ref.data(), P}, {{cp.data(), Q}, outOfRange.data()}, tests), std::invalid_argument);
 }
 
 TEST(Criteria, ParseNamesAndRankByMargin) {
@@ -200,14 +244,17 @@ TEST(Criteria, ParseNamesAndRankByMargin) {
     EXPECT_NE(std::string(e.what()).find("is not one of: paper, stability, separation"), std::string::npos);
   }
   // Three tests over 4 patches: 2 alpha (1 - alpha) = 0.5, 0.5, 0.375; flips 3, 0, 0 of 4 pairs.
-  TestResponses r(3, 4);
-  r.column(0)[0] = 0b0011;
-  r.column(1)[0] = 0b0101;
-  r.column(2)[0] = 0b0001;
-  const auto order = sortByCriterion(r, SelectionCriterion::Stability, {3, 0, 0}, 4);
+  ResponseCounts counts;
+  counts.patches = 4;
+  counts.ones = {2, 2, 1};
+  counts.pairs = 4;
+  counts.flips = {3, 0, 0};
+  const auto order = sortByCriterion(counts, SelectionCriterion::Stability);
   EXPECT_EQ(order, (std::vector<size_t>{1, 2, 0}));  // margins 0.5, 0.375, -0.25
-  EXPECT_EQ(sortByCriterion(r, SelectionCriterion::Paper, {}, 0), sortByVariance(r));
-  EXPECT_THROW(sortByCriterion(r, SelectionCriterion::Stability, {}, 0), std::invalid_argument);
+  EXPECT_EQ(sortByCriterion(counts, SelectionCriterion::Paper), sortByVariance(counts));
+  counts.pairs = 0;
+  counts.flips.clear();
+  EXPECT_THROW(sortByCriterion(counts, SelectionCriterion::Stability), std::invalid_argument);
 }
 
 TEST(Criteria, StabilityAndSeparationPreferTestsThatSurviveTheViewChange) {
@@ -250,4 +297,59 @@ TEST(Criteria, StabilityAndSeparationPreferTestsThatSurviveTheViewChange) {
     }
   }
   EXPECT_THROW(learnTests({px.data(), P}, opt, SelectionCriterion::Separation), std::invalid_argument);
+}
+
+// The streamed trainer learns what the full-matrix trainer (every candidate's column held,
+// separation scoring every pool candidate at every step; main at 5907e2e) learned on the same
+// set, to the bit: tests, means, highest correlations and flip rates. 700 patches and 650 pairs
+// leave partial last words, the pairs' references are not the patches in order, and 4 of 11
+// covariance words make the separation sample the patches. Tiny blocks must not change a bit.
+TEST(Trainer, StreamedSelectionEqualsTheFullMatrixTrainersOutput) {
+  const size_t P = 700, Q = 650;
+  const auto px = structuredPatches(P, 9);
+  std::vector<int32_t> of(Q);
+  std::vector<uint8_t> cp(Q * 1024);
+  std::mt19937 rng(3);
+  for (size_t j = 0; j < Q; ++j) {
+    of[j] = static_cast<int32_t>(j * P / Q);
+    std::memcpy(cp.data() + j * 1024, px.data() + of[j] * 1024, 1024);
+    for (int y = 0; y < 32; ++y)
+      for (int x = 16; x < 32; ++x) {
+        uint8_t& v = cp[j * 1024 + y * 32 + x];
+        v = static_cast<uint8_t>(std::clamp(int(v) + int(rng() % 81) - 40, 0, 255));
+      }
+  }
+  GreedyOptions opt;
+  opt.tests = 64;
+  SeparationOptions separation;
+  separation.covarianceWords = 4;
+  separation.pool = 20000;
+  StreamingOptions tiny;
+  tiny.chunkWords = 1;
+  tiny.candidateBatch = 7;
+  const std::vector<std::pair<SelectionCriterion, uint64_t>> expected{
+      {SelectionCriterion::Paper, 0xdc165b07abb986ccull},
+      {SelectionCriterion::Stability, 0xe519ff2b3fd4cba6ull},
+      {SelectionCriterion::Separation, 0x17a78ddfc4ea235eull}};
+  for (const auto& [criterion, digest] : expected)
+    for (const StreamingOptions& streaming : {StreamingOptions{}, tiny}) {
+      const LearnedTests t =
+          learnTests({px.data(), P}, opt, criterion, {{cp.data(), Q}, of.data()}, {}, separation, streaming);
+      ASSERT_EQ(t.tests.size(), opt.tests);
+      // FNV-1a over each test's offsets and the bytes of its three statistics.
+      uint64_t h = 1469598103934665603ull;
+      const auto add = [&h](const void* data, size_t n) {
+        for (size_t i = 0; i < n; ++i) h = (h ^ static_cast<const uint8_t*>(data)[i]) * 1099511628211ull;
+      };
+      for (size_t i = 0; i < t.tests.size(); ++i) {
+        const int8_t xy[4] = {static_cast<int8_t>(t.tests[i].x1), static_cast<int8_t>(t.tests[i].y1),
+                              static_cast<int8_t>(t.tests[i].x2), static_cast<int8_t>(t.tests[i].y2)};
+        add(xy, sizeof xy);
+        add(&t.mean[i], sizeof(double));
+        add(&t.maxCorrelation[i], sizeof(double));
+        add(&t.flipRate[i], sizeof(double));
+      }
+      EXPECT_EQ(h, digest) << selectionCriterionName(criterion) << " with chunks of " << streaming.chunkWords
+                           << " words, batches of " << streaming.candidateBatch;
+    }
 }

@@ -1,5 +1,5 @@
-// The trainer's test responses and disagreement counts are identical at every SIMD level
-// (mdbrief/simd_level.hpp), so a training run gives the same pattern on every CPU.
+// The trainer's test responses, response counts and disagreement counts are identical at every
+// SIMD level (mdbrief/simd_level.hpp), so a training run gives the same pattern on every CPU.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -30,7 +30,7 @@ TEST(TrainerSimdLevel, ResponsesAndDisagreementsAreIdenticalAtEveryLevel) {
 
   std::vector<uint64_t> refBits;
   std::vector<size_t> refOnes;
-  std::vector<uint32_t> refFlips;
+  std::vector<uint32_t> refFlips, refCounts;
   for (const SimdLevel level : {SimdLevel::Portable, SimdLevel::Avx2, SimdLevel::Avx512}) {
     if (level > mdbrief::supportedSimdLevel()) break;
     mdbrief::limitSimdLevel(level);
@@ -44,14 +44,16 @@ TEST(TrainerSimdLevel, ResponsesAndDisagreementsAreIdenticalAtEveryLevel) {
       ones.push_back(r.ones(d) + 1000 * r.differences(d, next) +
                      1000000 * k.popcountAnd(r.column(d), r.column(next), r.words()));
     }
-    const std::vector<uint32_t> flips = countDisagreements({a.data(), 200}, {b.data(), 200}, counterpartOf, some);
+    const std::vector<uint32_t> flips = countDisagreements({a.data(), 200}, {{b.data(), 200}, counterpartOf.data()}, some);
+    const std::vector<uint32_t> counts = countResponses({a.data(), 200}, some);
     if (level == SimdLevel::Portable) {
-      refBits = bits, refOnes = ones, refFlips = flips;
+      refBits = bits, refOnes = ones, refFlips = flips, refCounts = counts;
       continue;
     }
     EXPECT_EQ(bits, refBits) << mdbrief::toString(level);
     EXPECT_EQ(ones, refOnes) << mdbrief::toString(level);
     EXPECT_EQ(flips, refFlips) << mdbrief::toString(level);
+    EXPECT_EQ(counts, refCounts) << mdbrief::toString(level);
   }
   mdbrief::limitSimdLevel(SimdLevel::Avx512);
   ASSERT_FALSE(refBits.empty());

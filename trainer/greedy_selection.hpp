@@ -16,7 +16,7 @@ namespace mdbrief::train {
 
 // Test indices sorted by variance, highest first; equal variances by index, so the order does
 // not depend on the sort implementation.
-std::vector<size_t> sortByVariance(const TestResponses& responses);
+std::vector<size_t> sortByVariance(const ResponseCounts& counts);
 
 // What the greedy walk ranks the candidates by (docs/training.md "Selection criteria"). With
 // alpha = the fraction of patches where a test is 1 and f = the fraction of matching pairs
@@ -47,11 +47,11 @@ inline std::string selectionCriterionName(SelectionCriterion criterion) {
 }
 bool needsCounterparts(SelectionCriterion criterion);
 
-// Test indices sorted by the criterion, best first, ties by index. flips[d] = pairs on which
-// test d flips, out of `pairs` (ignored, and may be empty, for Paper; Paper gives exactly
-// sortByVariance; Separation sorts as Stability, the order its pool is taken from). Throws std::invalid_argument if a criterion needs pairs and has none.
-std::vector<size_t> sortByCriterion(const TestResponses& responses, SelectionCriterion criterion,
-                                    const std::vector<uint32_t>& flips, size_t pairs);
+// Test indices sorted by the criterion, best first, ties by index. The flip counts are ignored,
+// and may be missing, for Paper (which gives exactly sortByVariance); Separation sorts as
+// Stability, the order its pool is taken from. Throws std::invalid_argument if a criterion needs
+// pairs and has none.
+std::vector<size_t> sortByCriterion(const ResponseCounts& counts, SelectionCriterion criterion);
 
 struct GreedyOptions {
   size_t tests = 512;             // number of tests to keep
@@ -65,13 +65,17 @@ struct GreedyResult {
   double finalThreshold = 0.0;    // t_c of the last pass
 };
 
-// Deterministic: the result equals the sequential walk (candidates are screened in parallel
-// against the tests kept so far, survivors are then decided in order). progress(kept, pass),
-// if set, is called from the calling thread. Throws std::invalid_argument if there are fewer
-// candidates than requested tests or the thresholds are not positive.
-GreedyResult selectUncorrelated(const TestResponses& responses, const std::vector<size_t>& sorted,
-                                const GreedyOptions& options,
-                                const std::function<void(size_t, int)>& progress = {});
+// Walks `sorted` (indices into `candidates`), recomputing from `patches` the columns of the
+// candidates a batch still has to screen; only the kept tests' columns are held. Deterministic:
+// the result equals the sequential walk (candidates are screened in parallel against the tests
+// kept so far, survivors are then decided in order), whatever the block sizes. progress(kept,
+// pass), if set, is called from the calling thread. Throws std::invalid_argument if there are
+// fewer candidates than requested tests, the thresholds are not positive or an offset lies
+// outside [-16, 15].
+GreedyResult selectUncorrelated(const PatchLanes& patches, const std::vector<TestPair>& candidates,
+                                const std::vector<size_t>& sorted, const GreedyOptions& options,
+                                const std::function<void(size_t, int)>& progress = {},
+                                const StreamingOptions& streaming = {});
 
 // Correlation of the paper between two columns, in [0, 1].
 double correlation(const TestResponses& responses, size_t a, size_t b);

@@ -17,11 +17,22 @@
 // Covariances from popcounts: for two independent patches, bit d of the distance is
 // t_d(a) xor t_d(b), and E[x_d x_e] = 2 (p00 p11 + p01 p10) with p_ij the joint frequencies of
 // (t_d, t_e) over the patches; on the pairs, cov_m(d, e) = P(both flip) - f_d f_e.
+//
+// Bounded memory, same choice as scoring every candidate at every step: only the covariance
+// sample (covarianceWords words of the patches and of the pairs, transposed: patch_lanes.hpp)
+// and the kept tests' sample columns are held. A candidate's covariance sums are brought up to
+// date (its sample columns recomputed, the terms of the tests kept since its last update added
+// in the order they were kept, so the sums are the full scan's to the bit) only when an upper
+// bound of its score reaches the best exact score of the step. The bound takes every missed
+// term at its smallest value: cov_n(d, e) >= -(2 a_d - 1)^2 (2 a_e - 1)^2 / 4 (the minimum over
+// p11 of the expression above, near 0 for informative tests), cov_m(d, e) >= -f_d f_e.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <vector>
 
+#include "mdbrief/test_set.hpp"
+#include "trainer/patch_lanes.hpp"
 #include "trainer/test_responses.hpp"
 
 namespace mdbrief::train {
@@ -40,19 +51,21 @@ struct SeparationOptions {
 };
 
 struct SeparationResult {
-  std::vector<size_t> kept;        // candidate indices (into `responses`) in selection order
+  std::vector<size_t> kept;        // candidate indices in selection order
   std::vector<double> separation;  // J after each addition
 };
 
-// responses: every candidate on the reference patches; order: candidates by the per-test
-// margin, best first (sortByCriterion Stability); poolFlips: column i = the flip bits of
-// candidate order[i] on the pairs (bit j = the test differs between pair j's two patches),
-// for i < options.pool (disagreementBits). Deterministic: ties to the earlier
-// candidate in `order`, each sum accumulated in a fixed order. progress(kept) is called from
-// the calling thread. Throws std::invalid_argument if the pool is smaller than `tests` or the
-// matrices disagree.
-SeparationResult selectBySeparation(const TestResponses& responses, const std::vector<size_t>& order,
-                                    const TestResponses& poolFlips, const SeparationOptions& options,
-                                    const std::function<void(size_t)>& progress = {});
+// candidates: all tests, with their counts on `patches` and on the pairs (reference patch
+// counterparts.of[j], counterpart j); order: indices into candidates by the per-test margin,
+// best first (sortByCriterion Stability); the pool is order[0, options.pool). Deterministic:
+// ties to the earlier candidate in `order`, each sum accumulated in a fixed order, whatever the
+// block sizes. progress(kept) is called from the calling thread. Throws std::invalid_argument if
+// the pool is smaller than `tests`, the counts or pairs are missing or disagree, or an option is
+// out of range.
+SeparationResult selectBySeparation(const PatchMatrix& patches, const Counterparts& counterparts,
+                                    const std::vector<TestPair>& candidates, const ResponseCounts& counts,
+                                    const std::vector<size_t>& order, const SeparationOptions& options,
+                                    const std::function<void(size_t)>& progress = {},
+                                    const StreamingOptions& streaming = {});
 
 }  // namespace mdbrief::train

@@ -1,22 +1,32 @@
 #pragma once
-// Every test evaluated on every patch, stored as bit-packed columns: column d holds bit p =
-// test d on patch p (1 when I(p1) < I(p2), as the runtime descriptor), in `words` uint64 words,
-// the padding bits after the last patch zero. Column-major, so the variance and the pairwise
-// correlations of the greedy selection are popcounts over contiguous words.
+// Tests evaluated on patches (1 when I(p1) < I(p2), as the runtime descriptor): as counts per
+// test, streamed chunk by chunk for every candidate, or as bit-packed columns for the few tests
+// a selection examines. A column holds bit p = the test on patch p, in `words` uint64 words, the
+// padding bits after the last patch zero; variances and pairwise correlations are then popcounts
+// over contiguous words.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <vector>
 
 #include "mdbrief/test_set.hpp"
+#include "trainer/patch_lanes.hpp"
 
 namespace mdbrief::train {
 
-// Patches: count x 32 x 32 uint8, row-major (pixel (x, y) of patch p at p*1024 + y*32 + x, the
-// keypoint at (16, 16), as the offsets of test_set.hpp).
-struct PatchMatrix {
-  const uint8_t* pixels = nullptr;
-  size_t count = 0;
+// A test as the indices of its two patch pixels (y * 32 + x).
+struct PixelPair {
+  uint16_t a = 0, b = 0;
+};
+// Throws std::invalid_argument naming the test if an offset lies outside [-16, 15].
+std::vector<PixelPair> pixelPairsOf(const std::vector<TestPair>& tests);
+
+// What the rankings need of every candidate (countResponses, countDisagreements).
+struct ResponseCounts {
+  size_t patches = 0;
+  std::vector<uint32_t> ones;   // per test: patches on which it is 1
+  size_t pairs = 0;             // matching pairs (0: none, and flips is empty)
+  std::vector<uint32_t> flips;  // per test: pairs on which it flips
 };
 
 class TestResponses {
@@ -33,7 +43,6 @@ class TestResponses {
   size_t ones(size_t test) const;
   // Hamming distance between two columns (patches where the tests differ).
   size_t differences(size_t a, size_t b) const;
-  size_t bytes() const { return bits_.size() * sizeof(uint64_t); }
 
  private:
   size_t tests_ = 0, patches_ = 0, words_ = 0;
@@ -43,23 +52,34 @@ class TestResponses {
   size_t (*popcountXor_)(const uint64_t*, const uint64_t*, size_t) = nullptr;
 };
 
-// Evaluates all tests on all patches in parallel (TBB). progress(done, total), if set, is called
-// from worker threads after each finished work block, so it must be thread-safe. Throws std::invalid_argument on an empty patch set or an offset outside [-16, 15].
+// The columns of a few tests on all patches (tests x patches bits: for the kept tests, not for
+// every candidate). Throws std::invalid_argument on an empty patch set or an offset outside
+// [-16, 15].
 TestResponses evaluateTests(const PatchMatrix& patches, const std::vector<TestPair>& tests,
-                            const std::function<void(size_t, size_t)>& progress = {});
+                            const StreamingOptions& streaming = {});
+
+// Per test, the number of patches on which it is 1; the patches are streamed chunk by chunk and
+// no response is stored. progress(done, total), if set, is called from worker threads after each
+// chunk, so it must be thread-safe. Same errors as evaluateTests.
+std::vector<uint32_t> countResponses(const PatchMatrix& patches, const std::vector<TestPair>& tests,
+                                     const std::function<void(size_t, size_t)>& progress = {},
+                                     const StreamingOptions& streaming = {});
 
 // Stability data: for every test, on how many pairs (counterpart j, reference patch
-// counterpartOf[j]) its outcome differs. The pairs' bits are compared on the fly and never
-// stored. progress(done, total) as above. Throws std::invalid_argument on no counterparts, a
-// reference index out of range or an offset outside [-16, 15].
-std::vector<uint32_t> countDisagreements(const PatchMatrix& reference, const PatchMatrix& counterparts,
-                                         const std::vector<int32_t>& counterpartOf,
+// counterparts.of[j]) its outcome differs, streamed as countResponses. Throws
+// std::invalid_argument on no counterparts, a reference index out of range or an offset
+// outside [-16, 15].
+std::vector<uint32_t> countDisagreements(const PatchMatrix& reference, const Counterparts& counterparts,
                                          const std::vector<TestPair>& tests,
-                                         const std::function<void(size_t, size_t)>& progress = {});
+                                         const std::function<void(size_t, size_t)>& progress = {},
+                                         const StreamingOptions& streaming = {});
 
-// The pairs' flip bits of a few tests, as columns: bit j of column d = test d differs between
-// pair j's two patches. Same errors as countDisagreements.
-TestResponses disagreementBits(const PatchMatrix& reference, const PatchMatrix& counterparts,
-                               const std::vector<int32_t>& counterpartOf, const std::vector<TestPair>& tests);
+// Columns recomputed from kept lanes: out[n * lanes.words() + w] for test n < count, in parallel
+// over the chunks.
+void evaluateColumns(const PatchLanes& lanes, const PixelPair* tests, size_t count, uint64_t* out);
+// The same for pairs of row sets of equal size: bit r = the test differs between row r of `a`
+// and row r of `b`.
+void evaluateFlipColumns(const PatchLanes& a, const PatchLanes& b, const PixelPair* tests, size_t count,
+                         uint64_t* out);
 
 }  // namespace mdbrief::train

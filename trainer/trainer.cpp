@@ -1,5 +1,6 @@
 #include "trainer/trainer.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <stdexcept>
@@ -7,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "trainer/candidate_tests.hpp"
+#include "trainer/patch_lanes.hpp"
 #include "trainer/separation_selection.hpp"
 
 namespace mdbrief::train {
@@ -21,7 +23,7 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 
 LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options, SelectionCriterion criterion,
                         const Counterparts& counterparts, const TrainingProgress& progress,
-                        const SeparationOptions& separation) {
+                        const SeparationOptions& separation, const StreamingOptions& streaming) {
   if (patches.count == 0) throw std::invalid_argument("training: no patches");
   if (needsCounterparts(criterion) && counterparts.patches.count == 0)
     throw std::invalid_argument("training: selection criterion " + selectionCriterionName(criterion) +
@@ -34,26 +36,30 @@ LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options
   out.pairs = counterparts.patches.count;
 
   auto t0 = std::chrono::steady_clock::now();
-  const TestResponses responses =
-      evaluateTests(patches, candidates, [&](size_t done, size_t total) {
+  ResponseCounts counts;
+  counts.patches = patches.count;
+  counts.ones = countResponses(
+      patches, candidates,
+      [&](size_t done, size_t total) {
         if (progress) progress("evaluate", done, total);
-      });
-  out.responseBytes = responses.bytes();
+      },
+      streaming);
   out.times.evaluateSeconds = secondsSince(t0);
 
-  std::vector<uint32_t> flips;
   if (out.pairs > 0) {
     t0 = std::chrono::steady_clock::now();
-    flips = countDisagreements(patches, counterparts.patches,
-                               std::vector<int32_t>(counterparts.of, counterparts.of + out.pairs), candidates,
-                               [&](size_t done, size_t total) {
-                                 if (progress) progress("pairs", done, total);
-                               });
+    counts.pairs = out.pairs;
+    counts.flips = countDisagreements(
+        patches, counterparts, candidates,
+        [&](size_t done, size_t total) {
+          if (progress) progress("pairs", done, total);
+        },
+        streaming);
     out.times.flipSeconds = secondsSince(t0);
   }
 
   t0 = std::chrono::steady_clock::now();
-  const std::vector<size_t> sorted = sortByCriterion(responses, criterion, flips, out.pairs);
+  const std::vector<size_t> sorted = sortByCriterion(counts, criterion);
   out.times.sortSeconds = secondsSince(t0);
 
   t0 = std::chrono::steady_clock::now();
@@ -62,36 +68,38 @@ LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options
     SeparationOptions so = separation;
     so.tests = options.tests;
     so.pool = std::max(options.tests, so.pool);
-    std::vector<TestPair> poolTests;
-    for (size_t i = 0; i < std::min(so.pool, sorted.size()); ++i) poolTests.push_back(candidates[sorted[i]]);
-    const TestResponses poolFlips = disagreementBits(
-        patches, counterparts.patches, std::vector<int32_t>(counterparts.of, counterparts.of + out.pairs), poolTests);
-    greedy.kept = selectBySeparation(responses, sorted, poolFlips, so, [&](size_t kept) {
-                    if (progress) progress("greedy", kept, options.tests);
-                  }).kept;
+    greedy.kept = selectBySeparation(
+                      patches, counterparts, candidates, counts, sorted, so,
+                      [&](size_t kept) {
+                        if (progress) progress("greedy", kept, options.tests);
+                      },
+                      streaming)
+                      .kept;
   } else {
-    greedy = selectUncorrelated(responses, sorted, options, [&](size_t kept, int) {
-      if (progress) progress("greedy", kept, options.tests);
-    });
+    const PatchLanes lanes(PatchRows::of(patches), streaming.chunkWords);
+    greedy = selectUncorrelated(
+        lanes, candidates, sorted, options,
+        [&](size_t kept, int) {
+          if (progress) progress("greedy", kept, options.tests);
+        },
+        streaming);
   }
   out.times.greedySeconds = secondsSince(t0);
   out.passes = greedy.passes;
   out.finalThreshold = greedy.finalThreshold;
 
   const size_t n = greedy.kept.size();
-  out.tests.reserve(n);
+  for (size_t d : greedy.kept) out.tests.push_back(candidates[d]);
+  const TestResponses kept = evaluateTests(patches, out.tests, streaming);
   out.mean.resize(n);
   out.maxCorrelation.assign(n, 0.0);
   for (size_t i = 0; i < n; ++i) {
-    out.tests.push_back(candidates[greedy.kept[i]]);
-    out.mean[i] = static_cast<double>(responses.ones(greedy.kept[i])) / patches.count;
-    if (out.pairs > 0) out.flipRate.push_back(static_cast<double>(flips[greedy.kept[i]]) / out.pairs);
+    out.mean[i] = static_cast<double>(kept.ones(i)) / patches.count;
+    if (out.pairs > 0) out.flipRate.push_back(static_cast<double>(counts.flips[greedy.kept[i]]) / out.pairs);
   }
   tbb::parallel_for(size_t(0), n, [&](size_t i) {
     for (size_t j = 0; j < n; ++j)
-      if (j != i)
-        out.maxCorrelation[i] =
-            std::max(out.maxCorrelation[i], correlation(responses, greedy.kept[i], greedy.kept[j]));
+      if (j != i) out.maxCorrelation[i] = std::max(out.maxCorrelation[i], correlation(kept, i, j));
   });
   return out;
 }

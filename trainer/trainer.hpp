@@ -1,6 +1,8 @@
 #pragma once
-// The whole off-line learning on a patch set: candidates -> responses -> variance sort ->
-// greedy selection, with the per-test statistics the pattern header records.
+// The whole off-line learning on a patch set: candidates -> response and flip counts (streamed)
+// -> sort by the criterion -> greedy or separation selection (recomputing the responses of the
+// candidates they examine), with the per-test statistics the pattern header records. Memory
+// grows with the patches and the pool, not with candidates x patches (docs/training.md "Trainer").
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -15,8 +17,8 @@
 namespace mdbrief::train {
 
 struct StageTimes {
-  double evaluateSeconds = 0;  // all candidates on all patches
-  double flipSeconds = 0;      // all candidates on all matching pairs (stability criteria)
+  double evaluateSeconds = 0;  // all candidates counted on all patches
+  double flipSeconds = 0;      // all candidates counted on all matching pairs (stability criteria)
   double sortSeconds = 0;      // variance + sort
   double greedySeconds = 0;    // all greedy passes
 };
@@ -33,19 +35,11 @@ struct LearnedTests {
   size_t pairs = 0;                     // matching pairs (counterparts) used
   int passes = 0;
   double finalThreshold = 0;
-  size_t responseBytes = 0;             // size of the bit-packed response matrix
   StageTimes times;
 };
 
 // stage is "evaluate", "pairs" or "greedy"; done/total in stage units (work blocks, kept tests).
 using TrainingProgress = std::function<void(const char* stage, size_t done, size_t total)>;
-
-// The matching pairs of the stability criteria: counterpart patch j (32 x 32, as PatchMatrix)
-// is the reference patch of[j] seen in a changed view.
-struct Counterparts {
-  PatchMatrix patches;
-  const int32_t* of = nullptr;
-};
 
 // The candidates are ranked by `criterion` (with the flip rates measured on `counterparts`
 // when it needs them) and kept greedily as the paper does (Paper, Stability), or by forward
@@ -53,11 +47,11 @@ struct Counterparts {
 // options.tests, a pool below it is raised to it). With pairs, the flip rate of every kept test
 // is reported even for the paper's criterion. Throws std::invalid_argument if the patch set is
 // empty, options.tests exceeds the number of candidates, or the criterion needs pairs and there
-// are none.
+// are none. `streaming` changes time and memory only, never the tests.
 LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options,
                         SelectionCriterion criterion = SelectionCriterion::Paper,
                         const Counterparts& counterparts = {}, const TrainingProgress& progress = {},
-                        const SeparationOptions& separation = {});
+                        const SeparationOptions& separation = {}, const StreamingOptions& streaming = {});
 
 // Quality of a test set on a patch set: the learning's two criteria.
 struct TestSetQuality {

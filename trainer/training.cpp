@@ -211,8 +211,7 @@ void printTrainSummary(const TrainOptions& options, const TrainResult& r, std::o
   }
   out << "  patches: " << r.patches << " (digest " << r.patchDigest << "), " << r.counterparts << " counterparts\n"
       << "  candidates: " << learned.candidates << "\n"
-      << "  responses: " << fixed(learned.times.evaluateSeconds, 2) << " s ("
-      << fixed(learned.responseBytes / 1048576.0, 0) << " MiB bit matrix)\n"
+      << "  responses: " << fixed(learned.times.evaluateSeconds, 2) << " s (counted, streamed)\n"
       << "  pairs: " << learned.pairs << " (flip rates " << fixed(learned.times.flipSeconds, 2) << " s)\n"
       << "  sort: " << fixed(learned.times.sortSeconds, 2) << " s\n"
       << "  selection (" << selectionCriterionName(learned.criterion) << "): "

@@ -44,6 +44,20 @@ bool DoubleSphereCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) 
   return std::isfinite(pixel.x) && std::isfinite(pixel.y);
 }
 
+bool DoubleSphereCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel,
+                                                cv::Matx23d& jacobian) const {
+  if (!bearingToPixel(b, pixel)) return false;
+  const double d1 = cv::norm(b);
+  const double zs = p_.xi * d1 + b[2];
+  const double d2 = std::sqrt(b[0] * b[0] + b[1] * b[1] + zs * zs);
+  const double denom = p_.alpha * d2 + (1.0 - p_.alpha) * zs;
+  const cv::Vec3d dZs = p_.xi / d1 * b + cv::Vec3d(0.0, 0.0, 1.0);
+  const cv::Vec3d dD2 = (cv::Vec3d(b[0], b[1], 0.0) + zs * dZs) / d2;
+  jacobian = detail::rationalJacobian(p_.intrinsics.fx, p_.intrinsics.fy, b, denom,
+                                      p_.alpha * dD2 + (1.0 - p_.alpha) * dZs);
+  return true;
+}
+
 bool DoubleSphereCamera::isValid(const cv::Point2d& pixel) const {
   const CameraIntrinsics& k = p_.intrinsics;
   const double mx = (pixel.x - k.cx) / k.fx, my = (pixel.y - k.cy) / k.fy;

@@ -67,6 +67,26 @@ bool KannalaBrandtCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel)
   return std::isfinite(pixel.x) && std::isfinite(pixel.y);  // b near DBL_MAX: fx * b[0] overflows
 }
 
+bool KannalaBrandtCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel,
+                                                 cv::Matx23d& jacobian) const {
+  if (!bearingToPixel(b, pixel)) return false;
+  const CameraIntrinsics& k = p_.intrinsics;
+  const double r = std::hypot(b[0], b[1]);
+  if (r == 0.0) {  // on the axis theta_d = r / z to first order
+    jacobian = {k.fx / b[2], 0.0, 0.0, 0.0, k.fy / b[2], 0.0};
+    return true;
+  }
+  const double t = std::atan2(r, b[2]), n2 = r * r + b[2] * b[2];
+  const double s = thetaD(t) / r, tp = thetaDPrime(t);
+  // s = theta_d(theta) / r with theta = atan2(r, z).
+  const cv::Vec3d dTheta(b[2] / n2 * b[0] / r, b[2] / n2 * b[1] / r, -r / n2);
+  const cv::Vec3d dR(b[0] / r, b[1] / r, 0.0);
+  const cv::Vec3d dS = (tp * dTheta - s * dR) / r;
+  jacobian = {k.fx * (s + b[0] * dS[0]), k.fx * b[0] * dS[1], k.fx * b[0] * dS[2],
+              k.fy * b[1] * dS[0], k.fy * (s + b[1] * dS[1]), k.fy * b[1] * dS[2]};
+  return true;
+}
+
 bool KannalaBrandtCamera::isValid(const cv::Point2d& pixel) const {
   const CameraIntrinsics& k = p_.intrinsics;
   return detail::insideImage(pixel, k.size()) &&

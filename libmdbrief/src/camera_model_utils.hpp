@@ -99,4 +99,26 @@ inline double resizeCoordinate(double x, double scale) { return (x + 0.5) * scal
 
 inline cv::Vec3d normalized(const cv::Vec3d& v) { return v / cv::norm(v); }
 
+// d (x / z, y / z) / d (x, y, z): the perspective division the pinhole-based models start with.
+inline cv::Matx23d perspectiveJacobian(const cv::Vec3d& b) {
+  const double iz = 1.0 / b[2];
+  return {iz, 0.0, -b[0] * iz * iz, 0.0, iz, -b[1] * iz * iz};
+}
+
+// Rows scaled by the focal lengths: d pixel / d (normalised coordinates) times `m`.
+template <int N>
+cv::Matx<double, 2, N> scaleRows(double fx, double fy, const cv::Matx<double, 2, N>& m) {
+  cv::Matx<double, 2, N> out = m;
+  for (int c = 0; c < N; ++c) out(0, c) *= fx, out(1, c) *= fy;
+  return out;
+}
+
+// d pixel / d bearing of the models whose pixel is f * (x, y) / denom + c with denom a function
+// of the bearing (double sphere, UCM / EUCM), from d denom / d bearing.
+inline cv::Matx23d rationalJacobian(double fx, double fy, const cv::Vec3d& b, double denom, const cv::Vec3d& dDenom) {
+  const double i = 1.0 / denom;
+  return {fx * i * (1.0 - b[0] * i * dDenom[0]), -fx * i * b[0] * i * dDenom[1], -fx * i * b[0] * i * dDenom[2],
+          -fy * i * b[1] * i * dDenom[0], fy * i * (1.0 - b[1] * i * dDenom[1]), -fy * i * b[1] * i * dDenom[2]};
+}
+
 }  // namespace mdbrief::detail

@@ -145,6 +145,33 @@ bool OcamCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
   return true;
 }
 
+bool OcamCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
+  if (!bearingToPixel(b, pixel)) return false;
+  const double xo = b[1], yo = b[0], zo = -b[2];
+  const double norm = std::hypot(xo, yo);
+  // d (x, y) / d (x_o, y_o, z_o), (x, y) = (x_o, y_o) rho / norm in the affine frame.
+  cv::Matx23d frame;
+  if (norm == 0.0) {  // on the axis rho = a0 norm / z_o to first order
+    const double g = p_.forward.front() / zo;
+    frame = {g, 0.0, 0.0, 0.0, g, 0.0};
+  } else {
+    // rho solves F = norm f(rho) - z_o rho = 0 (solveRho): implicit derivatives.
+    const double dr = pixel.y - p_.v0, dc = pixel.x - p_.u0;
+    const double rho = std::hypot(invDet_ * (dr - p_.d * dc), invDet_ * (-p_.e * dr + p_.c * dc));
+    const double fRho = norm * detail::polyDerivEval(p_.forward, rho) - zo;
+    const double dRhoDNorm = -detail::polyEval(p_.forward, rho) / fRho, dRhoDZo = rho / fRho;
+    const cv::Vec3d dNorm(xo / norm, yo / norm, 0.0);
+    const cv::Vec3d dRho = dRhoDNorm * dNorm + cv::Vec3d(0.0, 0.0, dRhoDZo);
+    const double q = rho / norm;
+    const cv::Vec3d dQ = (dRho - q * dNorm) / norm;  // d (rho / norm)
+    frame = {q + xo * dQ[0], xo * dQ[1], xo * dQ[2], yo * dQ[0], q + yo * dQ[1], yo * dQ[2]};
+  }
+  const cv::Matx23d image = cv::Matx22d(p_.e, 1.0, p_.c, p_.d) * frame;
+  // Bearing (X, Y, Z) = (y_o, x_o, -z_o).
+  jacobian = {image(0, 1), image(0, 0), -image(0, 2), image(1, 1), image(1, 0), -image(1, 2)};
+  return true;
+}
+
 bool OcamCamera::isValid(const cv::Point2d& pixel) const {
   if (!detail::insideImage(pixel, imageSize())) return false;
   const double dr = pixel.y - p_.v0, dc = pixel.x - p_.u0;

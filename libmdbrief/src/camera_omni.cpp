@@ -52,6 +52,18 @@ bool OmniCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
   return std::isfinite(pixel.x) && std::isfinite(pixel.y);
 }
 
+bool OmniCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
+  if (!bearingToPixel(b, pixel)) return false;
+  const double norm = cv::norm(b);
+  const cv::Vec3d n = b / norm;
+  const double denom = n[2] + p_.xi;
+  const cv::Matx23d dM(1.0 / denom, 0.0, -n[0] / (denom * denom), 0.0, 1.0 / denom, -n[1] / (denom * denom));
+  const cv::Matx33d dN = (cv::Matx33d::eye() - n * n.t()) * (1.0 / norm);
+  const cv::Matx22d d = distortion_->jacobian(n[0] / denom, n[1] / denom);
+  jacobian = detail::scaleRows(p_.intrinsics.fx, p_.intrinsics.fy, cv::Matx23d(d * dM * dN));
+  return true;
+}
+
 bool OmniCamera::isValid(const cv::Point2d& pixel) const {
   // As for radtan, the inversion itself decides the border the distortion folds at.
   cv::Vec3d bearing;

@@ -21,6 +21,12 @@ bool PinholeCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const
   return std::isfinite(pixel.x) && std::isfinite(pixel.y);
 }
 
+bool PinholeCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
+  if (!bearingToPixel(b, pixel)) return false;
+  jacobian = detail::scaleRows(k_.fx, k_.fy, detail::perspectiveJacobian(b));
+  return true;
+}
+
 bool PinholeCamera::isValid(const cv::Point2d& pixel) const {
   return detail::insideImage(pixel, k_.size());
 }

@@ -43,6 +43,19 @@ bool RadialCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const 
   return std::isfinite(pixel.x) && std::isfinite(pixel.y);
 }
 
+bool RadialCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
+  if (!bearingToPixel(b, pixel)) return false;
+  const double x = b[0] / b[2], y = b[1] / b[2];
+  const double q = std::sqrt(1.0 - 4.0 * p_.xi * unitRadius2(x, y));
+  const double s = 2.0 / (1.0 + q);
+  // ds / d(x^2 + y^2), the unit radius being (x^2 + y^2) m^2.
+  const double dS = 4.0 * p_.xi / (q * (1.0 + q) * (1.0 + q)) * mPerNormalised_ * mPerNormalised_;
+  const cv::Matx22d normalised(s + 2.0 * x * x * dS, 2.0 * x * y * dS, 2.0 * x * y * dS, s + 2.0 * y * y * dS);
+  jacobian = detail::scaleRows(p_.intrinsics.fx, p_.intrinsics.fy,
+                               cv::Matx23d(normalised * detail::perspectiveJacobian(b)));
+  return true;
+}
+
 bool RadialCamera::isValid(const cv::Point2d& pixel) const {
   const CameraIntrinsics& k = p_.intrinsics;
   return detail::insideImage(pixel, k.size()) &&

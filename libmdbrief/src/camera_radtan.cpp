@@ -40,6 +40,13 @@ bool RadTanCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const 
   return true;
 }
 
+bool RadTanCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
+  if (!bearingToPixel(b, pixel)) return false;
+  const cv::Matx22d d = distortion_->jacobian(b[0] / b[2], b[1] / b[2]);
+  jacobian = detail::scaleRows(p_.intrinsics.fx, p_.intrinsics.fy, cv::Matx23d(d * detail::perspectiveJacobian(b)));
+  return true;
+}
+
 bool RadTanCamera::isValid(const cv::Point2d& pixel) const {
   // Near the limit the tangential terms decide whether the inverse stays inside rMax, so the
   // test is the inversion itself (no closed form for the folded region).

@@ -44,6 +44,16 @@ bool UnifiedCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const
   return std::isfinite(pixel.x) && std::isfinite(pixel.y);
 }
 
+bool UnifiedCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
+  if (!bearingToPixel(b, pixel)) return false;
+  const double d = std::sqrt(p_.beta * (b[0] * b[0] + b[1] * b[1]) + b[2] * b[2]);
+  const double denom = p_.alpha * d + (1.0 - p_.alpha) * b[2];
+  const cv::Vec3d dD(p_.beta * b[0] / d, p_.beta * b[1] / d, b[2] / d);
+  jacobian = detail::rationalJacobian(p_.intrinsics.fx, p_.intrinsics.fy, b, denom,
+                                      p_.alpha * dD + cv::Vec3d(0.0, 0.0, 1.0 - p_.alpha));
+  return true;
+}
+
 bool UnifiedCamera::isValid(const cv::Point2d& pixel) const {
   const CameraIntrinsics& k = p_.intrinsics;
   const double mx = (pixel.x - k.cx) / k.fx, my = (pixel.y - k.cy) / k.fy;

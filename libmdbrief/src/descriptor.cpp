@@ -53,6 +53,7 @@ SamplingKernels descriptor_kernels::portableSamplingKernels() {
 
 SamplingKernels descriptor_kernels::activeSamplingKernels() {
 #if defined(MDBRIEF_X86_KERNELS)
+  if (activeSimdLevel() >= SimdLevel::Avx512) return avx512SamplingKernels();
   if (activeSimdLevel() >= SimdLevel::Avx2) return avx2SamplingKernels();
 #endif
   return portableSamplingKernels();
@@ -105,8 +106,9 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
   // Each keypoint's level and footprint from its size; octave is not read.
   std::vector<Support> supports(n);
   int maxLevel = -1;
+  const std::vector<double> scales = pyramidScales(pyramid);
   for (int i = 0; i < n; ++i) {
-    supports[i] = supportOf(keypoints[i].size, options_.supportScale, pyramidScales(pyramid));
+    supports[i] = supportOf(keypoints[i].size, options_.supportScale, scales);
     maxLevel = std::max(maxLevel, supports[i].level);
   }
   if (maxLevel >= 0) pyramid.prepareSmoothed(maxLevel);
@@ -150,8 +152,9 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
     if (measure) keypoints[i].angle = angles[i];
     if (kept != i) {
       keypoints[kept] = keypoints[i];
-      desc.row(i).copyTo(desc.row(kept));
-      if (wantMasks) mask.row(i).copyTo(mask.row(kept));
+      // Row pointers: the cv::Mat row headers showed in the profile.
+      std::copy_n(desc.ptr<uchar>(i), bytes, desc.ptr<uchar>(kept));
+      if (wantMasks) std::copy_n(mask.ptr<uchar>(i), bytes, mask.ptr<uchar>(kept));
     }
     ++kept;
   }

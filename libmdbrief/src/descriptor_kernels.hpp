@@ -1,9 +1,10 @@
 #pragma once
 // Sampling kernels of the descriptor (descriptor.cpp). The portable forms live here and in
-// descriptor.cpp; descriptor_kernel_avx2.cpp holds the AVX2 forms, compiled with -mavx2 and
-// chosen at run time (simd_level.hpp). Both give the same bits. Only plain data crosses the
-// boundary, and the inline helpers below have internal linkage, so no copy compiled with AVX2
-// flags can stand in for a baseline one at link time.
+// descriptor.cpp; descriptor_kernel_avx2.cpp holds the AVX2 forms (-mavx2) and
+// descriptor_kernel_avx512.cpp the AVX-512 placement (-mavx512f), chosen at run time
+// (simd_level.hpp). Every form gives the same bits. Only plain data crosses the boundary, and
+// the inline helpers below have internal linkage, so no copy compiled with AVX flags can stand
+// in for a baseline one at link time.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -20,8 +21,9 @@ constexpr int kSub = 1 << kSubBits;
 struct SamplingKernels {
   // out[i] = toFixed(c + a * qa[i] + b * qb[i]).
   void (*affineCoordinate)(double c, double a, double b, const double* qa, const double* qb, int* out, int n);
-  // Bit d of out (d < nTests, a multiple of 8) = bilinear sample (x[d], y[d]) < sample
-  // (x[nTests + d], y[nTests + d]). Every position inside the image (descriptor.cpp allInside).
+  // Bit d of out (d < nTests, a multiple of 32 as DescriptorOptions::bits) = bilinear sample
+  // (x[d], y[d]) < sample (x[nTests + d], y[nTests + d]). Every position inside the image
+  // (descriptor.cpp allInside).
   void (*packBitsBilinear)(const uint8_t* data, size_t step, const int* x, const int* y, int nTests, uint8_t* out);
   // Whether every position can be sampled bilinearly in a width x height image (x0 + 1 <=
   // width - 1, y0 + 1 <= height - 1); nearest sampling reads a subset of those pixels.
@@ -33,6 +35,7 @@ struct SamplingKernels {
 
 SamplingKernels portableSamplingKernels();
 SamplingKernels avx2SamplingKernels();
+SamplingKernels avx512SamplingKernels();
 // The kernels of the active SIMD level (simd_level.hpp).
 SamplingKernels activeSamplingKernels();
 

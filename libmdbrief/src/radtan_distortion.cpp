@@ -41,6 +41,21 @@ cv::Vec2d RadTanDistortion::distort(double x, double y) const {
           y * factor + c_.p1 * (r2 + 2.0 * y * y) + 2.0 * c_.p2 * x * y};
 }
 
+cv::Matx22d RadTanDistortion::jacobian(double x, double y) const {
+  const double r2 = x * x + y * y;
+  const double num = 1.0 + r2 * (c_.k1 + r2 * (c_.k2 + r2 * c_.k3));
+  const double den = 1.0 + r2 * (c_.k4 + r2 * (c_.k5 + r2 * c_.k6));
+  const double factor = num / den;
+  // d(factor)/dx = x * dRadial, d(factor)/dy = y * dRadial (quotient rule on r^2).
+  const double numPrime = c_.k1 + r2 * (2.0 * c_.k2 + r2 * 3.0 * c_.k3);
+  const double denPrime = c_.k4 + r2 * (2.0 * c_.k5 + r2 * 3.0 * c_.k6);
+  const double dRadial = 2.0 * ((numPrime * den - num * denPrime) / (den * den));
+  const double j00 = factor + x * x * dRadial + 2.0 * c_.p1 * y + 6.0 * c_.p2 * x;
+  const double j01 = x * y * dRadial + 2.0 * c_.p1 * x + 2.0 * c_.p2 * y;
+  const double j11 = factor + y * y * dRadial + 6.0 * c_.p1 * y + 2.0 * c_.p2 * x;
+  return {j00, j01, j01, j11};
+}
+
 bool RadTanDistortion::undistort(double xd, double yd, cv::Vec2d& undistorted) const {
   const double rd = std::hypot(xd, yd);
   if (!std::isfinite(rd) || !(rd < rdMax_)) return false;
@@ -64,18 +79,9 @@ bool RadTanDistortion::undistort(double xd, double yd, cv::Vec2d& undistorted) c
   double x = rd > 0.0 ? xd * r / rd : 0.0, y = rd > 0.0 ? yd * r / rd : 0.0;
   // Newton on the full model with its 2x2 Jacobian to add the tangential part.
   for (int i = 0; i < 20; ++i) {
-    const double r2 = x * x + y * y;
-    const double num = 1.0 + r2 * (c_.k1 + r2 * (c_.k2 + r2 * c_.k3));
-    const double den = 1.0 + r2 * (c_.k4 + r2 * (c_.k5 + r2 * c_.k6));
-    const double factor = num / den;
-    // d(factor)/dx = x * dRadial, d(factor)/dy = y * dRadial (quotient rule on r^2).
-    const double numPrime = c_.k1 + r2 * (2.0 * c_.k2 + r2 * 3.0 * c_.k3);
-    const double denPrime = c_.k4 + r2 * (2.0 * c_.k5 + r2 * 3.0 * c_.k6);
-    const double dRadial = 2.0 * ((numPrime * den - num * denPrime) / (den * den));
+    const cv::Matx22d j = jacobian(x, y);
+    const double j00 = j(0, 0), j01 = j(0, 1), j11 = j(1, 1);
     const cv::Vec2d e = distort(x, y) - cv::Vec2d(xd, yd);
-    const double j00 = factor + x * x * dRadial + 2.0 * c_.p1 * y + 6.0 * c_.p2 * x;
-    const double j01 = x * y * dRadial + 2.0 * c_.p1 * x + 2.0 * c_.p2 * y;
-    const double j11 = factor + y * y * dRadial + 6.0 * c_.p1 * y + 2.0 * c_.p2 * x;
     const double det = j00 * j11 - j01 * j01;  // the Jacobian is symmetric
     if (!(std::abs(det) > 1e-300)) return false;
     const double dx = (j11 * e[0] - j01 * e[1]) / det, dy = (j00 * e[1] - j01 * e[0]) / det;

@@ -29,6 +29,8 @@ class RadTanDistortion {
   double maxDistortedRadius() const { return rdMax_; }
 
   cv::Vec2d distort(double x, double y) const;
+  // d distort / d (x, y) (symmetric).
+  cv::Matx22d jacobian(double x, double y) const;
   // The undistorted point of (xd, yd) within maxRadius(), or false (no inverse there).
   bool undistort(double xd, double yd, cv::Vec2d& undistorted) const;
 

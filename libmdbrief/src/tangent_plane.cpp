@@ -43,15 +43,13 @@ std::optional<TangentPlaneFrame> tangentPlaneAt(const Camera& camera, const cv::
     frame.e2 = {0, 1, 0};
   }
 
-  // Central differences with a half-unit step: plane units are about pixels, so the stencil
-  // stays within the footprint of one pixel and the truncation error is negligible.
-  constexpr double h = 0.5;
-  cv::Point2d xp, xm, yp, ym;
-  if (!planeToPixel(camera, frame, {h, 0}, xp) || !planeToPixel(camera, frame, {-h, 0}, xm) ||
-      !planeToPixel(camera, frame, {0, h}, yp) || !planeToPixel(camera, frame, {0, -h}, ym))
-    return std::nullopt;
-  const cv::Point2d dx = (xp - xm) / (2 * h), dy = (yp - ym) / (2 * h);
-  frame.jacobian = cv::Matx22d(dx.x, dy.x, dx.y, dy.y);
+  // The plane point at (x, y) is origin + x e1 + y e2: its image moves by d pixel / d bearing
+  // times e1 and e2.
+  cv::Point2d centre;
+  cv::Matx23d projection;
+  if (!camera.bearingToPixelJacobian(frame.origin, centre, projection)) return std::nullopt;
+  frame.jacobian =
+      projection * cv::Matx32d(frame.e1[0], frame.e2[0], frame.e1[1], frame.e2[1], frame.e1[2], frame.e2[2]);
   if (!(std::abs(cv::determinant(frame.jacobian)) > 1e-12)) return std::nullopt;
   return frame;
 }

@@ -28,6 +28,10 @@ class Camera {
   // overflow or underflow (above about 1e154, below about 1e-154) may give false, never a
   // non-finite pixel: scale such rays towards 1 first, as the Python binding does.
   virtual bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const = 0;
+  // bearingToPixel with its derivative d pixel / d bearing (2x3) at `bearing`, in closed form:
+  // the tangent plane's Jacobian at every keypoint (tangent_plane.hpp) without iterating the
+  // inverse model. The same pixel and the same false cases as bearingToPixel.
+  virtual bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const = 0;
 
   // True when the pixel is inside the image and inside the lens' usable area (image circle,
   // field of view). Descriptors never sample where this is false.

@@ -28,6 +28,7 @@ class DoubleSphereCamera final : public Camera {
   cv::Size imageSize() const override { return p_.intrinsics.size(); }
   bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
   bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
+  bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
   bool isValid(const cv::Point2d& pixel) const override;
   // (fx + fy) / 2. At the image centre the local scale is f / (1 + xi) for this model; the
   // focal length is kept so that all perspective-family models share one definition.

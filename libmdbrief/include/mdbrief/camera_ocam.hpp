@@ -43,6 +43,7 @@ class OcamCamera final : public Camera {
   cv::Size imageSize() const override { return {p_.width, p_.height}; }
   bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
   bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
+  bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
   bool isValid(const cv::Point2d& pixel) const override;
   // |a0|, the paper's lambda for the fisheye model.
   double tangentPlaneScale() const override { return std::abs(p_.forward.front()); }

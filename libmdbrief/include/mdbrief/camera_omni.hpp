@@ -39,6 +39,7 @@ class OmniCamera final : public Camera {
   cv::Size imageSize() const override { return p_.intrinsics.size(); }
   bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
   bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
+  bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
   bool isValid(const cv::Point2d& pixel) const override;
   // (fx + fy) / 2 / (1 + xi): the local scale at the image centre (Kalibr's omni focal lengths
   // are about twice a fisheye's for xi near 1).

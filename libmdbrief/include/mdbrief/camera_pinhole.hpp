@@ -16,6 +16,7 @@ class PinholeCamera final : public Camera {
   cv::Size imageSize() const override { return k_.size(); }
   bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
   bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
+  bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
   bool isValid(const cv::Point2d& pixel) const override;
   // (fx + fy) / 2: the mean focal length, so non-square pixels get the average footprint.
   double tangentPlaneScale() const override { return 0.5 * (k_.fx + k_.fy); }

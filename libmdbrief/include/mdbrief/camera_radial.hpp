@@ -35,6 +35,7 @@ class RadialCamera final : public Camera {
   cv::Size imageSize() const override { return p_.intrinsics.size(); }
   bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
   bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
+  bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
   bool isValid(const cv::Point2d& pixel) const override;
   // (fx + fy) / 2, as the pinhole camera.
   double tangentPlaneScale() const override { return 0.5 * (p_.intrinsics.fx + p_.intrinsics.fy); }

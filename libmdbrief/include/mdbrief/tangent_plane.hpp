@@ -32,7 +32,7 @@ struct TangentPlaneFrame {
 
 // The frame at a level-0 pixel, local or global (see above). Empty when the pixel has no bearing,
 // when its ray is more than maxIncidenceDeg from the optical axis (the global plane needs less
-// than 90), or when the Jacobian cannot be evaluated (its stencil leaves the model's domain).
+// than 90), or when the camera cannot project the ray back (Camera::bearingToPixelJacobian).
 std::optional<TangentPlaneFrame> tangentPlaneAt(const Camera& camera, const cv::Point2d& pixel,
                                                 double maxIncidenceDeg, bool local = true);
 
