@@ -697,6 +697,16 @@ namespace {
 // firstLevel > 0 adds enlarged levels: modORB's keypoints found there are smaller than the patch at the
 // input scale, stay inside the input image, and the descriptor (on the same pyramid) can
 // describe them.
+// BRIEF on the detector's pyramid keeps all but a few keypoints: their levels are ones it reads.
+void expectBriefDescribesAlmostAll(const ImagePyramid& pyramid, const std::vector<cv::KeyPoint>& keypoints) {
+  DescriptorOptions descriptor;
+  descriptor.kind = DescriptorKind::Brief;
+  std::vector<cv::KeyPoint> described = keypoints;
+  cv::Mat descriptors;
+  DescriptorExtractor(nullptr, descriptor).compute(pyramid, described, descriptors);
+  EXPECT_GT(described.size(), 0.95 * keypoints.size());
+}
+
 TEST(Detector, FirstLevelAddsEnlargedLevelsTheDescriptorUnderstands) {
   const auto doc = testing::opencvDocDataDir();
   if (!doc) GTEST_SKIP() << "opencv-doc not installed (scripts/setup-deps.sh)";
@@ -715,12 +725,7 @@ TEST(Detector, FirstLevelAddsEnlargedLevelsTheDescriptorUnderstands) {
     }
   }
   EXPECT_GT(enlarged, 50);
-  DescriptorOptions descriptor;
-  descriptor.kind = DescriptorKind::Brief;
-  std::vector<cv::KeyPoint> described = keypoints;
-  cv::Mat descriptors;
-  DescriptorExtractor(nullptr, descriptor).compute(pyramid, described, descriptors);
-  EXPECT_GT(described.size(), 0.95 * keypoints.size());
+  expectBriefDescribesAlmostAll(pyramid, keypoints);
 }
 
 // The Hessian keeps maxima over both neighbouring levels, so never on the first level: with the
@@ -753,12 +758,7 @@ TEST(HessianDetector, AnEnlargedLevelFindsBlobsAtTheInputScale) {
   }
   EXPECT_GT(atInput, 50);
   EXPECT_GT(finer(keypoints), 50);
-  DescriptorOptions descriptor;
-  descriptor.kind = DescriptorKind::Brief;
-  std::vector<cv::KeyPoint> described = keypoints;
-  cv::Mat descriptors;
-  DescriptorExtractor(nullptr, descriptor).compute(pyramid, described, descriptors);
-  EXPECT_GT(described.size(), 0.95 * keypoints.size());
+  expectBriefDescribesAlmostAll(pyramid, keypoints);
 
   options.pyramid.firstLevel = 0;
   EXPECT_EQ(finer(Detector(nullptr, options).detect(image)), 0);

@@ -1,12 +1,8 @@
 # ctest driver: install the library component of the build tree to a scratch prefix, then build
 # the consumer with nothing but `pkg-config --cflags --libs mdbrief` and run it.
 # Expects -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... -DCXX=... and optional -DCONSUMER_FLAGS=...
-file(REMOVE_RECURSE ${WORK_DIR})
-execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD_DIR} --component library --prefix ${WORK_DIR}/prefix
-                RESULT_VARIABLE rc OUTPUT_QUIET)
-if(rc)
-  message(FATAL_ERROR "install failed (${rc})")
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/consumer_steps.cmake)
+install_library_to_scratch_prefix()
 file(GLOB_RECURSE pc_files ${WORK_DIR}/prefix/mdbrief.pc)
 list(LENGTH pc_files count)
 if(NOT count EQUAL 1)
@@ -31,7 +27,4 @@ set(camera ${WORK_DIR}/prefix/share/mdbrief/cameras/lafida_fisheye0.yaml)
 if(NOT EXISTS ${camera})
   message(FATAL_ERROR "the example cameras are not installed: no ${camera}")
 endif()
-execute_process(COMMAND ${WORK_DIR}/consumer ${camera} RESULT_VARIABLE rc)
-if(rc)
-  message(FATAL_ERROR "the consumer failed (${rc})")
-endif()
+run_step("the consumer" ${WORK_DIR}/consumer ${camera})
