@@ -111,8 +111,13 @@ cv::Mat ViewChange::render(const cv::Mat& source, uint64_t noiseSeed) const {
   // Where the view shrinks the source, low-pass it first so the bilinear resampling does not
   // alias (sigma of a Gaussian matching the footprint of one view pixel).
   const double zoom = localZoom({source.cols / 2.0, source.rows / 2.0});
+  // Into a buffer of its own: a header copy of `source` would blur the caller's image in place.
   cv::Mat src = source;
-  if (zoom > 0 && zoom < 0.95) cv::GaussianBlur(source, src, {0, 0}, 0.5 * std::sqrt(1 / (zoom * zoom) - 1));
+  if (zoom > 0 && zoom < 0.95) {
+    cv::Mat blurred;
+    cv::GaussianBlur(source, blurred, {0, 0}, 0.5 * std::sqrt(1 / (zoom * zoom) - 1));
+    src = blurred;
+  }
   cv::Mat view;
   cv::remap(src, view, mapX, mapY, cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0);
   if (blurSigma > 0.05) cv::GaussianBlur(view, view, {0, 0}, blurSigma);

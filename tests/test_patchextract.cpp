@@ -343,6 +343,24 @@ TEST(ViewChange, MapsBothWaysAndIsReproducible) {
   EXPECT_THROW(randomViewChange(size, nullptr, bad, 1), std::invalid_argument);
 }
 
+// A view that shrinks the source low-passes it first: into its own buffer, never the caller's
+// image (the extraction samples the reference patches from that image after rendering its views).
+TEST(ViewChange, RenderLeavesItsSourceUntouched) {
+  const cv::Size size(320, 240);
+  cv::Mat source(size, CV_8UC1);
+  cv::RNG(5).fill(source, cv::RNG::UNIFORM, 0, 256);
+  const cv::Mat before = source.clone();
+  int shrinking = 0;
+  for (uint64_t seed = 1; seed <= 40; ++seed) {
+    const auto change = randomViewChange(size, nullptr, ViewChangeOptions{}, seed);
+    if (!(change->localZoom({size.width / 2.0, size.height / 2.0}) < 0.95)) continue;
+    ++shrinking;
+    change->render(source, seed);
+    ASSERT_EQ(cv::countNonZero(source != before), 0) << "seed " << seed;
+  }
+  EXPECT_GT(shrinking, 0) << "no shrinking view among the seeds: the test checks nothing";
+}
+
 TEST(Extraction, CounterpartsAreTheSameKeypointsInChangedViewsAndHeldOutImagesAreSkipped) {
   const auto doc = mdbrief::testing::opencvDocDataDir();
   if (!doc) GTEST_SKIP() << "opencv-doc not installed";
