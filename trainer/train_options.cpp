@@ -58,6 +58,15 @@ const OptionTable<TrainOptions>& trainOptionFields() {
         integerField<O>("separation.covarianceWords", "", "covariance_words", "--covariance-words",
                         "separation: 64-patch words the covariances are estimated on", R::closed(1, 65536),
                         [](auto& o) -> auto& { return o.separation.covarianceWords; }),
+        // Time and memory only: the learned tests are the same for every block size
+        // (tests/test_trainer.cpp), so the pattern's recorded command leaves them out.
+        integerField<O>("streaming.chunkWords", "", "chunk_words", "--chunk-words",
+                        "64-patch words per transposed block every candidate is evaluated on (time and memory only)",
+                        R::closed(1, 4096), [](auto& o) -> auto& { return o.streaming.chunkWords; }),
+        integerField<O>("streaming.candidateBatch", "", "candidate_batch", "--candidate-batch",
+                        "candidates whose responses are computed together (time and memory only)",
+                        R::closed(1, static_cast<double>(kCandidateCount)),
+                        [](auto& o) -> auto& { return o.streaming.candidateBatch; }),
         textField<O>("name", "", "name", "--name",
                      "registry name (default <detector>_<perspective|fisheye>_<tests>)",
                      [](auto& o) -> auto& { return o.name; }),

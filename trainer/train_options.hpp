@@ -32,6 +32,7 @@ struct TrainOptions {
   SelectionCriterion selection = SelectionCriterion::Separation;
   GreedyOptions greedy;  // paper, stability: the correlation thresholds (greedy.tests is `tests`)
   SeparationOptions separation;  // separation: pool and weights (separation.tests is `tests`)
+  StreamingOptions streaming;    // block sizes of the trainer: time and memory, never the tests
   std::string name;     // registry name; empty = <detector>_<perspective|fisheye>_<tests>
   std::string out;      // patterns folder to write <name>.hpp, <name>.json and registry.hpp into; empty = none
   bool makeDefault = false;  // make the learned set the registry's default

@@ -136,7 +136,7 @@ TrainResult train(const TrainOptions& s, const TrainProgress& progress) {
   go.tests = s.tests;
   const Counterparts pairs{{patches.counterpartPixels.data(), patches.counterpartCount()},
                            patches.counterpartOf.data()};
-  result.learned = learnTests(matrix, go, criterion, pairs, progress, s.separation);
+  result.learned = learnTests(matrix, go, criterion, pairs, progress, s.separation, s.streaming);
   const LearnedTests& learned = result.learned;
 
   PatternDocument& doc = result.pattern;
