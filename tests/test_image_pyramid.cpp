@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -100,18 +101,22 @@ TEST(ImagePyramid, SmoothedLevelIsTheGaussianOfTheLevelAndIsCached) {
   options.smoothingSigma = 1.5;
   const ImagePyramid pyramid(noiseImage({90, 70}), options);
   for (int level = 0; level < pyramid.levels(); ++level) {
-    // The float level is the Gaussian of the intensities in [0, 1]; the 8-bit one rounds it.
+    // The float level is the Gaussian of the intensities in [0, 1], and the 8-bit one rounds it,
+    // both within the fixed-point weights' grey level (on noise, the harshest input).
     cv::Mat intensities, expected;
     pyramid.image(level).convertTo(intensities, CV_32F, 1.0 / 255.0);
     cv::GaussianBlur(intensities, expected, cv::Size(5, 5), 1.5, 1.5, cv::BORDER_REFLECT_101);
     const cv::Mat& smoothedFloat = pyramid.smoothedFloat(level);
     ASSERT_EQ(smoothedFloat.type(), CV_32F);
     ASSERT_EQ(smoothedFloat.size(), expected.size());
-    EXPECT_LT(cv::norm(smoothedFloat, expected, cv::NORM_INF), 1e-6) << "level " << level;
+    EXPECT_LT(cv::norm(smoothedFloat, expected, cv::NORM_INF), 1.0 / 255.0) << "level " << level;
     const cv::Mat& smoothed = pyramid.smoothed(level);
-    cv::Mat rounded;
+    cv::Mat rounded, bytesAsFloat;
     expected.convertTo(rounded, CV_8U, 255.0);
-    EXPECT_LE(cv::norm(smoothed, rounded, cv::NORM_INF), 1) << "level " << level;  // float rounding at .5
+    EXPECT_LE(cv::norm(smoothed, rounded, cv::NORM_INF), 1) << "level " << level;
+    // The two forms are one smoothing: the bytes are the floats rounded.
+    smoothed.convertTo(bytesAsFloat, CV_32F, 1.0 / 255.0);
+    EXPECT_LE(cv::norm(bytesAsFloat, smoothedFloat, cv::NORM_INF), (0.5 + 1e-3) / 255.0) << "level " << level;
     EXPECT_EQ(&pyramid.smoothed(level), &smoothed);
     EXPECT_EQ(pyramid.smoothed(level).data, smoothed.data);
     EXPECT_EQ(pyramid.smoothedFloat(level).data, smoothedFloat.data);
@@ -122,6 +127,33 @@ TEST(ImagePyramid, SmoothedLevelIsTheGaussianOfTheLevelAndIsCached) {
   cv::meanStdDev(pyramid.smoothed(0), mean, smoothStd);
   EXPECT_LT(smoothStd[0], 0.5 * rawStd[0]);
   EXPECT_THROW(pyramid.smoothed(pyramid.levels()), std::out_of_range);
+}
+
+// The fixed-point weights sum to one exactly and are symmetric: a flat image stays flat and a
+// ramp stays the same ramp away from the borders, exactly, for every kernel width the options
+// accept, up to the widest (one tap: no smoothing at all).
+TEST(ImagePyramid, SmoothingKeepsFlatImagesFlatAndRampsStraight) {
+  for (const auto& [taps, sigma] : {std::pair{1, 0.3}, {3, 0.5}, {7, 2.0}, {15, 3.0}, {31, 8.0}}) {
+    PyramidOptions options;
+    options.levels = 1;
+    options.smoothingKernel = taps;
+    options.smoothingSigma = sigma;
+    const std::string what = std::to_string(taps) + " taps, sigma " + std::to_string(sigma);
+    const ImagePyramid flat(cv::Mat(40, 50, CV_8U, cv::Scalar(137)), options);
+    EXPECT_EQ(cv::countNonZero(flat.smoothed(0) != 137), 0) << what;
+    EXPECT_LT(cv::norm(flat.smoothedFloat(0), cv::Mat(40, 50, CV_32F, cv::Scalar(137.0 / 255.0)), cv::NORM_INF), 1e-6)
+        << what;
+
+    cv::Mat ramp(40, 100, CV_8U);
+    for (int x = 0; x < ramp.cols; ++x) ramp.col(x).setTo(2 * x + 20);
+    const ImagePyramid ramped(ramp, options);
+    const cv::Rect inner(taps / 2, 0, ramp.cols - 2 * (taps / 2), ramp.rows);
+    EXPECT_EQ(cv::countNonZero(ramped.smoothed(0)(inner) != ramp(inner)), 0) << what;
+    // At the borders the reflection folds the ramp: smoothing lifts the lowest column there.
+    if (taps > 1) {
+      EXPECT_GT(ramped.smoothedFloat(0).at<float>(0, 0), ramp.at<uchar>(0, 0) / 255.f + 1e-4f) << what;
+    }
+  }
 }
 
 TEST(ImagePyramid, PrepareSmoothedFillsTheLevelsUpToMaxLevel) {
@@ -137,11 +169,10 @@ TEST(ImagePyramid, PrepareSmoothedFillsTheLevelsUpToMaxLevel) {
 // that another thread is still writing, and the level is blurred once (one buffer).
 TEST(ImagePyramid, SmoothedIsSafeFromSeveralThreads) {
   const ImagePyramid pyramid(noiseImage({1600, 1200}), PyramidOptions{});
+  // What one thread gets from its own pyramid of the same image.
+  const ImagePyramid alone(noiseImage({1600, 1200}), PyramidOptions{});
   std::vector<cv::Mat> expected(pyramid.levels());
-  // The 7x7 Gaussian of sigma 2 (the options' smoothing): the library filters in float and
-  // rounds, OpenCV's 8-bit blur in fixed point, so they may differ by one grey level.
-  for (int level = 0; level < pyramid.levels(); ++level)
-    cv::GaussianBlur(pyramid.image(level), expected[level], cv::Size(7, 7), 2.0, 2.0, cv::BORDER_REFLECT_101);
+  for (int level = 0; level < pyramid.levels(); ++level) expected[level] = alone.smoothed(level);
   constexpr int kThreads = 8;
   std::atomic<int> ready{0};
   std::vector<std::vector<const uchar*>> seen(kThreads, std::vector<const uchar*>(pyramid.levels()));
@@ -154,7 +185,7 @@ TEST(ImagePyramid, SmoothedIsSafeFromSeveralThreads) {
       for (int level = 0; level < pyramid.levels(); ++level) {
         const cv::Mat& smoothed = pyramid.smoothed(level);
         seen[t][level] = smoothed.data;
-        if (smoothed.size() != expected[level].size() || cv::norm(smoothed, expected[level], cv::NORM_INF) > 1)
+        if (smoothed.size() != expected[level].size() || cv::norm(smoothed, expected[level], cv::NORM_INF) != 0)
           ++wrong[t];
       }
     });

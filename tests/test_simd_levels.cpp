@@ -5,6 +5,8 @@
 
 #include <random>
 #include <stdexcept>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -12,6 +14,7 @@
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/descriptor.hpp"
 #include "mdbrief/detector.hpp"
+#include "mdbrief/image_pyramid.hpp"
 #include "mdbrief/matcher.hpp"
 #include "mdbrief/simd_level.hpp"
 #include "test_data.hpp"
@@ -58,6 +61,50 @@ TEST(SimdLevel, CapLowersTheActiveLevel) {
 #if !defined(__x86_64__)
   EXPECT_EQ(supported, SimdLevel::Portable);
 #endif
+}
+
+// The pyramid's smoothing (both forms) and the Hessian detector on it, for the narrowest,
+// default and widest kernels.
+TEST(SimdLevel, SmoothingAndBlobsAreIdenticalAtEveryLevel) {
+  const cv::Mat image = texturedImage(403, 301);  // odd widths: every vector loop has a tail
+  for (const auto& [taps, sigma] : {std::pair{1, 0.5}, {7, 2.0}, {31, 8.0}}) {
+    mdbrief::PyramidOptions options;
+    options.smoothingKernel = taps;
+    options.smoothingSigma = sigma;
+    std::vector<cv::Mat> refBytes, refFloats;
+    for (const SimdLevel level : supportedLevels()) {
+      LevelCap cap(level);
+      const mdbrief::ImagePyramid pyramid(image, options);
+      for (int k = 0; k < pyramid.levels(); ++k) {
+        const cv::Mat& floats = pyramid.smoothedFloat(k);
+        const cv::Mat& bytes = pyramid.smoothed(k);
+        if (level == SimdLevel::Portable) {
+          refFloats.push_back(floats), refBytes.push_back(bytes);
+          continue;
+        }
+        const std::string what = mdbrief::toString(level) + ", " + std::to_string(taps) + " taps, level " + std::to_string(k);
+        EXPECT_EQ(cv::norm(bytes, refBytes[k], cv::NORM_INF), 0.0) << what;
+        EXPECT_EQ(cv::norm(floats, refFloats[k], cv::NORM_INF), 0.0) << what;
+      }
+    }
+  }
+  mdbrief::DetectorOptions hessian;
+  hessian.method = mdbrief::DetectorMethod::Hessian;
+  std::vector<cv::KeyPoint> reference;
+  for (const SimdLevel level : supportedLevels()) {
+    LevelCap cap(level);
+    const std::vector<cv::KeyPoint> blobs = mdbrief::Detector(nullptr, hessian).detect(image);
+    if (level == SimdLevel::Portable) {
+      reference = blobs;
+      ASSERT_GT(reference.size(), 100u);
+      continue;
+    }
+    ASSERT_EQ(blobs.size(), reference.size()) << mdbrief::toString(level);
+    for (size_t i = 0; i < blobs.size(); ++i) {
+      EXPECT_EQ(blobs[i].pt, reference[i].pt) << mdbrief::toString(level);
+      EXPECT_EQ(blobs[i].response, reference[i].response) << mdbrief::toString(level);
+    }
+  }
 }
 
 TEST(SimdLevel, DescriptorsAreIdenticalAtEveryLevel) {

@@ -7,16 +7,15 @@
 #include <opencv2/imgproc.hpp>
 #include <tbb/parallel_for.h>
 
+#include "gaussian_smoothing.hpp"
+
 namespace mdbrief::detail {
 
 cv::Mat gaussianSmoothed(const cv::Mat& level, double sigma) {
   // Truncated at 3 sigma: OpenCV's default for float images reaches 4 sigma, a third more taps
-  // for weights below 0.3 % of the total.
+  // for weights below 0.3 % of the total. The pyramid's own smoothing, at this detector's sigma.
   const int taps = 2 * static_cast<int>(std::ceil(3.0 * sigma)) + 1;
-  const cv::Mat kernel = cv::getGaussianKernel(taps, sigma, CV_32F);
-  cv::Mat smooth;
-  cv::sepFilter2D(level, smooth, CV_32F, kernel / 255.0, kernel, cv::Point(-1, -1), 0, cv::BORDER_REFLECT_101);
-  return smooth;
+  return gaussianSmoothing(level, taps, sigma, true).floats;
 }
 
 cv::Mat hessianResponse(const cv::Mat& smooth, double sigma) {

@@ -2,13 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
 #include <opencv2/imgproc.hpp>
 #include <tbb/parallel_for.h>
 
+#include "gaussian_smoothing.hpp"
+
 namespace mdbrief {
+
+struct ImagePyramid::SmoothedLevels {
+  explicit SmoothedLevels(size_t levels) : bytes(levels), floats(levels), byteOnce(levels), floatOnce(levels) {}
+  std::vector<cv::Mat> bytes, floats;
+  std::vector<std::once_flag> byteOnce, floatOnce;
+};
 
 cv::Mat toGrey(const cv::Mat& image) {
   if (image.empty()) throw std::invalid_argument("toGrey: the image is empty");
@@ -49,15 +58,16 @@ ImagePyramid::ImagePyramid(const cv::Mat& image, const PyramidOptions& options, 
     }
     // Sizes come from the input's size (not the previous level's) so rounding does not
     // accumulate; reductions take their pixels from the previous level, as cv::ORB does, and
-    // enlargements from the input.
+    // enlargements from the input. INTER_LINEAR as cv::ORB: OpenCV's 8-bit bilinear in fixed
+    // point (integer, whatever SIMD path runs it); INTER_LINEAR_EXACT took twice as long.
     const cv::Size size(static_cast<int>(std::lround(grey.cols / scale)),
                         static_cast<int>(std::lround(grey.rows / scale)));
     if (size.width < 1 || size.height < 1) break;  // nothing left to sample
     cv::Mat level_image;
     if (level < options.firstLevel)
-      cv::resize(grey, level_image, size, 0, 0, cv::INTER_LINEAR_EXACT);
+      cv::resize(grey, level_image, size, 0, 0, cv::INTER_LINEAR);
     else
-      cv::resize(images_.back(), level_image, size, 0, 0, cv::INTER_LINEAR_EXACT);
+      cv::resize(images_.back(), level_image, size, 0, 0, cv::INTER_LINEAR);
     images_.push_back(level_image);
     scales_.push_back(scale);
   }
@@ -65,20 +75,24 @@ ImagePyramid::ImagePyramid(const cv::Mat& image, const PyramidOptions& options, 
 }
 
 const cv::Mat& ImagePyramid::smoothedFloat(int level) const {
-  const cv::Mat& source = images_.at(level);
-  cv::Mat& target = smoothed_->floats[level];
+  cv::Mat& target = smoothed_->floats.at(level);
   std::call_once(smoothed_->floatOnce[level], [&] {
-    // From the 8-bit level straight into float intensities: one pass fewer than converting first.
-    const cv::Mat kernel = cv::getGaussianKernel(options_.smoothingKernel, options_.smoothingSigma, CV_32F);
-    cv::sepFilter2D(source, target, CV_32F, kernel / 255.0, kernel, cv::Point(-1, -1), 0, cv::BORDER_REFLECT_101);
+    detail::Smoothing s = smooth(level, true);
+    target = s.floats;
+    // The same pass rounded the bytes: the descriptors need not smooth again.
+    std::call_once(smoothed_->byteOnce[level], [&] { smoothed_->bytes[level] = s.bytes; });
   });
   return target;
 }
 
 const cv::Mat& ImagePyramid::smoothed(int level) const {
   cv::Mat& target = smoothed_->bytes.at(level);
-  std::call_once(smoothed_->byteOnce[level], [&] { smoothedFloat(level).convertTo(target, CV_8U, 255.0); });
+  std::call_once(smoothed_->byteOnce[level], [&] { target = smooth(level, false).bytes; });
   return target;
+}
+
+detail::Smoothing ImagePyramid::smooth(int level, bool withFloats) const {
+  return detail::gaussianSmoothing(images_.at(level), options_.smoothingKernel, options_.smoothingSigma, withFloats);
 }
 
 void ImagePyramid::prepareSmoothed(int maxLevel) const {

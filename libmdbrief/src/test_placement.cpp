@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <optional>
 #include <utility>
 
@@ -201,10 +200,13 @@ Support supportOf(float size, double supportScale, const std::vector<double>& sc
   // Under one pixel every test compares nearly the same interpolated value: all zeros, all
   // stable, and any two such keypoints would match at distance 0.
   if (!(s * internal::kReferenceKeypointSize >= 1.0) || !std::isfinite(s)) return {};
+  // The level whose scale is nearest to s in log terms. Scales ascend (scaleFactor > 1), so it
+  // is the first whose geometric midpoint with the next is at or above s: no logarithm per level.
   Support out;
-  double best = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < static_cast<int>(scales.size()); ++k)
-    if (const double d = std::abs(std::log(s / scales[k])); d < best - 1e-9) best = d, out.level = k;
+  out.level = 0;
+  for (const int last = static_cast<int>(scales.size()) - 1;
+       out.level < last && s * s > scales[out.level] * scales[out.level + 1];)
+    ++out.level;
   out.fraction = s / scales[out.level];
   // A keypoint at its level's own size (cv::ORB: size = 31 * scale) keeps the exact integer
   // footprint it always had, whatever the float rounding of its size.

@@ -4,7 +4,6 @@
 // firstLevel are bilinear reductions of the level before, levels below it enlarge the input.
 // Keypoint coordinates are always input pixels; level coordinates are pt / scale(k).
 #include <memory>
-#include <mutex>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -12,6 +11,9 @@
 #include "mdbrief/option_fields.hpp"
 
 namespace mdbrief {
+namespace detail {
+struct Smoothing;
+}  // namespace detail
 
 struct PyramidOptions {
   int levels = 8;               // number of levels (cv::ORB default)
@@ -43,7 +45,8 @@ class ImagePyramid {
   const PyramidOptions& options() const { return options_; }
   const cv::Mat& image(int level) const { return images_.at(level); }
   // The level smoothed by the options' Gaussian, as CV_32F intensities in [0, 1], and the same
-  // rounded to 8 bits (what the descriptors sample). Each is computed once, on first use: safe
+  // rounded to 8 bits (what the descriptors sample); both from one smoothing in integer
+  // arithmetic, identical on every CPU. Each is computed once, on first use: safe
   // to call from several threads; a detector that needs neither never pays for them, and the
   // Hessian detector's response and the descriptors share one blur. prepareSmoothed() makes the
   // 8-bit levels 0..maxLevel (all if negative) in parallel ahead of parallel sampling.
@@ -52,12 +55,11 @@ class ImagePyramid {
   void prepareSmoothed(int maxLevel) const;
 
  private:
-  // Shared by copies of the pyramid, whose levels are the same images.
-  struct SmoothedLevels {
-    explicit SmoothedLevels(size_t levels) : floats(levels), bytes(levels), floatOnce(levels), byteOnce(levels) {}
-    std::vector<cv::Mat> floats, bytes;
-    std::vector<std::once_flag> floatOnce, byteOnce;
-  };
+  // The smoothed forms of every level, made on first use (image_pyramid.cpp); shared by copies
+  // of the pyramid, whose levels are the same images.
+  struct SmoothedLevels;
+  // One pass of the smoothing over a level: the bytes, and the floats if asked for.
+  detail::Smoothing smooth(int level, bool withFloats) const;
 
   PyramidOptions options_;
   cv::Size inputSize_;
