@@ -4,8 +4,8 @@
 
 namespace mdbrief {
 
-DoubleSphereCamera::DoubleSphereCamera(const DoubleSphereParams& params) : p_(params) {
-  validateIntrinsics(p_.intrinsics, "double_sphere");
+DoubleSphereCamera::DoubleSphereCamera(const DoubleSphereParams& params)
+    : CameraWithIntrinsics(params, "double_sphere") {
   if (!(p_.xi > -1.0 && p_.xi <= 1.0))
     detail::throwBadParameter("double_sphere", "xi", "must be in (-1, 1]", p_.xi);
   if (!(p_.alpha >= 0.0 && p_.alpha <= 1.0))
@@ -20,8 +20,8 @@ bool DoubleSphereCamera::unprojectable(double r2) const {
 }
 
 bool DoubleSphereCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const {
-  const CameraIntrinsics& k = p_.intrinsics;
-  const double mx = (pixel.x - k.cx) / k.fx, my = (pixel.y - k.cy) / k.fy;
+  const cv::Vec2d m = normalise(pixel);
+  const double mx = m[0], my = m[1];
   const double r2 = mx * mx + my * my;
   if (!unprojectable(r2)) return false;
   const double a = p_.alpha, xi = p_.xi;
@@ -59,15 +59,9 @@ bool DoubleSphereCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d&
 }
 
 bool DoubleSphereCamera::isValid(const cv::Point2d& pixel) const {
-  const CameraIntrinsics& k = p_.intrinsics;
-  const double mx = (pixel.x - k.cx) / k.fx, my = (pixel.y - k.cy) / k.fy;
-  return detail::insideImage(pixel, k.size()) && unprojectable(mx * mx + my * my);
-}
-
-std::shared_ptr<Camera> DoubleSphereCamera::resized(cv::Size newSize) const {
-  DoubleSphereParams r = p_;
-  r.intrinsics = resizeIntrinsics(p_.intrinsics, newSize);
-  return std::make_shared<DoubleSphereCamera>(r);
+  if (!detail::insideImage(pixel, imageSize())) return false;
+  const cv::Vec2d m = normalise(pixel);
+  return unprojectable(m[0] * m[0] + m[1] * m[1]);
 }
 
 }  // namespace mdbrief

@@ -4,8 +4,8 @@
 
 namespace mdbrief {
 
-KannalaBrandtCamera::KannalaBrandtCamera(const KannalaBrandtParams& params) : p_(params) {
-  validateIntrinsics(p_.intrinsics, "kannala_brandt");
+KannalaBrandtCamera::KannalaBrandtCamera(const KannalaBrandtParams& params)
+    : CameraWithIntrinsics(params, "kannala_brandt") {
   detail::requireFinite("kannala_brandt", "k1", p_.k1);
   detail::requireFinite("kannala_brandt", "k2", p_.k2);
   detail::requireFinite("kannala_brandt", "k3", p_.k3);
@@ -27,8 +27,8 @@ double KannalaBrandtCamera::thetaDPrime(double t) const {
 }
 
 bool KannalaBrandtCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const {
-  const CameraIntrinsics& k = p_.intrinsics;
-  const double mx = (pixel.x - k.cx) / k.fx, my = (pixel.y - k.cy) / k.fy;
+  const cv::Vec2d m = normalise(pixel);
+  const double mx = m[0], my = m[1];
   const double rd = std::hypot(mx, my);
   if (!std::isfinite(rd) || !(rd < thetaDMax_)) return false;
   if (rd == 0.0) {
@@ -88,15 +88,9 @@ bool KannalaBrandtCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d
 }
 
 bool KannalaBrandtCamera::isValid(const cv::Point2d& pixel) const {
-  const CameraIntrinsics& k = p_.intrinsics;
-  return detail::insideImage(pixel, k.size()) &&
-         detail::hypotBelow((pixel.x - k.cx) / k.fx, (pixel.y - k.cy) / k.fy, thetaDMax_);
-}
-
-std::shared_ptr<Camera> KannalaBrandtCamera::resized(cv::Size newSize) const {
-  KannalaBrandtParams r = p_;
-  r.intrinsics = resizeIntrinsics(p_.intrinsics, newSize);
-  return std::make_shared<KannalaBrandtCamera>(r);
+  if (!detail::insideImage(pixel, imageSize())) return false;
+  const cv::Vec2d m = normalise(pixel);
+  return detail::hypotBelow(m[0], m[1], thetaDMax_);
 }
 
 }  // namespace mdbrief

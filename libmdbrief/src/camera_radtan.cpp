@@ -9,8 +9,7 @@ namespace {
 constexpr double kRadiusSearchLimit = 50.0;
 }  // namespace
 
-RadTanCamera::RadTanCamera(const RadTanParams& params) : p_(params) {
-  validateIntrinsics(p_.intrinsics, "radtan");
+RadTanCamera::RadTanCamera(const RadTanParams& params) : CameraWithIntrinsics(params, "radtan") {
   if (!(p_.maxRadius >= 0.0) || !std::isfinite(p_.maxRadius))
     detail::throwBadParameter("radtan", "max_radius", "must be finite and >= 0", p_.maxRadius);
   distortion_ = std::make_shared<detail::RadTanDistortion>(
@@ -23,9 +22,9 @@ RadTanCamera::~RadTanCamera() = default;
 double RadTanCamera::maxUndistortedRadius() const { return distortion_->maxRadius(); }
 
 bool RadTanCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const {
-  const CameraIntrinsics& k = p_.intrinsics;
+  const cv::Vec2d d = normalise(pixel);
   cv::Vec2d m;
-  if (!distortion_->undistort((pixel.x - k.cx) / k.fx, (pixel.y - k.cy) / k.fy, m)) return false;
+  if (!distortion_->undistort(d[0], d[1], m)) return false;
   bearing = detail::normalized({m[0], m[1], 1.0});
   return true;
 }
@@ -35,8 +34,7 @@ bool RadTanCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const 
   const double x = b[0] / b[2], y = b[1] / b[2];
   if (!(std::hypot(x, y) < distortion_->maxRadius())) return false;
   const cv::Vec2d d = distortion_->distort(x, y);
-  const CameraIntrinsics& k = p_.intrinsics;
-  pixel = {k.fx * d[0] + k.cx, k.fy * d[1] + k.cy};
+  pixel = denormalise(d[0], d[1]);
   return true;
 }
 
@@ -51,13 +49,7 @@ bool RadTanCamera::isValid(const cv::Point2d& pixel) const {
   // Near the limit the tangential terms decide whether the inverse stays inside rMax, so the
   // test is the inversion itself (no closed form for the folded region).
   cv::Vec3d bearing;
-  return detail::insideImage(pixel, p_.intrinsics.size()) && pixelToBearing(pixel, bearing);
-}
-
-std::shared_ptr<Camera> RadTanCamera::resized(cv::Size newSize) const {
-  RadTanParams r = p_;
-  r.intrinsics = resizeIntrinsics(p_.intrinsics, newSize);
-  return std::make_shared<RadTanCamera>(r);
+  return detail::insideImage(pixel, imageSize()) && pixelToBearing(pixel, bearing);
 }
 
 }  // namespace mdbrief

@@ -4,9 +4,8 @@
 
 namespace mdbrief {
 
-UnifiedCamera::UnifiedCamera(const UnifiedParams& params) : p_(params) {
+UnifiedCamera::UnifiedCamera(const UnifiedParams& params) : CameraWithIntrinsics(params, modelNameOf(params)) {
   const std::string model = modelName();
-  validateIntrinsics(p_.intrinsics, model);
   if (!(p_.alpha >= 0.0) || !std::isfinite(p_.alpha))
     detail::throwBadParameter(model, "alpha", "must be finite and >= 0", p_.alpha);
   detail::requirePositive(model, "beta", p_.beta);
@@ -19,8 +18,8 @@ bool UnifiedCamera::unprojectable(double r2) const {
 }
 
 bool UnifiedCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const {
-  const CameraIntrinsics& k = p_.intrinsics;
-  const double mx = (pixel.x - k.cx) / k.fx, my = (pixel.y - k.cy) / k.fy;
+  const cv::Vec2d m = normalise(pixel);
+  const double mx = m[0], my = m[1];
   const double r2 = mx * mx + my * my;
   if (!unprojectable(r2)) return false;
   const double a = p_.alpha, br2 = p_.beta * r2;
@@ -55,15 +54,9 @@ bool UnifiedCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixe
 }
 
 bool UnifiedCamera::isValid(const cv::Point2d& pixel) const {
-  const CameraIntrinsics& k = p_.intrinsics;
-  const double mx = (pixel.x - k.cx) / k.fx, my = (pixel.y - k.cy) / k.fy;
-  return detail::insideImage(pixel, k.size()) && unprojectable(mx * mx + my * my);
-}
-
-std::shared_ptr<Camera> UnifiedCamera::resized(cv::Size newSize) const {
-  UnifiedParams r = p_;
-  r.intrinsics = resizeIntrinsics(p_.intrinsics, newSize);
-  return std::make_shared<UnifiedCamera>(r);
+  if (!detail::insideImage(pixel, imageSize())) return false;
+  const cv::Vec2d m = normalise(pixel);
+  return unprojectable(m[0] * m[0] + m[1] * m[1]);
 }
 
 }  // namespace mdbrief
