@@ -1,5 +1,7 @@
 #include "mdbrief/camera_double_sphere.hpp"
 
+#include "camera_construction.hpp"
+#include "camera_model_formats.hpp"
 #include "camera_model_utils.hpp"
 
 namespace mdbrief {
@@ -64,4 +66,22 @@ bool DoubleSphereCamera::isValid(const cv::Point2d& pixel) const {
   return unprojectable(m[0] * m[0] + m[1] * m[1]);
 }
 
+// The model in the calibration files (camera_model_formats.hpp).
+namespace detail {
+
+ModelFormat doubleSphereModelFormat() {
+  return {"double_sphere", {"fx", "fy", "cx", "cy", "xi", "alpha"},
+          [](const std::string& source, const YamlReader& r, int width, int height) {
+            const DoubleSphereParams p{readIntrinsics(r, width, height), r.number("xi"), r.number("alpha")};
+            return construct<DoubleSphereCamera>(source, p);
+          },
+          [](const Camera& camera, YAML::Emitter& out) {
+            const DoubleSphereParams& p = as<DoubleSphereCamera>(camera).params();
+            emitIntrinsics(out, p.intrinsics);
+            emitNumbers(out, {{"xi", p.xi}, {"alpha", p.alpha}});
+          },
+          {{"xi", "alpha"}}};
+}
+
+}  // namespace detail
 }  // namespace mdbrief

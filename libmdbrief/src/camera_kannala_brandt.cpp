@@ -1,5 +1,7 @@
 #include "mdbrief/camera_kannala_brandt.hpp"
 
+#include "camera_construction.hpp"
+#include "camera_model_formats.hpp"
 #include "camera_model_utils.hpp"
 
 namespace mdbrief {
@@ -93,4 +95,23 @@ bool KannalaBrandtCamera::isValid(const cv::Point2d& pixel) const {
   return detail::hypotBelow(m[0], m[1], thetaDMax_);
 }
 
+// The model in the calibration files (camera_model_formats.hpp).
+namespace detail {
+
+ModelFormat kannalaBrandtModelFormat() {
+  return {"kannala_brandt", {"fx", "fy", "cx", "cy", "k1", "k2", "k3", "k4"},
+          [](const std::string& source, const YamlReader& r, int width, int height) {
+            const KannalaBrandtParams p{readIntrinsics(r, width, height), r.number("k1"), r.number("k2"),
+                                        r.number("k3"), r.number("k4")};
+            return construct<KannalaBrandtCamera>(source, p);
+          },
+          [](const Camera& camera, YAML::Emitter& out) {
+            const KannalaBrandtParams& p = as<KannalaBrandtCamera>(camera).params();
+            emitIntrinsics(out, p.intrinsics);
+            emitNumbers(out, {{"k1", p.k1}, {"k2", p.k2}, {"k3", p.k3}, {"k4", p.k4}});
+          },
+          {{"k1", "k2", "k3", "k4"}}};
+}
+
+}  // namespace detail
 }  // namespace mdbrief

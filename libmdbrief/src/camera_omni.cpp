@@ -1,5 +1,7 @@
 #include "mdbrief/camera_omni.hpp"
 
+#include "camera_construction.hpp"
+#include "camera_model_formats.hpp"
 #include "camera_model_utils.hpp"
 #include "radtan_distortion.hpp"
 
@@ -68,4 +70,23 @@ bool OmniCamera::isValid(const cv::Point2d& pixel) const {
   return detail::insideImage(pixel, imageSize()) && pixelToBearing(pixel, bearing);
 }
 
+// The model in the calibration files (camera_model_formats.hpp).
+namespace detail {
+
+ModelFormat omniModelFormat() {
+  return {"omni", {"fx", "fy", "cx", "cy", "xi", "k1", "k2", "p1", "p2"},
+          [](const std::string& source, const YamlReader& r, int width, int height) {
+            const OmniParams p{readIntrinsics(r, width, height), r.number("xi"), r.number("k1"), r.number("k2"),
+                               r.number("p1"), r.number("p2")};
+            return construct<OmniCamera>(source, p);
+          },
+          [](const Camera& camera, YAML::Emitter& out) {
+            const OmniParams& p = as<OmniCamera>(camera).params();
+            emitIntrinsics(out, p.intrinsics);
+            emitNumbers(out, {{"xi", p.xi}, {"k1", p.k1}, {"k2", p.k2}, {"p1", p.p1}, {"p2", p.p2}});
+          },
+          {}};
+}
+
+}  // namespace detail
 }  // namespace mdbrief

@@ -1,5 +1,7 @@
 #include "mdbrief/camera_pinhole.hpp"
 
+#include "camera_construction.hpp"
+#include "camera_model_formats.hpp"
 #include "camera_model_utils.hpp"
 
 namespace mdbrief {
@@ -28,4 +30,17 @@ bool PinholeCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixe
 
 bool PinholeCamera::isValid(const cv::Point2d& pixel) const { return detail::insideImage(pixel, imageSize()); }
 
+// The model in the calibration files (camera_model_formats.hpp).
+namespace detail {
+
+ModelFormat pinholeModelFormat() {
+  return {"pinhole", {"fx", "fy", "cx", "cy"},
+          [](const std::string& source, const YamlReader& r, int width, int height) {
+            return construct<PinholeCamera>(source, readIntrinsics(r, width, height));
+          },
+          [](const Camera& camera, YAML::Emitter& out) { emitIntrinsics(out, as<PinholeCamera>(camera).intrinsics()); },
+          {std::set<std::string>{}}};  // fx fy cx cy only
+}
+
+}  // namespace detail
 }  // namespace mdbrief

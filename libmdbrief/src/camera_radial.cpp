@@ -1,5 +1,7 @@
 #include "mdbrief/camera_radial.hpp"
 
+#include "camera_construction.hpp"
+#include "camera_model_formats.hpp"
 #include "camera_model_utils.hpp"
 
 namespace mdbrief {
@@ -65,4 +67,25 @@ std::shared_ptr<Camera> RadialCamera::resized(cv::Size newSize) const {
   return std::make_shared<RadialCamera>(r);
 }
 
+// The model in the calibration files (camera_model_formats.hpp).
+namespace detail {
+
+ModelFormat radialModelFormat() {
+  return {"radial", {"fx", "fy", "cx", "cy", "xi", "unit_px"},
+          [](const std::string& source, const YamlReader& r, int width, int height) {
+            RadialParams p;
+            p.intrinsics = readIntrinsics(r, width, height);
+            p.xi = r.number("xi");
+            p.unitPx = r.number("unit_px", p.unitPx);
+            return construct<RadialCamera>(source, p);
+          },
+          [](const Camera& camera, YAML::Emitter& out) {
+            const RadialParams& p = as<RadialCamera>(camera).params();
+            emitIntrinsics(out, p.intrinsics);
+            emitNumbers(out, {{"xi", p.xi}, {"unit_px", p.unitPx}});
+          },
+          {}};
+}
+
+}  // namespace detail
 }  // namespace mdbrief

@@ -1,5 +1,7 @@
 #include "mdbrief/camera_radtan.hpp"
 
+#include "camera_construction.hpp"
+#include "camera_model_formats.hpp"
 #include "camera_model_utils.hpp"
 #include "radtan_distortion.hpp"
 
@@ -52,4 +54,30 @@ bool RadTanCamera::isValid(const cv::Point2d& pixel) const {
   return detail::insideImage(pixel, imageSize()) && pixelToBearing(pixel, bearing);
 }
 
+// The model in the calibration files (camera_model_formats.hpp).
+namespace detail {
+
+ModelFormat radTanModelFormat() {
+  return {"radtan", {"fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3", "k4", "k5", "k6", "max_radius"},
+          [](const std::string& source, const YamlReader& r, int width, int height) {
+            RadTanParams p{readIntrinsics(r, width, height), r.number("k1"), r.number("k2"),
+                           r.number("p1"), r.number("p2"), r.number("k3", 0.0)};
+            p.k4 = r.number("k4", 0.0);
+            p.k5 = r.number("k5", 0.0);
+            p.k6 = r.number("k6", 0.0);
+            p.maxRadius = r.number("max_radius", 0.0);
+            return construct<RadTanCamera>(source, p);
+          },
+          [](const Camera& camera, YAML::Emitter& out) {
+            const RadTanParams& p = as<RadTanCamera>(camera).params();
+            emitIntrinsics(out, p.intrinsics);
+            emitNumbers(out, {{"k1", p.k1}, {"k2", p.k2}, {"p1", p.p1}, {"p2", p.p2}, {"k3", p.k3}});
+            // The rational model's terms only when used, so a polynomial model's file stays as it was.
+            if (p.k4 != 0.0 || p.k5 != 0.0 || p.k6 != 0.0) emitNumbers(out, {{"k4", p.k4}, {"k5", p.k5}, {"k6", p.k6}});
+            if (p.maxRadius > 0.0) emitNumbers(out, {{"max_radius", p.maxRadius}});
+          },
+          {{"k1", "k2", "p1", "p2"}, {"k1", "k2", "k3", "p1", "p2"}}};
+}
+
+}  // namespace detail
 }  // namespace mdbrief

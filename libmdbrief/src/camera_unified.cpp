@@ -1,5 +1,7 @@
 #include "mdbrief/camera_unified.hpp"
 
+#include "camera_construction.hpp"
+#include "camera_model_formats.hpp"
 #include "camera_model_utils.hpp"
 
 namespace mdbrief {
@@ -59,4 +61,37 @@ bool UnifiedCamera::isValid(const cv::Point2d& pixel) const {
   return unprojectable(m[0] * m[0] + m[1] * m[1]);
 }
 
+// The model in the calibration files (camera_model_formats.hpp).
+namespace detail {
+
+// UCM and EUCM are one class and two names: UCM has no beta key (it is 1).
+ModelFormat ucmModelFormat() {
+  return {"ucm", {"fx", "fy", "cx", "cy", "alpha"},
+          [](const std::string& source, const YamlReader& r, int width, int height) {
+            const UnifiedParams p{readIntrinsics(r, width, height), r.number("alpha"), 1.0};
+            return construct<UnifiedCamera>(source, p);
+          },
+          [](const Camera& camera, YAML::Emitter& out) {
+            const UnifiedParams& p = as<UnifiedCamera>(camera).params();
+            emitIntrinsics(out, p.intrinsics);
+            emitNumbers(out, {{"alpha", p.alpha}});
+          },
+          {{"alpha"}}};
+}
+
+ModelFormat eucmModelFormat() {
+  return {"eucm", {"fx", "fy", "cx", "cy", "alpha", "beta"},
+          [](const std::string& source, const YamlReader& r, int width, int height) {
+            const UnifiedParams p{readIntrinsics(r, width, height), r.number("alpha"), r.number("beta")};
+            return construct<UnifiedCamera>(source, p);
+          },
+          [](const Camera& camera, YAML::Emitter& out) {
+            const UnifiedParams& p = as<UnifiedCamera>(camera).params();
+            emitIntrinsics(out, p.intrinsics);
+            emitNumbers(out, {{"alpha", p.alpha}, {"beta", p.beta}});
+          },
+          {{"alpha", "beta"}}};
+}
+
+}  // namespace detail
 }  // namespace mdbrief
