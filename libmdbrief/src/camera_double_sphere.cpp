@@ -1,11 +1,13 @@
 #include "mdbrief/camera_double_sphere.hpp"
 
+#include "camera_construction.hpp"
+#include "camera_model_formats.hpp"
 #include "camera_model_utils.hpp"
 
 namespace mdbrief {
 
-DoubleSphereCamera::DoubleSphereCamera(const DoubleSphereParams& params) : p_(params) {
-  validateIntrinsics(p_.intrinsics, "double_sphere");
+DoubleSphereCamera::DoubleSphereCamera(const DoubleSphereParams& params)
+    : CameraWithIntrinsics(params, "double_sphere") {
   if (!(p_.xi > -1.0 && p_.xi <= 1.0))
     detail::throwBadParameter("double_sphere", "xi", "must be in (-1, 1]", p_.xi);
   if (!(p_.alpha >= 0.0 && p_.alpha <= 1.0))
@@ -20,8 +22,8 @@ bool DoubleSphereCamera::unprojectable(double r2) const {
 }
 
 bool DoubleSphereCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const {
-  const CameraIntrinsics& k = p_.intrinsics;
-  const double mx = (pixel.x - k.cx) / k.fx, my = (pixel.y - k.cy) / k.fy;
+  const cv::Vec2d m = normalise(pixel);
+  const double mx = m[0], my = m[1];
   const double r2 = mx * mx + my * my;
   if (!unprojectable(r2)) return false;
   const double a = p_.alpha, xi = p_.xi;
@@ -59,15 +61,27 @@ bool DoubleSphereCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d&
 }
 
 bool DoubleSphereCamera::isValid(const cv::Point2d& pixel) const {
-  const CameraIntrinsics& k = p_.intrinsics;
-  const double mx = (pixel.x - k.cx) / k.fx, my = (pixel.y - k.cy) / k.fy;
-  return detail::insideImage(pixel, k.size()) && unprojectable(mx * mx + my * my);
+  if (!detail::insideImage(pixel, imageSize())) return false;
+  const cv::Vec2d m = normalise(pixel);
+  return unprojectable(m[0] * m[0] + m[1] * m[1]);
 }
 
-std::shared_ptr<Camera> DoubleSphereCamera::resized(cv::Size newSize) const {
-  DoubleSphereParams r = p_;
-  r.intrinsics = resizeIntrinsics(p_.intrinsics, newSize);
-  return std::make_shared<DoubleSphereCamera>(r);
+// The model in the calibration files (camera_model_formats.hpp).
+namespace detail {
+
+ModelFormat doubleSphereModelFormat() {
+  return {"double_sphere", {"fx", "fy", "cx", "cy", "xi", "alpha"},
+          [](const std::string& source, const YamlReader& r, int width, int height) {
+            const DoubleSphereParams p{readIntrinsics(r, width, height), r.number("xi"), r.number("alpha")};
+            return construct<DoubleSphereCamera>(source, p);
+          },
+          [](const Camera& camera, YAML::Emitter& out) {
+            const DoubleSphereParams& p = as<DoubleSphereCamera>(camera).params();
+            emitIntrinsics(out, p.intrinsics);
+            emitNumbers(out, {{"xi", p.xi}, {"alpha", p.alpha}});
+          },
+          {{"xi", "alpha"}}};
 }
 
+}  // namespace detail
 }  // namespace mdbrief

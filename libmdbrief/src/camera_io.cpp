@@ -16,214 +16,27 @@
 
 #include "camera_construction.hpp"
 #include "camera_formats.hpp"
+#include "camera_model_formats.hpp"
 #include "camera_yaml_reader.hpp"
-#include "mdbrief/camera_double_sphere.hpp"
-#include "mdbrief/camera_kannala_brandt.hpp"
 #include "mdbrief/camera_ocam.hpp"
-#include "mdbrief/camera_pinhole.hpp"
-#include "mdbrief/camera_radial.hpp"
-#include "mdbrief/camera_radtan.hpp"
-#include "mdbrief/camera_unified.hpp"
-#include "mdbrief/camera_omni.hpp"
 #include "mdbrief/internal/atomic_file.hpp"
 #include "mdbrief/internal/input_file.hpp"
 
 namespace mdbrief {
 namespace {
 
-using detail::construct;
+using detail::findModelFormat;
 using detail::makeOcam;
+using detail::modelFormats;
+using detail::ModelFormat;
+using detail::modelNameList;
 using detail::YamlReader;
-
-CameraIntrinsics readIntrinsics(const YamlReader& r, int width, int height) {
-  return {width, height, r.number("fx"), r.number("fy"), r.number("cx"), r.number("cy")};
-}
-
-// Writers get the camera as the model's class (a model name another class claims is unsupported).
-template <class CameraType>
-const CameraType& as(const Camera& camera) {
-  if (const auto* c = dynamic_cast<const CameraType*>(&camera)) return *c;
-  throw std::invalid_argument("cameraToYaml: unsupported camera model '" + camera.modelName() + "'");
-}
-
-void emitIntrinsics(YAML::Emitter& out, const CameraIntrinsics& k) {
-  out << YAML::Key << "fx" << YAML::Value << k.fx << YAML::Key << "fy" << YAML::Value << k.fy
-      << YAML::Key << "cx" << YAML::Value << k.cx << YAML::Key << "cy" << YAML::Value << k.cy;
-}
-
-void emitList(YAML::Emitter& out, const char* key, const std::vector<double>& values) {
-  out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginSeq;
-  for (const double v : values) out << v;
-  out << YAML::EndSeq;
-}
-
-// One registration per camera model: its name in the project YAML, its keys there (besides
-// model, width and height), how they are read and written (in this order, the file format),
-// and the distortion keys (besides fx fy cx cy, same names) that name it in a
-// fisheye-calib-adapter file. Adding a model is adding an entry.
-struct ModelFormat {
-  const char* name;
-  std::set<std::string> keys;
-  std::shared_ptr<Camera> (*read)(const std::string& path, const YamlReader& r, int width, int height);
-  void (*write)(const Camera& camera, YAML::Emitter& out);
-  std::vector<std::set<std::string>> adapterKeys;
-};
-
-// The order is the one error messages list the models in.
-const std::vector<ModelFormat>& modelFormats() {
-  static const std::vector<ModelFormat> formats = {
-      {"pinhole", {"fx", "fy", "cx", "cy"},
-       [](const std::string& path, const YamlReader& r, int width, int height) {
-         return construct<PinholeCamera>(path, readIntrinsics(r, width, height));
-       },
-       [](const Camera& camera, YAML::Emitter& out) { emitIntrinsics(out, as<PinholeCamera>(camera).intrinsics()); },
-       {std::set<std::string>{}}},  // fx fy cx cy only
-      {"radial", {"fx", "fy", "cx", "cy", "xi", "unit_px"},
-       [](const std::string& path, const YamlReader& r, int width, int height) {
-         RadialParams p;
-         p.intrinsics = readIntrinsics(r, width, height);
-         p.xi = r.number("xi");
-         p.unitPx = r.number("unit_px", p.unitPx);
-         return construct<RadialCamera>(path, p);
-       },
-       [](const Camera& camera, YAML::Emitter& out) {
-         const RadialParams& p = as<RadialCamera>(camera).params();
-         emitIntrinsics(out, p.intrinsics);
-         out << YAML::Key << "xi" << YAML::Value << p.xi;
-         out << YAML::Key << "unit_px" << YAML::Value << p.unitPx;
-       },
-       {}},
-      {"ocam", {"forward", "inverse", "c", "d", "e", "u0", "v0", "valid_radius"},
-       [](const std::string& path, const YamlReader& r, int width, int height) {
-         OcamParams p;
-         p.width = width;
-         p.height = height;
-         p.forward = r.numbers("forward");
-         if (r.has("inverse")) p.inverse = r.numbers("inverse");
-         p.c = r.number("c");
-         p.d = r.number("d");
-         p.e = r.number("e");
-         p.u0 = r.number("u0");
-         p.v0 = r.number("v0");
-         p.validRadius = r.number("valid_radius", 0.0);
-         return makeOcam(path, p);
-       },
-       [](const Camera& camera, YAML::Emitter& out) {
-         const OcamParams& p = as<OcamCamera>(camera).params();
-         emitList(out, "forward", p.forward);
-         emitList(out, "inverse", p.inverse);
-         out << YAML::Key << "c" << YAML::Value << p.c << YAML::Key << "d" << YAML::Value << p.d
-             << YAML::Key << "e" << YAML::Value << p.e << YAML::Key << "u0" << YAML::Value << p.u0
-             << YAML::Key << "v0" << YAML::Value << p.v0;
-         if (p.validRadius > 0.0) out << YAML::Key << "valid_radius" << YAML::Value << p.validRadius;
-       },
-       {}},  // the adapter writes OCam in a layout of its own (loadCalibAdapterYaml)
-      {"kannala_brandt", {"fx", "fy", "cx", "cy", "k1", "k2", "k3", "k4"},
-       [](const std::string& path, const YamlReader& r, int width, int height) {
-         const KannalaBrandtParams p{readIntrinsics(r, width, height), r.number("k1"), r.number("k2"),
-                                     r.number("k3"), r.number("k4")};
-         return construct<KannalaBrandtCamera>(path, p);
-       },
-       [](const Camera& camera, YAML::Emitter& out) {
-         const KannalaBrandtParams& p = as<KannalaBrandtCamera>(camera).params();
-         emitIntrinsics(out, p.intrinsics);
-         out << YAML::Key << "k1" << YAML::Value << p.k1 << YAML::Key << "k2" << YAML::Value << p.k2
-             << YAML::Key << "k3" << YAML::Value << p.k3 << YAML::Key << "k4" << YAML::Value << p.k4;
-       },
-       {{"k1", "k2", "k3", "k4"}}},
-      {"double_sphere", {"fx", "fy", "cx", "cy", "xi", "alpha"},
-       [](const std::string& path, const YamlReader& r, int width, int height) {
-         const DoubleSphereParams p{readIntrinsics(r, width, height), r.number("xi"), r.number("alpha")};
-         return construct<DoubleSphereCamera>(path, p);
-       },
-       [](const Camera& camera, YAML::Emitter& out) {
-         const DoubleSphereParams& p = as<DoubleSphereCamera>(camera).params();
-         emitIntrinsics(out, p.intrinsics);
-         out << YAML::Key << "xi" << YAML::Value << p.xi;
-         out << YAML::Key << "alpha" << YAML::Value << p.alpha;
-       },
-       {{"xi", "alpha"}}},
-      {"ucm", {"fx", "fy", "cx", "cy", "alpha"},
-       [](const std::string& path, const YamlReader& r, int width, int height) {
-         const UnifiedParams p{readIntrinsics(r, width, height), r.number("alpha"), 1.0};
-         return construct<UnifiedCamera>(path, p);
-       },
-       [](const Camera& camera, YAML::Emitter& out) {
-         const UnifiedParams& p = as<UnifiedCamera>(camera).params();
-         emitIntrinsics(out, p.intrinsics);
-         out << YAML::Key << "alpha" << YAML::Value << p.alpha;
-       },
-       {{"alpha"}}},
-      {"eucm", {"fx", "fy", "cx", "cy", "alpha", "beta"},
-       [](const std::string& path, const YamlReader& r, int width, int height) {
-         const UnifiedParams p{readIntrinsics(r, width, height), r.number("alpha"), r.number("beta")};
-         return construct<UnifiedCamera>(path, p);
-       },
-       [](const Camera& camera, YAML::Emitter& out) {
-         const UnifiedParams& p = as<UnifiedCamera>(camera).params();
-         emitIntrinsics(out, p.intrinsics);
-         out << YAML::Key << "alpha" << YAML::Value << p.alpha;
-         out << YAML::Key << "beta" << YAML::Value << p.beta;
-       },
-       {{"alpha", "beta"}}},
-      {"radtan", {"fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3", "k4", "k5", "k6", "max_radius"},
-       [](const std::string& path, const YamlReader& r, int width, int height) {
-         RadTanParams p{readIntrinsics(r, width, height), r.number("k1"), r.number("k2"),
-                        r.number("p1"), r.number("p2"), r.number("k3", 0.0)};
-         p.k4 = r.number("k4", 0.0);
-         p.k5 = r.number("k5", 0.0);
-         p.k6 = r.number("k6", 0.0);
-         p.maxRadius = r.number("max_radius", 0.0);
-         return construct<RadTanCamera>(path, p);
-       },
-       [](const Camera& camera, YAML::Emitter& out) {
-         const RadTanParams& p = as<RadTanCamera>(camera).params();
-         emitIntrinsics(out, p.intrinsics);
-         out << YAML::Key << "k1" << YAML::Value << p.k1 << YAML::Key << "k2" << YAML::Value << p.k2
-             << YAML::Key << "p1" << YAML::Value << p.p1 << YAML::Key << "p2" << YAML::Value << p.p2
-             << YAML::Key << "k3" << YAML::Value << p.k3;
-         // The rational model's terms only when used, so a polynomial model's file stays as it was.
-         if (p.k4 != 0.0 || p.k5 != 0.0 || p.k6 != 0.0)
-           out << YAML::Key << "k4" << YAML::Value << p.k4 << YAML::Key << "k5" << YAML::Value << p.k5
-               << YAML::Key << "k6" << YAML::Value << p.k6;
-         if (p.maxRadius > 0.0) out << YAML::Key << "max_radius" << YAML::Value << p.maxRadius;
-       },
-       {{"k1", "k2", "p1", "p2"}, {"k1", "k2", "k3", "p1", "p2"}}},
-      {"omni", {"fx", "fy", "cx", "cy", "xi", "k1", "k2", "p1", "p2"},
-       [](const std::string& path, const YamlReader& r, int width, int height) {
-         const OmniParams p{readIntrinsics(r, width, height), r.number("xi"), r.number("k1"), r.number("k2"),
-                            r.number("p1"), r.number("p2")};
-         return construct<OmniCamera>(path, p);
-       },
-       [](const Camera& camera, YAML::Emitter& out) {
-         const OmniParams& p = as<OmniCamera>(camera).params();
-         emitIntrinsics(out, p.intrinsics);
-         out << YAML::Key << "xi" << YAML::Value << p.xi;
-         out << YAML::Key << "k1" << YAML::Value << p.k1 << YAML::Key << "k2" << YAML::Value << p.k2
-             << YAML::Key << "p1" << YAML::Value << p.p1 << YAML::Key << "p2" << YAML::Value << p.p2;
-       },
-       {}},
-  };
-  return formats;
-}
-
-const ModelFormat* findFormat(const std::string& name) {
-  for (const ModelFormat& format : modelFormats())
-    if (name == format.name) return &format;
-  return nullptr;
-}
-
-std::string modelList() {
-  std::string known;
-  for (const ModelFormat& f : modelFormats()) known += (known.empty() ? "" : ", ") + std::string(f.name);
-  return known;
-}
 
 // The model's keys of r (the image size read by the caller), nothing else.
 std::shared_ptr<Camera> readModel(const std::string& source, const YamlReader& r, const std::string& model, int width,
                                   int height, const std::set<std::string>& alsoAllowed) {
-  const ModelFormat* format = findFormat(model);
-  if (!format) r.fail("model", "names an unknown model '" + model + "' (known: " + modelList() + ")");
+  const ModelFormat* format = findModelFormat(model);
+  if (!format) r.fail("model", "names an unknown model '" + model + "' (known: " + modelNameList() + ")");
   std::set<std::string> allowed = format->keys;
   allowed.insert(alsoAllowed.begin(), alsoAllowed.end());
   r.requireOnly(allowed, model);
@@ -257,7 +70,7 @@ std::shared_ptr<Camera> loadCalibAdapterYaml(const std::string& path, const Yaml
     p.v0 = r.number("cy");
     return makeOcam(path, p);
   }
-  readIntrinsics(r, width, height);  // a missing or bad fx fy cx cy is reported first
+  detail::readIntrinsics(r, width, height);  // a missing or bad fx fy cx cy is reported first
   for (const char* key : {"fx", "fy", "cx", "cy"}) keys.erase(key);
   for (const ModelFormat& format : modelFormats())
     for (const std::set<std::string>& distortion : format.adapterKeys)
@@ -500,7 +313,7 @@ std::string cameraToYaml(const Camera& camera) {
   out << YAML::Key << "model" << YAML::Value << camera.modelName();
   out << YAML::Key << "width" << YAML::Value << camera.imageSize().width;
   out << YAML::Key << "height" << YAML::Value << camera.imageSize().height;
-  const ModelFormat* format = findFormat(camera.modelName());
+  const ModelFormat* format = findModelFormat(camera.modelName());
   if (!format)
     throw std::invalid_argument("cameraToYaml: unsupported camera model '" + camera.modelName() + "'");
   format->write(camera, out);
@@ -523,8 +336,8 @@ std::vector<std::string> cameraModelNames() {
 }
 
 std::vector<std::string> cameraModelKeys(const std::string& model) {
-  const ModelFormat* format = findFormat(model);
-  if (!format) throw std::invalid_argument("unknown camera model '" + model + "' (known: " + modelList() + ")");
+  const ModelFormat* format = findModelFormat(model);
+  if (!format) throw std::invalid_argument("unknown camera model '" + model + "' (known: " + modelNameList() + ")");
   return {format->keys.begin(), format->keys.end()};
 }
 

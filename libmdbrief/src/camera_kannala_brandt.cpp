@@ -1,11 +1,13 @@
 #include "mdbrief/camera_kannala_brandt.hpp"
 
+#include "camera_construction.hpp"
+#include "camera_model_formats.hpp"
 #include "camera_model_utils.hpp"
 
 namespace mdbrief {
 
-KannalaBrandtCamera::KannalaBrandtCamera(const KannalaBrandtParams& params) : p_(params) {
-  validateIntrinsics(p_.intrinsics, "kannala_brandt");
+KannalaBrandtCamera::KannalaBrandtCamera(const KannalaBrandtParams& params)
+    : CameraWithIntrinsics(params, "kannala_brandt") {
   detail::requireFinite("kannala_brandt", "k1", p_.k1);
   detail::requireFinite("kannala_brandt", "k2", p_.k2);
   detail::requireFinite("kannala_brandt", "k3", p_.k3);
@@ -27,8 +29,8 @@ double KannalaBrandtCamera::thetaDPrime(double t) const {
 }
 
 bool KannalaBrandtCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const {
-  const CameraIntrinsics& k = p_.intrinsics;
-  const double mx = (pixel.x - k.cx) / k.fx, my = (pixel.y - k.cy) / k.fy;
+  const cv::Vec2d m = normalise(pixel);
+  const double mx = m[0], my = m[1];
   const double rd = std::hypot(mx, my);
   if (!std::isfinite(rd) || !(rd < thetaDMax_)) return false;
   if (rd == 0.0) {
@@ -88,15 +90,28 @@ bool KannalaBrandtCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d
 }
 
 bool KannalaBrandtCamera::isValid(const cv::Point2d& pixel) const {
-  const CameraIntrinsics& k = p_.intrinsics;
-  return detail::insideImage(pixel, k.size()) &&
-         detail::hypotBelow((pixel.x - k.cx) / k.fx, (pixel.y - k.cy) / k.fy, thetaDMax_);
+  if (!detail::insideImage(pixel, imageSize())) return false;
+  const cv::Vec2d m = normalise(pixel);
+  return detail::hypotBelow(m[0], m[1], thetaDMax_);
 }
 
-std::shared_ptr<Camera> KannalaBrandtCamera::resized(cv::Size newSize) const {
-  KannalaBrandtParams r = p_;
-  r.intrinsics = resizeIntrinsics(p_.intrinsics, newSize);
-  return std::make_shared<KannalaBrandtCamera>(r);
+// The model in the calibration files (camera_model_formats.hpp).
+namespace detail {
+
+ModelFormat kannalaBrandtModelFormat() {
+  return {"kannala_brandt", {"fx", "fy", "cx", "cy", "k1", "k2", "k3", "k4"},
+          [](const std::string& source, const YamlReader& r, int width, int height) {
+            const KannalaBrandtParams p{readIntrinsics(r, width, height), r.number("k1"), r.number("k2"),
+                                        r.number("k3"), r.number("k4")};
+            return construct<KannalaBrandtCamera>(source, p);
+          },
+          [](const Camera& camera, YAML::Emitter& out) {
+            const KannalaBrandtParams& p = as<KannalaBrandtCamera>(camera).params();
+            emitIntrinsics(out, p.intrinsics);
+            emitNumbers(out, {{"k1", p.k1}, {"k2", p.k2}, {"k3", p.k3}, {"k4", p.k4}});
+          },
+          {{"k1", "k2", "k3", "k4"}}};
 }
 
+}  // namespace detail
 }  // namespace mdbrief

@@ -5,6 +5,8 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <Eigen/Dense>
 
+#include "camera_construction.hpp"
+#include "camera_model_formats.hpp"
 #include "camera_model_utils.hpp"
 
 namespace mdbrief {
@@ -201,4 +203,43 @@ std::shared_ptr<Camera> OcamCamera::resized(cv::Size newSize) const {
   return std::make_shared<OcamCamera>(r);
 }
 
+// The model in the calibration files (camera_model_formats.hpp).
+namespace detail {
+namespace {
+
+void emitList(YAML::Emitter& out, const char* key, const std::vector<double>& values) {
+  out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (const double v : values) out << v;
+  out << YAML::EndSeq;
+}
+
+}  // namespace
+
+ModelFormat ocamModelFormat() {
+  return {"ocam", {"forward", "inverse", "c", "d", "e", "u0", "v0", "valid_radius"},
+          [](const std::string& source, const YamlReader& r, int width, int height) {
+            OcamParams p;
+            p.width = width;
+            p.height = height;
+            p.forward = r.numbers("forward");
+            if (r.has("inverse")) p.inverse = r.numbers("inverse");
+            p.c = r.number("c");
+            p.d = r.number("d");
+            p.e = r.number("e");
+            p.u0 = r.number("u0");
+            p.v0 = r.number("v0");
+            p.validRadius = r.number("valid_radius", 0.0);
+            return makeOcam(source, p);
+          },
+          [](const Camera& camera, YAML::Emitter& out) {
+            const OcamParams& p = as<OcamCamera>(camera).params();
+            emitList(out, "forward", p.forward);
+            emitList(out, "inverse", p.inverse);
+            emitNumbers(out, {{"c", p.c}, {"d", p.d}, {"e", p.e}, {"u0", p.u0}, {"v0", p.v0}});
+            if (p.validRadius > 0.0) emitNumbers(out, {{"valid_radius", p.validRadius}});
+          },
+          {}};  // the adapter writes OCam in a layout of its own (loadCalibAdapterYaml)
+}
+
+}  // namespace detail
 }  // namespace mdbrief

@@ -1,5 +1,7 @@
 #include "mdbrief/camera_omni.hpp"
 
+#include "camera_construction.hpp"
+#include "camera_model_formats.hpp"
 #include "camera_model_utils.hpp"
 #include "radtan_distortion.hpp"
 
@@ -9,8 +11,7 @@ namespace {
 constexpr double kRadiusSearchLimit = 50.0;
 }  // namespace
 
-OmniCamera::OmniCamera(const OmniParams& params) : p_(params) {
-  validateIntrinsics(p_.intrinsics, "omni");
+OmniCamera::OmniCamera(const OmniParams& params) : CameraWithIntrinsics(params, "omni") {
   if (!(p_.xi >= 0.0) || !std::isfinite(p_.xi)) detail::throwBadParameter("omni", "xi", "must be finite and >= 0", p_.xi);
   // d|m|/dtheta = (1 + xi cos theta) / (cos theta + xi)^2: the projection turns back at
   // cos theta = -1 / xi, and the plane is reached only where cos theta > -xi.
@@ -22,9 +23,9 @@ OmniCamera::OmniCamera(const OmniParams& params) : p_(params) {
 OmniCamera::~OmniCamera() = default;
 
 bool OmniCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const {
-  const CameraIntrinsics& k = p_.intrinsics;
+  const cv::Vec2d d = normalise(pixel);
   cv::Vec2d m;
-  if (!distortion_->undistort((pixel.x - k.cx) / k.fx, (pixel.y - k.cy) / k.fy, m)) return false;
+  if (!distortion_->undistort(d[0], d[1], m)) return false;
   const double r2 = m[0] * m[0] + m[1] * m[1], xi = p_.xi;
   // The sphere point s = lambda (mx, my, 1) - (0, 0, xi) with |s| = 1: the root of
   // (1 + r2) lambda^2 - 2 xi lambda + xi^2 - 1 = 0 on the side z > -w.
@@ -47,8 +48,7 @@ bool OmniCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
   const double mx = b[0] / norm / denom, my = b[1] / norm / denom;
   if (!(std::hypot(mx, my) < distortion_->maxRadius())) return false;
   const cv::Vec2d d = distortion_->distort(mx, my);
-  const CameraIntrinsics& k = p_.intrinsics;
-  pixel = {k.fx * d[0] + k.cx, k.fy * d[1] + k.cy};
+  pixel = denormalise(d[0], d[1]);
   return std::isfinite(pixel.x) && std::isfinite(pixel.y);
 }
 
@@ -67,13 +67,26 @@ bool OmniCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel, 
 bool OmniCamera::isValid(const cv::Point2d& pixel) const {
   // As for radtan, the inversion itself decides the border the distortion folds at.
   cv::Vec3d bearing;
-  return detail::insideImage(pixel, p_.intrinsics.size()) && pixelToBearing(pixel, bearing);
+  return detail::insideImage(pixel, imageSize()) && pixelToBearing(pixel, bearing);
 }
 
-std::shared_ptr<Camera> OmniCamera::resized(cv::Size newSize) const {
-  OmniParams r = p_;
-  r.intrinsics = resizeIntrinsics(p_.intrinsics, newSize);
-  return std::make_shared<OmniCamera>(r);
+// The model in the calibration files (camera_model_formats.hpp).
+namespace detail {
+
+ModelFormat omniModelFormat() {
+  return {"omni", {"fx", "fy", "cx", "cy", "xi", "k1", "k2", "p1", "p2"},
+          [](const std::string& source, const YamlReader& r, int width, int height) {
+            const OmniParams p{readIntrinsics(r, width, height), r.number("xi"), r.number("k1"), r.number("k2"),
+                               r.number("p1"), r.number("p2")};
+            return construct<OmniCamera>(source, p);
+          },
+          [](const Camera& camera, YAML::Emitter& out) {
+            const OmniParams& p = as<OmniCamera>(camera).params();
+            emitIntrinsics(out, p.intrinsics);
+            emitNumbers(out, {{"xi", p.xi}, {"k1", p.k1}, {"k2", p.k2}, {"p1", p.p1}, {"p2", p.p2}});
+          },
+          {}};
 }
 
+}  // namespace detail
 }  // namespace mdbrief

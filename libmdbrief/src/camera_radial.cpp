@@ -1,11 +1,12 @@
 #include "mdbrief/camera_radial.hpp"
 
+#include "camera_construction.hpp"
+#include "camera_model_formats.hpp"
 #include "camera_model_utils.hpp"
 
 namespace mdbrief {
 
-RadialCamera::RadialCamera(const RadialParams& params) : p_(params) {
-  validateIntrinsics(p_.intrinsics, "radial");
+RadialCamera::RadialCamera(const RadialParams& params) : CameraWithIntrinsics(params, "radial") {
   detail::requireFinite("radial", "xi", p_.xi);
   detail::requirePositive("radial", "unit_px", p_.unitPx);
   mPerNormalised_ = p_.intrinsics.fx / p_.unitPx;
@@ -22,9 +23,8 @@ bool RadialCamera::invertible(double xd, double yd) const {
 }
 
 bool RadialCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const {
-  const CameraIntrinsics& k = p_.intrinsics;
-  const double xd = (pixel.x - k.cx) / k.fx;
-  const double yd = (pixel.y - k.cy) / k.fy;
+  const cv::Vec2d m = normalise(pixel);
+  const double xd = m[0], yd = m[1];
   if (!std::isfinite(xd) || !std::isfinite(yd) || !invertible(xd, yd)) return false;
   const double s = 1.0 / (1.0 + p_.xi * unitRadius2(xd, yd));
   bearing = detail::normalized({xd * s, yd * s, 1.0});
@@ -38,8 +38,7 @@ bool RadialCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const 
   if (!(disc > 0.0)) return false;  // beyond the pincushion model's range
   // Scale factor of eq. radialDistModel; exactly 1 for xi = 0 so the model equals the pinhole.
   const double s = 2.0 / (1.0 + std::sqrt(disc));
-  const CameraIntrinsics& k = p_.intrinsics;
-  pixel = {k.fx * (x * s) + k.cx, k.fy * (y * s) + k.cy};
+  pixel = denormalise(x * s, y * s);
   return std::isfinite(pixel.x) && std::isfinite(pixel.y);
 }
 
@@ -57,16 +56,36 @@ bool RadialCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel
 }
 
 bool RadialCamera::isValid(const cv::Point2d& pixel) const {
-  const CameraIntrinsics& k = p_.intrinsics;
-  return detail::insideImage(pixel, k.size()) &&
-         invertible((pixel.x - k.cx) / k.fx, (pixel.y - k.cy) / k.fy);
+  if (!detail::insideImage(pixel, imageSize())) return false;
+  const cv::Vec2d m = normalise(pixel);
+  return invertible(m[0], m[1]);
 }
 
 std::shared_ptr<Camera> RadialCamera::resized(cv::Size newSize) const {
-  RadialParams r = p_;
-  r.intrinsics = resizeIntrinsics(p_.intrinsics, newSize);
+  RadialParams r = resizedParams(newSize);
   r.unitPx = p_.unitPx * r.intrinsics.fx / p_.intrinsics.fx;  // keeps m per normalised unit
   return std::make_shared<RadialCamera>(r);
 }
 
+// The model in the calibration files (camera_model_formats.hpp).
+namespace detail {
+
+ModelFormat radialModelFormat() {
+  return {"radial", {"fx", "fy", "cx", "cy", "xi", "unit_px"},
+          [](const std::string& source, const YamlReader& r, int width, int height) {
+            RadialParams p;
+            p.intrinsics = readIntrinsics(r, width, height);
+            p.xi = r.number("xi");
+            p.unitPx = r.number("unit_px", p.unitPx);
+            return construct<RadialCamera>(source, p);
+          },
+          [](const Camera& camera, YAML::Emitter& out) {
+            const RadialParams& p = as<RadialCamera>(camera).params();
+            emitIntrinsics(out, p.intrinsics);
+            emitNumbers(out, {{"xi", p.xi}, {"unit_px", p.unitPx}});
+          },
+          {}};
+}
+
+}  // namespace detail
 }  // namespace mdbrief

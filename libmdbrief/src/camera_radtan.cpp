@@ -1,5 +1,7 @@
 #include "mdbrief/camera_radtan.hpp"
 
+#include "camera_construction.hpp"
+#include "camera_model_formats.hpp"
 #include "camera_model_utils.hpp"
 #include "radtan_distortion.hpp"
 
@@ -9,8 +11,7 @@ namespace {
 constexpr double kRadiusSearchLimit = 50.0;
 }  // namespace
 
-RadTanCamera::RadTanCamera(const RadTanParams& params) : p_(params) {
-  validateIntrinsics(p_.intrinsics, "radtan");
+RadTanCamera::RadTanCamera(const RadTanParams& params) : CameraWithIntrinsics(params, "radtan") {
   if (!(p_.maxRadius >= 0.0) || !std::isfinite(p_.maxRadius))
     detail::throwBadParameter("radtan", "max_radius", "must be finite and >= 0", p_.maxRadius);
   distortion_ = std::make_shared<detail::RadTanDistortion>(
@@ -23,9 +24,9 @@ RadTanCamera::~RadTanCamera() = default;
 double RadTanCamera::maxUndistortedRadius() const { return distortion_->maxRadius(); }
 
 bool RadTanCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const {
-  const CameraIntrinsics& k = p_.intrinsics;
+  const cv::Vec2d d = normalise(pixel);
   cv::Vec2d m;
-  if (!distortion_->undistort((pixel.x - k.cx) / k.fx, (pixel.y - k.cy) / k.fy, m)) return false;
+  if (!distortion_->undistort(d[0], d[1], m)) return false;
   bearing = detail::normalized({m[0], m[1], 1.0});
   return true;
 }
@@ -35,8 +36,7 @@ bool RadTanCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const 
   const double x = b[0] / b[2], y = b[1] / b[2];
   if (!(std::hypot(x, y) < distortion_->maxRadius())) return false;
   const cv::Vec2d d = distortion_->distort(x, y);
-  const CameraIntrinsics& k = p_.intrinsics;
-  pixel = {k.fx * d[0] + k.cx, k.fy * d[1] + k.cy};
+  pixel = denormalise(d[0], d[1]);
   return true;
 }
 
@@ -51,13 +51,33 @@ bool RadTanCamera::isValid(const cv::Point2d& pixel) const {
   // Near the limit the tangential terms decide whether the inverse stays inside rMax, so the
   // test is the inversion itself (no closed form for the folded region).
   cv::Vec3d bearing;
-  return detail::insideImage(pixel, p_.intrinsics.size()) && pixelToBearing(pixel, bearing);
+  return detail::insideImage(pixel, imageSize()) && pixelToBearing(pixel, bearing);
 }
 
-std::shared_ptr<Camera> RadTanCamera::resized(cv::Size newSize) const {
-  RadTanParams r = p_;
-  r.intrinsics = resizeIntrinsics(p_.intrinsics, newSize);
-  return std::make_shared<RadTanCamera>(r);
+// The model in the calibration files (camera_model_formats.hpp).
+namespace detail {
+
+ModelFormat radTanModelFormat() {
+  return {"radtan", {"fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3", "k4", "k5", "k6", "max_radius"},
+          [](const std::string& source, const YamlReader& r, int width, int height) {
+            RadTanParams p{readIntrinsics(r, width, height), r.number("k1"), r.number("k2"),
+                           r.number("p1"), r.number("p2"), r.number("k3", 0.0)};
+            p.k4 = r.number("k4", 0.0);
+            p.k5 = r.number("k5", 0.0);
+            p.k6 = r.number("k6", 0.0);
+            p.maxRadius = r.number("max_radius", 0.0);
+            return construct<RadTanCamera>(source, p);
+          },
+          [](const Camera& camera, YAML::Emitter& out) {
+            const RadTanParams& p = as<RadTanCamera>(camera).params();
+            emitIntrinsics(out, p.intrinsics);
+            emitNumbers(out, {{"k1", p.k1}, {"k2", p.k2}, {"p1", p.p1}, {"p2", p.p2}, {"k3", p.k3}});
+            // The rational model's terms only when used, so a polynomial model's file stays as it was.
+            if (p.k4 != 0.0 || p.k5 != 0.0 || p.k6 != 0.0) emitNumbers(out, {{"k4", p.k4}, {"k5", p.k5}, {"k6", p.k6}});
+            if (p.maxRadius > 0.0) emitNumbers(out, {{"max_radius", p.maxRadius}});
+          },
+          {{"k1", "k2", "p1", "p2"}, {"k1", "k2", "k3", "p1", "p2"}}};
 }
 
+}  // namespace detail
 }  // namespace mdbrief

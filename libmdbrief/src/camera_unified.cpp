@@ -1,12 +1,13 @@
 #include "mdbrief/camera_unified.hpp"
 
+#include "camera_construction.hpp"
+#include "camera_model_formats.hpp"
 #include "camera_model_utils.hpp"
 
 namespace mdbrief {
 
-UnifiedCamera::UnifiedCamera(const UnifiedParams& params) : p_(params) {
+UnifiedCamera::UnifiedCamera(const UnifiedParams& params) : CameraWithIntrinsics(params, modelNameOf(params)) {
   const std::string model = modelName();
-  validateIntrinsics(p_.intrinsics, model);
   if (!(p_.alpha >= 0.0) || !std::isfinite(p_.alpha))
     detail::throwBadParameter(model, "alpha", "must be finite and >= 0", p_.alpha);
   detail::requirePositive(model, "beta", p_.beta);
@@ -19,8 +20,8 @@ bool UnifiedCamera::unprojectable(double r2) const {
 }
 
 bool UnifiedCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const {
-  const CameraIntrinsics& k = p_.intrinsics;
-  const double mx = (pixel.x - k.cx) / k.fx, my = (pixel.y - k.cy) / k.fy;
+  const cv::Vec2d m = normalise(pixel);
+  const double mx = m[0], my = m[1];
   const double r2 = mx * mx + my * my;
   if (!unprojectable(r2)) return false;
   const double a = p_.alpha, br2 = p_.beta * r2;
@@ -55,15 +56,42 @@ bool UnifiedCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixe
 }
 
 bool UnifiedCamera::isValid(const cv::Point2d& pixel) const {
-  const CameraIntrinsics& k = p_.intrinsics;
-  const double mx = (pixel.x - k.cx) / k.fx, my = (pixel.y - k.cy) / k.fy;
-  return detail::insideImage(pixel, k.size()) && unprojectable(mx * mx + my * my);
+  if (!detail::insideImage(pixel, imageSize())) return false;
+  const cv::Vec2d m = normalise(pixel);
+  return unprojectable(m[0] * m[0] + m[1] * m[1]);
 }
 
-std::shared_ptr<Camera> UnifiedCamera::resized(cv::Size newSize) const {
-  UnifiedParams r = p_;
-  r.intrinsics = resizeIntrinsics(p_.intrinsics, newSize);
-  return std::make_shared<UnifiedCamera>(r);
+// The model in the calibration files (camera_model_formats.hpp).
+namespace detail {
+
+// UCM and EUCM are one class and two names: UCM has no beta key (it is 1).
+ModelFormat ucmModelFormat() {
+  return {"ucm", {"fx", "fy", "cx", "cy", "alpha"},
+          [](const std::string& source, const YamlReader& r, int width, int height) {
+            const UnifiedParams p{readIntrinsics(r, width, height), r.number("alpha"), 1.0};
+            return construct<UnifiedCamera>(source, p);
+          },
+          [](const Camera& camera, YAML::Emitter& out) {
+            const UnifiedParams& p = as<UnifiedCamera>(camera).params();
+            emitIntrinsics(out, p.intrinsics);
+            emitNumbers(out, {{"alpha", p.alpha}});
+          },
+          {{"alpha"}}};
 }
 
+ModelFormat eucmModelFormat() {
+  return {"eucm", {"fx", "fy", "cx", "cy", "alpha", "beta"},
+          [](const std::string& source, const YamlReader& r, int width, int height) {
+            const UnifiedParams p{readIntrinsics(r, width, height), r.number("alpha"), r.number("beta")};
+            return construct<UnifiedCamera>(source, p);
+          },
+          [](const Camera& camera, YAML::Emitter& out) {
+            const UnifiedParams& p = as<UnifiedCamera>(camera).params();
+            emitIntrinsics(out, p.intrinsics);
+            emitNumbers(out, {{"alpha", p.alpha}, {"beta", p.beta}});
+          },
+          {{"alpha", "beta"}}};
+}
+
+}  // namespace detail
 }  // namespace mdbrief

@@ -6,8 +6,9 @@
 //   w1 = alpha / (1 - alpha) if alpha <= 0.5 else (1 - alpha) / alpha,
 //   w2 = (w1 + xi) / sqrt(2 w1 xi + xi^2 + 1);
 // pixels with r^2 = mx^2 + my^2 < 1 / (2 alpha - 1) when alpha > 0.5 (mx = (u - cx) / fx, ...).
-#include "mdbrief/camera.hpp"
-#include "mdbrief/camera_intrinsics.hpp"
+// tangentPlaneScale() is (fx + fy) / 2. At the image centre the local scale is f / (1 + xi) for
+// this model; the focal length is kept so that all perspective-family models share one definition.
+#include "mdbrief/camera_with_intrinsics.hpp"
 
 namespace mdbrief {
 
@@ -17,28 +18,20 @@ struct DoubleSphereParams {
   double alpha = 0.5;  // in [0, 1]
 };
 
-class DoubleSphereCamera final : public Camera {
+class DoubleSphereCamera final : public CameraWithIntrinsics<DoubleSphereCamera, DoubleSphereParams> {
  public:
   // Throws std::invalid_argument naming the bad parameter.
   explicit DoubleSphereCamera(const DoubleSphereParams& params);
 
-  const DoubleSphereParams& params() const { return p_; }
-
   std::string modelName() const override { return "double_sphere"; }
-  cv::Size imageSize() const override { return p_.intrinsics.size(); }
   bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
   bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
   bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
   bool isValid(const cv::Point2d& pixel) const override;
-  // (fx + fy) / 2. At the image centre the local scale is f / (1 + xi) for this model; the
-  // focal length is kept so that all perspective-family models share one definition.
-  double tangentPlaneScale() const override { return 0.5 * (p_.intrinsics.fx + p_.intrinsics.fy); }
-  std::shared_ptr<Camera> resized(cv::Size newSize) const override;
 
  private:
   bool unprojectable(double r2) const;
 
-  DoubleSphereParams p_;
   double w2_;
 };
 

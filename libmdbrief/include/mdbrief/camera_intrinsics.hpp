@@ -1,7 +1,8 @@
 #pragma once
 // Image size and the linear part (focal lengths, principal point) shared by every
 // perspective-family camera model (pinhole, radial, Kannala-Brandt, double sphere, UCM/EUCM,
-// radial-tangential). Pixel conventions as in camera.hpp (u = column, v = row).
+// radial-tangential, omni: camera_with_intrinsics.hpp). Pixel conventions as in camera.hpp
+// (u = column, v = row).
 #include <string>
 
 #include <opencv2/core.hpp>

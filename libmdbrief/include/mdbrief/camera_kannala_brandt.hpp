@@ -5,8 +5,7 @@
 //   (u, v) = (fx theta_d x / r + cx, fy theta_d y / r + cy),  r = sqrt(x^2 + y^2).
 // The inverse solves theta_d(theta) by safeguarded Newton. Valid where theta_d is increasing:
 // theta < thetaMax, the first stationary point of theta_d in (0, pi) (pi if none).
-#include "mdbrief/camera.hpp"
-#include "mdbrief/camera_intrinsics.hpp"
+#include "mdbrief/camera_with_intrinsics.hpp"
 
 namespace mdbrief {
 
@@ -15,30 +14,24 @@ struct KannalaBrandtParams {
   double k1 = 0.0, k2 = 0.0, k3 = 0.0, k4 = 0.0;  // finite
 };
 
-class KannalaBrandtCamera final : public Camera {
+class KannalaBrandtCamera final : public CameraWithIntrinsics<KannalaBrandtCamera, KannalaBrandtParams> {
  public:
   // Throws std::invalid_argument naming the bad parameter.
   explicit KannalaBrandtCamera(const KannalaBrandtParams& params);
 
-  const KannalaBrandtParams& params() const { return p_; }
   // Largest angle from the optical axis (radians) the model inverts.
   double maxTheta() const { return thetaMax_; }
 
   std::string modelName() const override { return "kannala_brandt"; }
-  cv::Size imageSize() const override { return p_.intrinsics.size(); }
   bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
   bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
   bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
   bool isValid(const cv::Point2d& pixel) const override;
-  // (fx + fy) / 2: the local scale at the image centre.
-  double tangentPlaneScale() const override { return 0.5 * (p_.intrinsics.fx + p_.intrinsics.fy); }
-  std::shared_ptr<Camera> resized(cv::Size newSize) const override;
 
  private:
   double thetaD(double theta) const;
   double thetaDPrime(double theta) const;
 
-  KannalaBrandtParams p_;
   double thetaMax_;
   double thetaDMax_;  // thetaD(thetaMax_)
 };

@@ -12,8 +12,7 @@
 // point of the radial part in (0, 50]).
 #include <memory>
 
-#include "mdbrief/camera.hpp"
-#include "mdbrief/camera_intrinsics.hpp"
+#include "mdbrief/camera_with_intrinsics.hpp"
 
 namespace mdbrief::detail {
 class RadTanDistortion;
@@ -27,16 +26,13 @@ struct OmniParams {
   double k1 = 0.0, k2 = 0.0, p1 = 0.0, p2 = 0.0;  // finite
 };
 
-class OmniCamera final : public Camera {
+class OmniCamera final : public CameraWithIntrinsics<OmniCamera, OmniParams> {
  public:
   // Throws std::invalid_argument naming the bad parameter.
   explicit OmniCamera(const OmniParams& params);
   ~OmniCamera() override;
 
-  const OmniParams& params() const { return p_; }
-
   std::string modelName() const override { return "omni"; }
-  cv::Size imageSize() const override { return p_.intrinsics.size(); }
   bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
   bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
   bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
@@ -44,10 +40,8 @@ class OmniCamera final : public Camera {
   // (fx + fy) / 2 / (1 + xi): the local scale at the image centre (Kalibr's omni focal lengths
   // are about twice a fisheye's for xi near 1).
   double tangentPlaneScale() const override { return 0.5 * (p_.intrinsics.fx + p_.intrinsics.fy) / (1.0 + p_.xi); }
-  std::shared_ptr<Camera> resized(cv::Size newSize) const override;
 
  private:
-  OmniParams p_;
   double w_;  // rays with z > -w_ (on the unit sphere) project one-to-one
   std::shared_ptr<const detail::RadTanDistortion> distortion_;
 };

@@ -13,8 +13,7 @@
 // Validity: xi < 0 (barrel) maps every ray with z > 0 inside radius |m_d| < 1/sqrt(-xi);
 // xi > 0 (pincushion) needs 1 - 4 xi |m|^2 > 0, i.e. |m_d| < 1/sqrt(xi). Pixels beyond these
 // radii have no inverse. xi = 0 is exactly the pinhole camera.
-#include "mdbrief/camera.hpp"
-#include "mdbrief/camera_intrinsics.hpp"
+#include "mdbrief/camera_with_intrinsics.hpp"
 
 namespace mdbrief {
 
@@ -24,21 +23,17 @@ struct RadialParams {
   double unitPx = 100.0; // pixels per unit of m (along u), > 0
 };
 
-class RadialCamera final : public Camera {
+class RadialCamera final : public CameraWithIntrinsics<RadialCamera, RadialParams> {
  public:
   // Throws std::invalid_argument naming the bad parameter.
   explicit RadialCamera(const RadialParams& params);
 
-  const RadialParams& params() const { return p_; }
-
   std::string modelName() const override { return "radial"; }
-  cv::Size imageSize() const override { return p_.intrinsics.size(); }
   bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
   bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
   bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
   bool isValid(const cv::Point2d& pixel) const override;
-  // (fx + fy) / 2, as the pinhole camera.
-  double tangentPlaneScale() const override { return 0.5 * (p_.intrinsics.fx + p_.intrinsics.fy); }
+  // Also rescales unitPx, so that m stays the same function of the ray.
   std::shared_ptr<Camera> resized(cv::Size newSize) const override;
 
  private:
@@ -47,7 +42,6 @@ class RadialCamera final : public Camera {
   // True when the distorted normalised point has an inverse (inside the limit radius).
   bool invertible(double xd, double yd) const;
 
-  RadialParams p_;
   double mPerNormalised_;  // fx / unitPx
 };
 

@@ -14,8 +14,7 @@
 // slightly).
 #include <memory>
 
-#include "mdbrief/camera.hpp"
-#include "mdbrief/camera_intrinsics.hpp"
+#include "mdbrief/camera_with_intrinsics.hpp"
 
 namespace mdbrief::detail {
 class RadTanDistortion;
@@ -32,28 +31,22 @@ struct RadTanParams {
   double maxRadius = 0.0;
 };
 
-class RadTanCamera final : public Camera {
+class RadTanCamera final : public CameraWithIntrinsics<RadTanCamera, RadTanParams> {
  public:
   // Throws std::invalid_argument naming the bad parameter.
   explicit RadTanCamera(const RadTanParams& params);
   ~RadTanCamera() override;
 
-  const RadTanParams& params() const { return p_; }
   // Largest undistorted normalised radius the model inverts.
   double maxUndistortedRadius() const;
 
   std::string modelName() const override { return "radtan"; }
-  cv::Size imageSize() const override { return p_.intrinsics.size(); }
   bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
   bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
   bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
   bool isValid(const cv::Point2d& pixel) const override;
-  // (fx + fy) / 2, as the pinhole camera.
-  double tangentPlaneScale() const override { return 0.5 * (p_.intrinsics.fx + p_.intrinsics.fy); }
-  std::shared_ptr<Camera> resized(cv::Size newSize) const override;
 
  private:
-  RadTanParams p_;
   std::shared_ptr<const detail::RadTanDistortion> distortion_;
 };
 

@@ -8,8 +8,7 @@
 // pixels with beta r^2 < 1 / (2 alpha - 1) when alpha > 0.5 (r^2 = mx^2 + my^2, mx = (u-cx)/fx).
 // alpha > 1 is accepted (fisheye-calib-adapter's UCM.yml has alpha = 1.017): w is then negative,
 // i.e. the field of view is below 180 degrees, and the conditions above still hold.
-#include "mdbrief/camera.hpp"
-#include "mdbrief/camera_intrinsics.hpp"
+#include "mdbrief/camera_with_intrinsics.hpp"
 
 namespace mdbrief {
 
@@ -19,28 +18,23 @@ struct UnifiedParams {
   double beta = 1.0;   // > 0; exactly 1 for UCM
 };
 
-class UnifiedCamera final : public Camera {
+class UnifiedCamera final : public CameraWithIntrinsics<UnifiedCamera, UnifiedParams> {
  public:
   // Throws std::invalid_argument naming the bad parameter.
   explicit UnifiedCamera(const UnifiedParams& params);
 
-  const UnifiedParams& params() const { return p_; }
-
   // "ucm" when beta == 1 (the two models are then identical), "eucm" otherwise.
-  std::string modelName() const override { return p_.beta == 1.0 ? "ucm" : "eucm"; }
-  cv::Size imageSize() const override { return p_.intrinsics.size(); }
+  std::string modelName() const override { return modelNameOf(p_); }
   bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
   bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
   bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
   bool isValid(const cv::Point2d& pixel) const override;
-  // (fx + fy) / 2, as the other perspective-family models.
-  double tangentPlaneScale() const override { return 0.5 * (p_.intrinsics.fx + p_.intrinsics.fy); }
-  std::shared_ptr<Camera> resized(cv::Size newSize) const override;
 
  private:
   bool unprojectable(double r2) const;
 
-  UnifiedParams p_;
+  static std::string modelNameOf(const UnifiedParams& params) { return params.beta == 1.0 ? "ucm" : "eucm"; }
+
   double w_;
 };
 
