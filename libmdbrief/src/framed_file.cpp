@@ -1,6 +1,7 @@
 #include "mdbrief/internal/framed_file.hpp"
 
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -51,6 +52,17 @@ T get(const uint8_t* p) {
   return v;
 }
 
+// `size` bytes in a fresh 8-byte aligned buffer filled by `fill`, zero after the last byte up
+// to the next multiple of 8 (not zeroed before: that would cost as much as the fill).
+template <typename Fill>
+std::shared_ptr<const uint8_t> alignedCopy(size_t size, Fill&& fill) {
+  std::unique_ptr<uint64_t[]> words(new uint64_t[(size + 7) / 8]);
+  if (size > 0) words[(size + 7) / 8 - 1] = 0;
+  fill(reinterpret_cast<uint8_t*>(words.get()));
+  return {reinterpret_cast<const uint8_t*>(words.release()),
+          [](const uint8_t* p) { delete[] reinterpret_cast<const uint64_t*>(p); }};
+}
+
 }  // namespace
 
 uint64_t contentChecksum(const uint8_t* data, size_t size) noexcept {
@@ -84,8 +96,7 @@ FramedFile framedFileInMemory(std::string_view bytes, uint32_t version) {
   FramedFile file;
   file.size = bytes.size();
   file.version = version;
-  file.words.reset(new uint64_t[(bytes.size() + 7) / 8]());
-  std::memcpy(file.words.get(), bytes.data(), bytes.size());
+  file.storage = alignedCopy(bytes.size(), [&](uint8_t* dst) { std::memcpy(dst, bytes.data(), bytes.size()); });
   return file;
 }
 
@@ -116,16 +127,24 @@ FramedFile readFramedFile(const std::string& path, std::string_view magic, uint3
                "-byte header of a " + kind + " file");
   FramedFile file;
   file.size = static_cast<size_t>(size);
-  file.words.reset(new uint64_t[(file.size + 7) / 8]);
-  file.words[(file.size + 7) / 8 - 1] = 0;  // the padding after the last byte
-  auto* dst = reinterpret_cast<char*>(file.words.get());
-  size_t done = 0;
-  while (done < file.size) {
-    const ssize_t got = ::read(fd, dst + done, file.size - done);
-    if (got < 0 && errno == EINTR) continue;
-    if (got < 0) throw fail("cannot read: " + std::generic_category().message(errno));
-    if (got == 0) throw fail("shrank while being read");
-    done += static_cast<size_t>(got);
+  // MAP_POPULATE: the checksum touches every page at once, so map them all in one call rather
+  // than fault them in one by one.
+  void* mapped = ::mmap(nullptr, file.size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+  if (mapped != MAP_FAILED) {
+    const size_t length = file.size;
+    file.storage.reset(static_cast<const uint8_t*>(mapped),
+                       [length](const uint8_t* p) { ::munmap(const_cast<uint8_t*>(p), length); });
+  } else {
+    file.storage = alignedCopy(file.size, [&](uint8_t* dst) {
+      size_t done = 0;
+      while (done < file.size) {
+        const ssize_t got = ::read(fd, dst + done, file.size - done);
+        if (got < 0 && errno == EINTR) continue;
+        if (got < 0) throw fail("cannot read: " + std::generic_category().message(errno));
+        if (got == 0) throw fail("shrank while being read");
+        done += static_cast<size_t>(got);
+      }
+    });
   }
   const uint8_t* p = file.bytes();
   if (std::memcmp(p, magic.data(), 8) != 0)
