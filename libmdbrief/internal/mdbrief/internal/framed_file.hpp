@@ -42,12 +42,12 @@ struct FramedFile {
   size_t bodySize() const { return size - kFrameBytes; }
 };
 
-// Maps `path` (or, where its file system cannot map it, reads it with one read) after checking,
-// in this order, that it is a readable regular file of at most maxBytes, at least a header long,
-// starts with `magic`, has a version in [1, maxVersion], a size field equal to its size and the
-// right checksum. Throws FileFormatError naming the file and the first check that failed;
-// `kind` names the file in messages ("vocabulary"), `foreignHint` is appended when the magic is
-// wrong (may be empty).
+// Maps `path` (or, where its file system cannot map it and under AddressSanitizer, reads it
+// with one read) after checking, in this order, that it is a readable regular file of at most
+// maxBytes, at least a header long, starts with `magic`, has a version in [1, maxVersion], a
+// size field equal to its size and the right checksum. Throws FileFormatError naming the file
+// and the first check that failed; `kind` names the file in messages ("vocabulary"),
+// `foreignHint` is appended when the magic is wrong (may be empty).
 // A mapped file must not be truncated or rewritten in place while the result lives (the
 // process would get SIGBUS or see the new bytes); the library's writers replace files by
 // renaming a new one over them (atomic_file.hpp), which leaves a mapping of the old intact.
