@@ -78,6 +78,12 @@ void addRetrievalCommand(CLI::App& app) {
     for (size_t i = 0; i < files.size(); ++i)
       (i < static_cast<size_t>(a->trainingCount) ? training : distractors).push_back(files[i].string());
 
+    // The output folder before the data sets and photos are read (minutes on the shared data).
+    std::error_code ec;
+    std::filesystem::create_directories(a->options.outDir, ec);
+    if (ec || !std::filesystem::is_directory(a->options.outDir))
+      throw InputError("--out " + a->options.outDir + ": cannot make it a folder" + (ec ? ": " + ec.message() : ""));
+
     const bool named = !a->datasets.empty();
     std::vector<EvalGroup> groups;
     for (const auto& name : named ? a->datasets : kRetrievalDatasets) {

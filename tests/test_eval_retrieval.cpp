@@ -1,7 +1,8 @@
 // The place-recognition evaluation of eval/ (retrieval_experiment.hpp) on synthetic textures
 // whose answers are known: every query is its sequence's first image made brighter (the same
 // features), so every method finds it first among distractors; a distractor that is also a
-// training image is refused.
+// training image is refused; `mdbrief-eval retrieval` exits 2 on bad input, naming the option
+// or file.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -10,6 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "eval/eval_cli.hpp"
 #include "eval/eval_commands.hpp"
 #include "eval/retrieval_experiment.hpp"
 #include "test_data.hpp"
@@ -17,6 +19,8 @@
 
 namespace mdbrief::eval {
 namespace {
+
+namespace fs = std::filesystem;
 
 // A blurred random texture: corners and blobs everywhere, different for every seed.
 cv::Mat texture(int seed, cv::Size size = {400, 300}) {
@@ -114,6 +118,67 @@ TEST(Retrieval, RefusesADistractorThatIsATrainingImage) {
     EXPECT_NE(std::string(e.what()).find("renamed_copy.png"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(std::filesystem::exists(dir.path / "out/retrieval.csv"));
+}
+
+struct EvalRun {
+  int code;
+  std::string err;
+};
+
+EvalRun runRetrievalCli(std::vector<std::string> args) {
+  args.insert(args.begin(), "retrieval");
+  std::ostringstream out, err;
+  ::testing::internal::CaptureStdout();  // the subcommand's progress
+  const int code = runEvalCli(args, out, err);
+  ::testing::internal::GetCapturedStdout();
+  return {code, err.str()};
+}
+
+// Every case fails before any image is described; nothing is written.
+TEST(RetrievalCli, BadInputExitsWith2NamingTheOptionOrFile) {
+  testing::TempDir dir("retrieval_cli");
+  const fs::path photos = dir.path / "photos", out = dir.path / "out", noData = dir.path / "no-data";
+  fs::create_directories(photos);
+  writeTextures(photos, "p", 1, 3);
+  std::ofstream(dir.path / "a-file") << "x";
+  // 3 photos: 2 train, 1 distracts (the default --training-count, 100, leaves none).
+  const std::vector<std::string> common{"--photos", photos.string(), "--out", out.string()};
+  const auto with = [&](std::vector<std::string> more) {
+    more.insert(more.begin(), common.begin(), common.end());
+    return more;
+  };
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--photos", photos.string()}, "--out is required"},
+      {{"--photos", (dir.path / "missing").string(), "--out", out.string()},
+       "--photos: " + (dir.path / "missing").string() + ": no such image or folder"},
+      {with({}), "--training-count 100"},
+      {with({"--training-count", "3"}), "--training-count 3"},
+      {with({"--training-count", "0"}), "--training-count"},
+      {with({"--branching", "1"}), "--branching"},
+      {with({"--depth", "0"}), "--depth"},
+      {with({"--nfeatures", "5"}), "--nfeatures"},
+      {with({"--recall-at", "0"}), "--recall-at"},
+      {with({"--datasets", "nope"}), "--datasets"},
+      {with({"--seed", "x"}), "--seed"},
+      // A data set named but not found names it and its folder; none found at all is an error too.
+      {with({"--training-count", "2", "--data", noData.string(), "--datasets", "oxford"}), "oxford: " + noData.string()},
+      {with({"--training-count", "2", "--data", noData.string(), "--datasets", "poster-dev"}),
+       "poster-dev: " + noData.string()},
+      {with({"--training-count", "2", "--data", noData.string(), "--fisheye-camera",
+             (dir.path / "no-camera.yaml").string()}),
+       "no data set could be read"},
+      {{"--photos", photos.string(), "--training-count", "2", "--data", noData.string(), "--out",
+        (dir.path / "a-file" / "out").string()},
+       "--out " + (dir.path / "a-file" / "out").string()},
+  };
+  for (const auto& [args, expected] : cases) {
+    const EvalRun r = runRetrievalCli(args);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << "expected '" << expected << "' in: " << r.err;
+    ASSERT_FALSE(r.err.empty());
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
+    EXPECT_FALSE(fs::exists(out / "retrieval.csv"));
+  }
 }
 
 }  // namespace

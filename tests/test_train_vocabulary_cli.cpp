@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "mdbrief/vocabulary.hpp"
 #include "mdbrief/vocabulary_text.hpp"
 #include "test_data.hpp"
@@ -89,6 +91,10 @@ TEST(TrainVocabularyCli, BadInputExitsWith2NamingTheProblemAndWritesNothing) {
   const auto inputs = npyFiles(dir, true);
   writeBytes(dir.path / "bad.npy", "\x93NUMPY\x01\x00\x10\x00{'descr': '<f4'}");
   writeBytes(dir.path / "wide.npy", vocab::descriptorNpyBytes(cv::Mat(5, 64, CV_8UC1, cv::Scalar(1))));
+  const std::string image = (dir.path / "image.png").string();
+  cv::Mat pixels(64, 64, CV_8UC1);
+  cv::randu(pixels, 0, 256);
+  ASSERT_TRUE(cv::imwrite(image, pixels));
   const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
       {{"--out", out}, "give either --images"},
       {plus(inputs, {"--images", dir.path.string(), "--out", out}), "give either --images"},
@@ -102,6 +108,19 @@ TEST(TrainVocabularyCli, BadInputExitsWith2NamingTheProblemAndWritesNothing) {
       {{"--descriptors", (dir.path / "missing.npy").string(), "--out", out}, "no such file"},
       {{"--images", (dir.path / "missing").string(), "--out", out}, "no such image or folder"},
       {{"--images", dir.path.string(), "--bits", "100", "--out", out}, "bits"},
+      {{"--images", dir.path.string(), "--nfeatures", "0", "--out", out}, "--nfeatures"},
+      {{"--images", dir.path.string(), "--features", "orb", "--nfeatures", "-1", "--out", out}, "--nfeatures"},
+      {{"--images", dir.path.string(), "--features", "sift", "--out", out}, "--features"},
+      {{"--images", dir.path.string(), "--preset", "fast", "--out", out}, "--preset"},
+      {plus(inputs, {"--out", out, "--depth", "0"}), "--depth"},
+      {plus(inputs, {"--out", out, "--rounds", "0"}), "--rounds"},
+      {plus(inputs, {"--out", out, "--mask-agreement", "1.5"}), "--mask-agreement"},
+      {plus(inputs, {"--out", out, "--weighting", "bm25"}), "--weighting"},
+      {plus(inputs, {"--out", out, "--seed", "x"}), "--seed"},
+      {{"--images", image, "--camera", (dir.path / "none.yaml").string(), "--out", out},
+       (dir.path / "none.yaml").string() + ": camera file: no such file"},
+      {{"--images", image, "--held-out", (dir.path / "none.txt").string(), "--out", out},
+       (dir.path / "none.txt").string() + ": cannot read the held-out list"},
   };
   for (const auto& [args, expected] : cases) {
     const CliRun r = run(args);

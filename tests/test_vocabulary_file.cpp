@@ -1,12 +1,15 @@
-// The vocabulary's binary file: a round trip keeps every byte, and a missing, truncated,
-// foreign, newer, damaged or inconsistent file is refused with its path and the problem.
+// The vocabulary's binary file: a round trip keeps every byte, a loaded vocabulary outlives its
+// file being replaced or removed, and a missing, truncated, foreign, newer, damaged or
+// inconsistent file is refused with its path and the problem.
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <fstream>
+#include <limits>
 
 #include "mdbrief/file_format_error.hpp"
 #include "mdbrief/internal/framed_file.hpp"
+#include "mdbrief/simd_level.hpp"
 #include "mdbrief/vocabulary.hpp"
 #include "test_data.hpp"
 #include "vocabulary_trees.hpp"
@@ -128,4 +131,73 @@ TEST(VocabularyFile, RefusesInconsistentContentBehindARightChecksum) {
   EXPECT_NE(damaged(124, 9).find("node 1 has 9 children"), std::string::npos);
   // A leaf's childBegin (node 4 of the 13) set.
   EXPECT_NE(damaged(64 + 4 * 4, 5).find("node 4 is a leaf but its childBegin is 5"), std::string::npos);
+}
+
+// The content rules of the load (vocabulary_file.cpp), through a tree: the same checks as a file's.
+std::string createProblem(const VocabularyTree& t) {
+  try {
+    Vocabulary::create(t);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "created";
+  return "";
+}
+
+TEST(VocabularyFile, RefusesBrokenTreesWeightsAndEmptyMasks) {
+  const VocabularyTree good = randomTree(3, 2, 256, true, 5);  // node 0 -> 1..3, 1 -> 4..6, 2 -> 7..9, 3 -> 10..12
+  VocabularyTree t = good;
+  t.childBegin[2] = 4;
+  EXPECT_EQ(createProblem(t), "VocabularyTree: node 4 is the child of two nodes");
+  t = good;
+  t.childCount[1] = 2;  // node 6 orphaned (still a leaf: the word count holds)
+  EXPECT_EQ(createProblem(t), "VocabularyTree: node 6 is no node's child");
+  t = good;
+  t.depth = 1;
+  EXPECT_EQ(createProblem(t), "VocabularyTree: node 1 at depth 1 has children, deeper than the depth 1");
+  for (const float bad : {-1.0f, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+    t = good;
+    t.wordWeights[3] = bad;
+    EXPECT_EQ(createProblem(t).find("VocabularyTree: word 3 has weight "), 0u) << bad;
+  }
+  t = good;
+  t.wordWeights[3] = -0.0f;
+  EXPECT_NO_THROW(Vocabulary::create(t)) << "-0 is >= 0";
+  // Masks: counted by a kernel per SIMD level, each of which finds the first empty one.
+  const SimdLevel top = supportedSimdLevel();
+  for (const SimdLevel level : {SimdLevel::Portable, SimdLevel::Avx2, SimdLevel::Avx512}) {
+    limitSimdLevel(level);
+    for (const int bits : {96, 256}) {
+      t = randomTree(3, 2, bits, true, 5);
+      t.masks.row(5).setTo(0);
+      t.masks.row(9).setTo(0);
+      EXPECT_EQ(createProblem(t), "VocabularyTree: node 5 has an empty mask") << bits << " " << toString(level);
+      t.masks.row(5).setTo(0);
+      t.masks.row(5).colRange(bits / 8 - 4, bits / 8).setTo(0x80);  // the last word only
+      EXPECT_EQ(createProblem(t), "VocabularyTree: node 9 has an empty mask") << bits << " " << toString(level);
+    }
+  }
+  limitSimdLevel(top);
+}
+
+// The file is mapped: the library's writers replace a file by renaming a new one over it, which
+// must leave a loaded vocabulary as it was, and so must removing the file.
+TEST(VocabularyFile, ALoadedVocabularyOutlivesItsFileBeingReplacedOrRemoved) {
+  TempDir dir("vocab_mapped");
+  const std::string path = (dir.path / "v.mdbvoc").string();
+  const VocabularyTree t = randomTree(4, 3, 256, true, 9);
+  Vocabulary::create(t).save(path);
+  const Vocabulary loaded = Vocabulary::load(path);
+  const std::string bytes = loaded.fileBytes();
+  cv::Mat desc(50, 32, CV_8UC1), masks(50, 32, CV_8UC1);
+  cv::randu(desc, 0, 256);
+  cv::randu(masks, 0, 256);
+  const std::vector<uint32_t> words = loaded.words(desc, masks);
+  Vocabulary::create(randomTree(4, 3, 256, true, 10)).save(path);
+  ASSERT_NE(readFile(path), bytes);
+  EXPECT_EQ(loaded.fileBytes(), bytes);
+  EXPECT_EQ(loaded.words(desc, masks), words);
+  fs::remove(path);
+  EXPECT_EQ(loaded.fileBytes(), bytes);
+  EXPECT_EQ(loaded.words(desc, masks), words);
 }

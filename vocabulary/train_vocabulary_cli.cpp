@@ -138,7 +138,9 @@ int runTrainVocabularyCli(const std::vector<std::string>& args, std::ostream& ou
       ->check(CLI::IsMember(namesOf(kPresetNames)))
       ->capture_default_str();
   app.add_option("--bits", a.bits, "mdbrief: descriptor length, 32..512 in steps of 32 (default: the preset's)");
-  app.add_option("--nfeatures", a.nfeatures, "Keypoints per image at most")->capture_default_str();
+  app.add_option("--nfeatures", a.nfeatures, "Keypoints per image at most")
+      ->check(CLI::Range(1, 10000000))
+      ->capture_default_str();
   app.add_option("--descriptors", a.descriptors,
                  "Instead of images: .npy descriptor files (uint8, N x bytes), one per image");
   app.add_option("--masks", a.masks, "The descriptors' masks, .npy files in the same order (a masked vocabulary)");

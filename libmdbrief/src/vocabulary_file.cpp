@@ -5,8 +5,9 @@
 
 #include "mdbrief/file_format_error.hpp"
 #include "mdbrief/internal/atomic_file.hpp"
+#include "mask_weight_kernels.hpp"
 #include "mdbrief/masked_hamming.hpp"
-#include "popcount.hpp"
+#include "mdbrief/simd_level.hpp"
 #include "vocabulary_data.hpp"
 
 namespace mdbrief {
@@ -65,6 +66,13 @@ void requireRows(const cv::Mat& m, const char* name, size_t nodes, int bytes) {
     throw std::invalid_argument(std::string("VocabularyTree::") + name + ": expected " + std::to_string(nodes) + " x " +
                                 std::to_string(bytes) + " CV_8UC1 (nodes x bits/8), got " + std::to_string(m.rows) +
                                 " x " + std::to_string(m.cols) + " " + cv::typeToString(m.type()));
+}
+
+mask_weight_kernels::MaskWeights activeMaskWeights() {
+#if defined(MDBRIEF_X86_KERNELS)
+  if (activeSimdLevel() != SimdLevel::Portable) return mask_weight_kernels::maskWeightsPopcnt;
+#endif
+  return mask_weight_kernels::maskWeightsPortable;
 }
 
 [[noreturn]] void broken(const std::string& problem) { throw VocabularyContentError(problem); }
@@ -155,23 +163,31 @@ std::shared_ptr<const Vocabulary::Data> vocabularyData(internal::FramedFile file
   if (d->masked) d->masks = reinterpret_cast<const uint32_t*>(base + l.masks);
 
   // The tree: parents before children (so no cycle), every node but the root the child of
-  // exactly one node, no leaf deeper than `depth`.
-  const uint32_t n = d->nodeCount;
-  std::vector<uint8_t> nodeDepth(n, 0), hasParent(n, 0);
-  d->wordOfNode.assign(n, kNoWord);
-  d->nodeOfWord.reserve(d->wordCount);
+  // exactly one node, no leaf deeper than `depth`. Local pointers, so that the stores into the
+  // tables do not make the compiler reload them per node.
+  const uint32_t n = d->nodeCount, wordCount = d->wordCount;
+  const uint32_t* childBegin = d->childBegin;
+  const uint32_t* childCount = d->childCount;
+  // 1 + the node's depth once a parent has claimed it, 0 before (the root: 1).
+  std::vector<uint8_t> level(n, 0);
+  level[0] = 1;
+  d->wordOfNode.resize(n);
+  d->nodeOfWord.resize(wordCount);
+  uint32_t* wordOfNode = d->wordOfNode.data();
+  uint32_t* nodeOfWord = d->nodeOfWord.data();
+  uint32_t leaves = 0;
   for (uint32_t i = 0; i < n; ++i) {
-    if (i > 0 && !hasParent[i]) broken("node " + std::to_string(i) + " is no node's child");
-    const uint32_t count = d->childCount[i], begin = d->childBegin[i];
+    if (level[i] == 0) broken("node " + std::to_string(i) + " is no node's child");
+    const uint32_t count = childCount[i], begin = childBegin[i];
     if (count == 0) {
       if (i == 0) broken("the root has no children");
       if (begin != 0) broken("node " + std::to_string(i) + " is a leaf but its childBegin is " + std::to_string(begin));
-      if (d->nodeOfWord.size() == d->wordCount)
-        broken("more leaves than the header's " + std::to_string(d->wordCount) + " words");
-      d->wordOfNode[i] = static_cast<uint32_t>(d->nodeOfWord.size());
-      d->nodeOfWord.push_back(i);
+      if (leaves == wordCount) broken("more leaves than the header's " + std::to_string(wordCount) + " words");
+      wordOfNode[i] = leaves;
+      nodeOfWord[leaves++] = i;
       continue;
     }
+    wordOfNode[i] = kNoWord;
     if (count > branching)
       broken("node " + std::to_string(i) + " has " + std::to_string(count) + " children, more than the branching " +
              std::to_string(branching));
@@ -179,36 +195,43 @@ std::shared_ptr<const Vocabulary::Data> vocabularyData(internal::FramedFile file
       broken("node " + std::to_string(i) + ": children " + std::to_string(begin) + ".." +
              std::to_string(uint64_t{begin} + count - 1) + " are not after it and within the " + std::to_string(n) +
              " nodes");
-    if (nodeDepth[i] + 1u > depth)
-      broken("node " + std::to_string(i) + " at depth " + std::to_string(nodeDepth[i]) +
+    if (level[i] > depth)
+      broken("node " + std::to_string(i) + " at depth " + std::to_string(level[i] - 1) +
              " has children, deeper than the depth " + std::to_string(depth));
     for (uint32_t c = begin; c < begin + count; ++c) {
-      if (hasParent[c]) broken("node " + std::to_string(c) + " is the child of two nodes");
-      hasParent[c] = 1;
-      nodeDepth[c] = static_cast<uint8_t>(nodeDepth[i] + 1);
+      if (level[c]) broken("node " + std::to_string(c) + " is the child of two nodes");
+      level[c] = static_cast<uint8_t>(level[i] + 1);
     }
   }
-  if (d->nodeOfWord.size() != d->wordCount)
-    broken(std::to_string(d->nodeOfWord.size()) + " leaves, but the header says " + std::to_string(d->wordCount) +
-           " words");
-  for (uint32_t w = 0; w < d->wordCount; ++w)
-    if (!std::isfinite(d->wordWeights[w]) || d->wordWeights[w] < 0)
-      broken("word " + std::to_string(w) + " has weight " + std::to_string(d->wordWeights[w]) +
-             " (must be finite and >= 0)");
+  if (leaves != wordCount)
+    broken(std::to_string(leaves) + " leaves, but the header says " + std::to_string(wordCount) + " words");
+  // Finite and >= 0 (-0 included), tested on the bits in one branch-free pass; the first
+  // offender is looked for only when there is one.
+  bool badWeight = false;
+  for (uint32_t w = 0; w < wordCount; ++w) {
+    uint32_t bitsOf;
+    std::memcpy(&bitsOf, d->wordWeights + w, 4);
+    badWeight |= bitsOf >= 0x7F800000u && bitsOf != 0x80000000u;
+  }
+  if (badWeight)
+    for (uint32_t w = 0; w < wordCount; ++w)
+      if (!std::isfinite(d->wordWeights[w]) || d->wordWeights[w] < 0)
+        broken("word " + std::to_string(w) + " has weight " + std::to_string(d->wordWeights[w]) +
+               " (must be finite and >= 0)");
   for (uint32_t i = 1; i < d->trainingCount; ++i)
     if (d->trainingImages[i] <= d->trainingImages[i - 1]) broken("training image digests are not sorted and unique");
   const int nw = d->nwords;
   if (!rowIsZero(d->centroids, nw)) broken("the root carries a centroid (its row must be zero)");
   if (d->masked) {
     if (!rowIsZero(d->masks, nw)) broken("the root carries a mask (its row must be zero)");
-    d->maskWeights.assign(n, 0);
-    for (uint32_t i = 1; i < n; ++i) {
-      const uint32_t* row = d->masks + static_cast<size_t>(i) * nw;
-      int ones = 0;
-      for (int k = 0; k < nw; ++k) ones += popcount64(row[k]);
-      if (ones == 0) broken("node " + std::to_string(i) + " has an empty mask");
-      d->maskWeights[i] = maskWeight(ones, d->bits);
-    }
+    // w(o) looked up by o, not divided per node: the division cost more than the count.
+    std::vector<uint32_t> weightOfOnes(static_cast<size_t>(d->bits) + 1);
+    for (int ones = 1; ones <= d->bits; ++ones) weightOfOnes[ones] = maskWeight(ones, d->bits);
+    d->maskWeights.resize(n);
+    d->maskWeights[0] = 0;
+    const size_t empty =
+        activeMaskWeights()(d->masks + nw, n - 1, nw, weightOfOnes.data(), d->maskWeights.data() + 1) + 1;
+    if (empty < n) broken("node " + std::to_string(empty) + " has an empty mask");
   }
   return d;
 }

@@ -84,10 +84,13 @@ class Vocabulary {
   // std::invalid_argument naming the first field or node that breaks a rule.
   static Vocabulary create(const VocabularyTree& tree);
 
-  // The library's binary file (docs/vocabulary.md "File format"): read with one read, checked
-  // (magic, version, sizes against the file's size, checksum, then the tree's rules), in
-  // milliseconds for a million words. Throws FileFormatError (file_format_error.hpp) naming the
-  // file and the problem.
+  // The library's binary file (docs/vocabulary.md "File format"): mapped into memory and used in
+  // place, checked (magic, version, sizes against the file's size, checksum, then the tree's
+  // rules), in milliseconds for a million words. Throws FileFormatError (file_format_error.hpp)
+  // naming the file and the problem. While the Vocabulary (or a copy) lives, its file may be
+  // replaced by renaming another over it (as save does) or removed, but not truncated or
+  // rewritten in place: the mapping would see the change (a truncation kills the process with
+  // SIGBUS).
   static Vocabulary load(const std::string& path);
   // Writes that file atomically (the previous file stays until the new one is complete). The
   // bytes depend only on the content. Throws std::runtime_error naming the path on failure.

@@ -30,25 +30,31 @@ uint64_t contentChecksum(const uint8_t* data, size_t size) noexcept;
 std::string framedFileBytes(std::string_view magic, uint32_t version, std::string_view body);
 
 struct FramedFile {
-  // The whole file, 8-byte aligned (the body's sections rely on it); not zero-filled before the
-  // read, which would cost as much as the read itself on a large vocabulary.
-  std::unique_ptr<uint64_t[]> words;
+  // The whole file, 8-byte aligned (the body's sections rely on it): a read-only private
+  // mapping of the file (readFramedFile), or a copy in memory. Mapped, not read: a read's
+  // copy into fresh pages was the largest part of loading a large vocabulary (docs/RESULTS.md
+  // "Place recognition (issue 20)").
+  std::shared_ptr<const uint8_t> storage;
   size_t size = 0;  // bytes
   uint32_t version = 0;
-  const uint8_t* bytes() const { return reinterpret_cast<const uint8_t*>(words.get()); }
+  const uint8_t* bytes() const { return storage.get(); }
   const uint8_t* body() const { return bytes() + kFrameBytes; }
   size_t bodySize() const { return size - kFrameBytes; }
 };
 
-// Reads `path` with one read after checking, in this order, that it is a readable regular file
-// of at most maxBytes, at least a header long, starts with `magic`, has a version in
-// [1, maxVersion], a size field equal to its size and the right checksum. Throws
-// FileFormatError naming the file and the first check that failed; `kind` names the file in
-// messages ("vocabulary"), `foreignHint` is appended when the magic is wrong (may be empty).
+// Maps `path` (or, where its file system cannot map it and under AddressSanitizer, reads it
+// with one read) after checking, in this order, that it is a readable regular file of at most
+// maxBytes, at least a header long, starts with `magic`, has a version in [1, maxVersion], a
+// size field equal to its size and the right checksum. Throws FileFormatError naming the file
+// and the first check that failed; `kind` names the file in messages ("vocabulary"),
+// `foreignHint` is appended when the magic is wrong (may be empty).
+// A mapped file must not be truncated or rewritten in place while the result lives (the
+// process would get SIGBUS or see the new bytes); the library's writers replace files by
+// renaming a new one over them (atomic_file.hpp), which leaves a mapping of the old intact.
 FramedFile readFramedFile(const std::string& path, std::string_view magic, uint32_t maxVersion, uint64_t maxBytes,
                           const std::string& kind, const std::string& foreignHint);
 
-// A framed file's bytes held in memory as a read would hold them (nothing checked).
+// A framed file's bytes held in memory as a load would hold them (nothing checked).
 FramedFile framedFileInMemory(std::string_view bytes, uint32_t version);
 
 // Rewrites the checksum field of a framed file's bytes (at least kFrameBytes long; shorter

@@ -1,0 +1,15 @@
+#pragma once
+// The mdbrief-eval program (mdbrief_eval.cpp) as a function, so that the tests run it in-process
+// and see its exit code: 0 success, 2 bad usage or input (the message names the option or
+// file), 1 internal error.
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace mdbrief::eval {
+
+// args without the program's name. --help and parse errors are written to `out` / `err` (the
+// subcommands' own progress goes to stdout).
+int runEvalCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+
+}  // namespace mdbrief::eval

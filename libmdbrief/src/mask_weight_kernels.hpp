@@ -1,0 +1,23 @@
+#pragma once
+// The mask weights w(o) of a masked vocabulary's nodes, computed on load (vocabulary_file.cpp):
+// one popcount per mask word over every node, the largest part of loading a masked vocabulary
+// when counted without the POPCNT instruction. One translation unit per instruction set, as the
+// matcher's kernels (matcher_kernels.hpp), chosen at run time (simd_level.hpp); only plain data
+// crosses this boundary.
+#include <cstddef>
+#include <cstdint>
+
+namespace mdbrief::mask_weight_kernels {
+
+// weights[i] = weightOfOnes[set bits of row i] for `count` rows of `nwords` 32-bit words
+// (weightOfOnes has nwords * 32 + 1 entries). Returns the first row without a set bit (its
+// weight and the following ones unset), or `count`.
+using MaskWeights = size_t (*)(const uint32_t* rows, size_t count, int nwords, const uint32_t* weightOfOnes,
+                               uint32_t* weights);
+
+size_t maskWeightsPortable(const uint32_t* rows, size_t count, int nwords, const uint32_t* weightOfOnes,
+                           uint32_t* weights);
+size_t maskWeightsPopcnt(const uint32_t* rows, size_t count, int nwords, const uint32_t* weightOfOnes,
+                         uint32_t* weights);  // POPCNT
+
+}  // namespace mdbrief::mask_weight_kernels
