@@ -1,10 +1,12 @@
 #include "trainer/train_cli.hpp"
 
 #include <exception>
+#include <optional>
 #include <ostream>
 
 #include <CLI/CLI.hpp>
 
+#include "toolkit/command_line.hpp"
 #include "toolkit/option_flags.hpp"
 #include "toolkit/progress_reporter.hpp"
 #include "trainer/training.hpp"
@@ -23,13 +25,7 @@ int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::os
                                           kDefaultImageFolder);
   app.set_config("--config", "", "read these options from a TOML/INI file (configs/training/)");
 
-  std::vector<std::string> reversed(args.rbegin(), args.rend());
-  try {
-    app.parse(reversed);
-  } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e, out, err);
-    return code == 0 ? 0 : 2;
-  }
+  if (const std::optional<int> code = parseArguments(app, args, out, err)) return *code;
 
   ProgressReporter progress(out, progressTty);
   try {

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <ostream>
 
 #include <CLI/CLI.hpp>
@@ -12,6 +13,7 @@
 #include "mdbrief/internal/atomic_file.hpp"
 #include "mdbrief/internal/size_text.hpp"
 #include "mdbrief/vocabulary_text.hpp"
+#include "toolkit/command_line.hpp"
 #include "toolkit/progress_reporter.hpp"
 #include "vocabulary/descriptor_npy.hpp"
 #include "vocabulary/training_features.hpp"
@@ -168,13 +170,7 @@ int runTrainVocabularyCli(const std::vector<std::string>& args, std::ostream& ou
                  "compiled-in evaluation images");
   app.add_option("--out", a.out, "The vocabulary file to write")->required();
   app.add_option("--dbow2-text", a.dbow2Text, "Also write the vocabulary as a DBoW2 text file (plain only)");
-  std::vector<std::string> reversed(args.rbegin(), args.rend());
-  try {
-    app.parse(reversed);
-  } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e, out, err);
-    return code == 0 ? 0 : 2;
-  }
+  if (const std::optional<int> code = parseArguments(app, args, out, err)) return *code;
   try {
     run(a, out, progressTty);
   } catch (const std::invalid_argument& e) {

@@ -1,0 +1,26 @@
+#pragma once
+// Parsing a tool's arguments in-process, as the tools' run*Cli functions (which the tests call)
+// do: one exit-code convention for every tool.
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+namespace mdbrief {
+
+// Parses args (without the program name) into app. Empty when the tool goes on; otherwise its
+// exit code: 0 after --help, 2 for bad arguments, CLI11's message written to out or err.
+inline std::optional<int> parseArguments(CLI::App& app, const std::vector<std::string>& args, std::ostream& out,
+                                         std::ostream& err) {
+  std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes them last first
+  try {
+    app.parse(reversed);
+    return std::nullopt;
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e, out, err) == 0 ? 0 : 2;
+  }
+}
+
+}  // namespace mdbrief
