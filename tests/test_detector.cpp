@@ -206,7 +206,7 @@ TEST(Detector, CountPropertiesAndOrderOnATexturedImage) {
       EXPECT_GE(kp.angle, 0.f);
       EXPECT_LT(kp.angle, 360.f);
       // The whole rotated 32x32 patch (radius 16 sqrt 2 + 1 bilinear neighbour) at the level.
-      const cv::Point2d level(kp.pt.x / scale, kp.pt.y / scale);
+      const cv::Point2d level = pyramid.grid(kp.octave).toLevel(kp.pt);
       const cv::Size levelSize = pyramid.image(kp.octave).size();
       const double reach = 16 * std::sqrt(2.0) + 1;
       EXPECT_GE(level.x - reach, -1e-3);
@@ -423,6 +423,23 @@ TEST(HessianDetector, FindsBlobsAtTheirSubPixelPositionWithSizesInProportion) {
   // the scale factor).
   EXPECT_NEAR(sizes[1] / sizes[0], 2.0, 0.3);
   EXPECT_NEAR(sizes[2] / sizes[0], 1.5, 0.2);
+}
+
+// Wide blobs are found on coarse levels (scale 4 to 6): their keypoints must land on the blob
+// centres in input pixels, which needs the levels' pixel centres (LevelGrid); level x times the
+// scale misplaced them by half a level pixel and more (1.8 to 3.7 px here).
+TEST(HessianDetector, WideBlobsFoundOnCoarseLevelsAreWhereTheyAre) {
+  const std::vector<SyntheticBlob> blobs{{{140.3, 150.6}, 8.0}, {{380.5, 160.2}, 10.0}, {{260.7, 340.4}, 11.5}};
+  const std::vector<cv::KeyPoint> kps = Detector(nullptr, hessianOptions(20)).detect(blobImage(blobs));
+  for (const auto& b : blobs) {
+    const auto nearest = std::min_element(kps.begin(), kps.end(), [&](const cv::KeyPoint& a, const cv::KeyPoint& c) {
+      return cv::norm(cv::Point2d(a.pt) - b.centre) < cv::norm(cv::Point2d(c.pt) - b.centre);
+    });
+    ASSERT_NE(nearest, kps.end());
+    std::printf("blob sigma %.1f: level %d, %.3f px off\n", b.sigma, nearest->octave, cv::norm(cv::Point2d(nearest->pt) - b.centre));
+    EXPECT_GE(nearest->octave, 7) << b.centre;  // scale 1.25^6 = 3.8 and coarser
+    EXPECT_LT(cv::norm(cv::Point2d(nearest->pt) - b.centre), 0.6) << b.centre << " " << nearest->pt;
+  }
 }
 
 // Elongated blobs turned by 45 degrees: the response's cross term moves the vertex off the row

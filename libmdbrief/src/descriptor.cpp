@@ -130,7 +130,7 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
       if (support.level < 0) continue;  // no usable size
       const cv::Mat& img = pyramid.smoothed(support.level);
       const int count = placeChecked(options_, camera, offsets, disc, kernels, keypoints[i], img,
-                                     pyramid.scale(support.level), support, points, angles[i]);
+                                     pyramid.grid(support.level), support, points, angles[i]);
       if (count == 0) continue;
       for (int r = 0; r < count; ++r)
         sampleDescriptor(img, &points.x[2 * nTests * r], &points.y[2 * nTests * r], nTests, options_.sampling,
@@ -188,19 +188,17 @@ std::vector<std::pair<cv::Point2f, cv::Point2f>> DescriptorExtractor::testPositi
   const Support support = supportOf(keypoint.size, options_.supportScale, pyramidScales(pyramid));
   if (support.level < 0) return {};
   const Disc disc = orientationDisc(options_);
-  const double scale = pyramid.scale(support.level);
+  const LevelGrid grid = pyramid.grid(support.level);
   const int nTests = options_.bits;
   const Offsets offsets = offsetsOf(tests_);
   PlacedPoints points(offsets.x.size(), disc.u.size());
   float imageAngle;
   if (placeChecked(options_, camera_.get(), offsets, disc, activeSamplingKernels(), keypoint,
-                   pyramid.smoothed(support.level), scale, support, points, imageAngle) == 0)
+                   pyramid.smoothed(support.level), grid, support, points, imageAngle) == 0)
     return {};
   std::vector<std::pair<cv::Point2f, cv::Point2f>> out(nTests);
-  const float f = static_cast<float>(scale) / kSub;
-  for (int d = 0; d < nTests; ++d)
-    out[d] = {cv::Point2f(points.x[d] * f, points.y[d] * f),
-              cv::Point2f(points.x[nTests + d] * f, points.y[nTests + d] * f)};
+  const auto input = [&](int i) { return cv::Point2f(grid.toInput(cv::Point2d(points.x[i], points.y[i]) / kSub)); };
+  for (int d = 0; d < nTests; ++d) out[d] = {input(d), input(nTests + d)};
   return out;
 }
 

@@ -56,11 +56,11 @@ bool maskAllows(const cv::Mat& mask, const cv::Point2f& position) {
 
 // The input-pixel position of a corner at level pixel (x, y), and of a blob refined to sub-pixel
 // position on its level: the keypoints' pt.
-cv::Point2f cornerPosition(int x, int y, double scale) {
-  return {static_cast<float>(x * scale), static_cast<float>(y * scale)};
+cv::Point2f cornerPosition(int x, int y, const LevelGrid& grid) {
+  return grid.toInput(cv::Point2d(x, y));
 }
-cv::Point2f blobPosition(const detail::Blob& b, double scale) {
-  return {static_cast<float>((b.x + b.dx) * scale), static_cast<float>((b.y + b.dy) * scale)};
+cv::Point2f blobPosition(const detail::Blob& b, const LevelGrid& grid) {
+  return grid.toInput(cv::Point2d(b.x + b.dx, b.y + b.dy));
 }
 
 // Per pyramid level of a valid-area mask (255 = valid): the distance (level pixels) to the
@@ -180,7 +180,7 @@ std::vector<cv::KeyPoint> Detector::detectCorners(const ImagePyramid& pyramid, c
   keypoints.reserve(budget);
   for (int level = 0; level < pyramid.levels(); ++level) {
     const cv::Mat& image = pyramid.image(level);
-    const double scale = pyramid.scale(level);
+    const LevelGrid grid = pyramid.grid(level);
     const int levelBudget = budgets[level];
     const cv::Rect inner(margin, margin, image.cols - 2 * margin, image.rows - 2 * margin);
     if (levelBudget == 0 || inner.width <= 0 || inner.height <= 0) continue;
@@ -188,7 +188,7 @@ std::vector<cv::KeyPoint> Detector::detectCorners(const ImagePyramid& pyramid, c
       std::vector<detail::Candidate> found;
       for (const cv::KeyPoint& corner : fastOrAgastCorners(image, inner, options_.corners, threshold)) {
         const int x = cvRound(corner.pt.x), y = cvRound(corner.pt.y);
-        if (allowed(level, x, y) && maskAllows(mask, cornerPosition(x, y, scale))) found.push_back({x, y, 0.f});
+        if (allowed(level, x, y) && maskAllows(mask, cornerPosition(x, y, grid))) found.push_back({x, y, 0.f});
       }
       return found;
     };
@@ -207,7 +207,7 @@ std::vector<cv::KeyPoint> Detector::detectCorners(const ImagePyramid& pyramid, c
     }
 
     for (const detail::Candidate& c : candidates) {
-      keypoints.emplace_back(cornerPosition(c.x, c.y, scale), static_cast<float>(options_.patchSize * scale),
+      keypoints.emplace_back(cornerPosition(c.x, c.y, grid), static_cast<float>(options_.patchSize * grid.scale),
                              measureAngles ? centroid.angleDegrees(image, c.x, c.y) : -1.f, c.response, level);
     }
   }
@@ -218,8 +218,8 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
                                                 const cv::Mat& mask, int budget, bool measureAngles) const {
   const int levels = pyramid.levels();
   std::vector<cv::Mat> responses(levels);
-  std::vector<double> scales(levels);
-  for (int k = 0; k < levels; ++k) scales[k] = pyramid.scale(k);
+  std::vector<LevelGrid> grids(levels);
+  for (int k = 0; k < levels; ++k) grids[k] = pyramid.grid(k);
   // The descriptors' smoothed levels when the sigmas and the kernel agree (the defaults): one
   // blur for detection and description.
   const PyramidOptions& po = pyramid.options();
@@ -231,12 +231,12 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
         options_.hessianSigma);
   });
   std::vector<detail::Blob> blobs = detail::hessianMaxima(
-      responses, scales, static_cast<float>(options_.hessianThreshold), options_.borderMargin, allowed);
+      responses, grids, static_cast<float>(options_.hessianThreshold), options_.borderMargin, allowed);
   // The mask after the refinement, which moves a blob up to half a level pixel from its maximum
   // (several input pixels on coarse levels), and before the budget, which it must not eat.
   if (!mask.empty())
     blobs.erase(std::remove_if(blobs.begin(), blobs.end(),
-                               [&](const detail::Blob& b) { return !maskAllows(mask, blobPosition(b, scales[b.level])); }),
+                               [&](const detail::Blob& b) { return !maskAllows(mask, blobPosition(b, grids[b.level])); }),
                 blobs.end());
 
   if (options_.spread) {
@@ -245,8 +245,8 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
     candidates.reserve(blobs.size());
     for (size_t i = 0; i < blobs.size(); ++i) {
       const detail::Blob& b = blobs[i];
-      candidates.push_back({cvRound(b.x * scales[b.level]), cvRound(b.y * scales[b.level]), b.response,
-                            static_cast<int>(i)});
+      const cv::Point2f p = blobPosition(b, grids[b.level]);
+      candidates.push_back({cvRound(p.x), cvRound(p.y), b.response, static_cast<int>(i)});
     }
     std::vector<detail::Blob> kept;
     for (const detail::Candidate& c : detail::spreadWithQuadtree(candidates, budget,
@@ -263,9 +263,8 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
   std::vector<cv::KeyPoint> keypoints;
   keypoints.reserve(blobs.size());
   for (const detail::Blob& b : blobs) {
-    const double s = scales[b.level];
-    const double refined = s * std::exp(b.dlevel * logFactor);
-    keypoints.emplace_back(blobPosition(b, s), static_cast<float>(options_.patchSize * refined),
+    const double refined = grids[b.level].scale * std::exp(b.dlevel * logFactor);
+    keypoints.emplace_back(blobPosition(b, grids[b.level]), static_cast<float>(options_.patchSize * refined),
                            measureAngles ? centroid.angleDegrees(pyramid.image(b.level), b.x, b.y) : -1.f,
                            b.response, b.level);
   }
@@ -298,7 +297,8 @@ std::vector<cv::KeyPoint> Detector::detectConformal(const ImagePyramid& pyramid,
       if (std::abs(std::log(size / (options_.patchSize * pyramid.scale(j)))) <
           std::abs(std::log(size / (options_.patchSize * pyramid.scale(level)))))
         level = j;
-    const int x = cvRound(pixel.x / pyramid.scale(level)), y = cvRound(pixel.y / pyramid.scale(level));
+    const cv::Point2d onLevel = pyramid.grid(level).toLevel(pixel);
+    const int x = cvRound(onLevel.x), y = cvRound(onLevel.y);
     const cv::Mat& image = pyramid.image(level);
     if (x < margin || y < margin || x >= image.cols - margin || y >= image.rows - margin) continue;
     if (validDistance_[level].at<float>(y, x) < margin) continue;

@@ -65,10 +65,10 @@ bool strongerBlob(const Blob& a, const Blob& b) {
 
 namespace {
 
-// Largest response of `r` in the 3x3 neighbourhood of the nearest pixel to (x, y); -inf when
-// that pixel is outside the level.
-float neighbourhoodMax(const cv::Mat& r, double x, double y) {
-  const int cx = static_cast<int>(std::lround(x)), cy = static_cast<int>(std::lround(y));
+// Largest response of `r` in the 3x3 neighbourhood of the nearest pixel to p; -inf when that
+// pixel is outside the level.
+float neighbourhoodMax(const cv::Mat& r, const cv::Point2d& p) {
+  const int cx = static_cast<int>(std::lround(p.x)), cy = static_cast<int>(std::lround(p.y));
   if (cx < 1 || cy < 1 || cx >= r.cols - 1 || cy >= r.rows - 1) return -INFINITY;
   float best = -INFINITY;
   for (int v = -1; v <= 1; ++v) {
@@ -109,7 +109,7 @@ void subPixelOffset(const float* above, const float* row, const float* below, fl
 namespace {
 
 // The maxima of level k (0 < k < levels - 1), in scan order.
-std::vector<Blob> levelMaxima(const std::vector<cv::Mat>& responses, const std::vector<double>& scales, int k,
+std::vector<Blob> levelMaxima(const std::vector<cv::Mat>& responses, const std::vector<LevelGrid>& grids, int k,
                               float threshold, int margin, const std::function<bool(int, int, int)>& allowed) {
   std::vector<Blob> blobs;
   const cv::Mat& r = responses[k];
@@ -127,9 +127,10 @@ std::vector<Blob> levelMaxima(const std::vector<cv::Mat>& responses, const std::
       if (!((value > threshold) & (value >= top[x]))) continue;
       // Plateaus: keep the first pixel in scan order only.
       if (row[x - 1] == value || above[x - 1] == value || above[x] == value || above[x + 1] == value) continue;
-      // Same point on the neighbouring levels (level pixels scale by scales[k] / scales[j]).
-      const float finer = neighbourhoodMax(responses[k - 1], x * scales[k] / scales[k - 1], y * scales[k] / scales[k - 1]);
-      const float coarser = neighbourhoodMax(responses[k + 1], x * scales[k] / scales[k + 1], y * scales[k] / scales[k + 1]);
+      // Same point on the neighbouring levels.
+      const cv::Point2d input = grids[k].toInput(cv::Point2d(x, y));
+      const float finer = neighbourhoodMax(responses[k - 1], grids[k - 1].toLevel(input));
+      const float coarser = neighbourhoodMax(responses[k + 1], grids[k + 1].toLevel(input));
       if (!(value > finer) || !(value > coarser)) continue;
       if (!allowed(k, x, y)) continue;
       Blob b;
@@ -147,7 +148,7 @@ std::vector<Blob> levelMaxima(const std::vector<cv::Mat>& responses, const std::
 
 }  // namespace
 
-std::vector<Blob> hessianMaxima(const std::vector<cv::Mat>& responses, const std::vector<double>& scales,
+std::vector<Blob> hessianMaxima(const std::vector<cv::Mat>& responses, const std::vector<LevelGrid>& grids,
                                 float threshold, int margin,
                                 const std::function<bool(int, int, int)>& allowed) {
   const int levels = static_cast<int>(responses.size());
@@ -157,7 +158,7 @@ std::vector<Blob> hessianMaxima(const std::vector<cv::Mat>& responses, const std
   std::vector<std::vector<Blob>> perLevel(std::max(levels, 0));
   if (levels >= 3)
     tbb::parallel_for(1, levels - 1,
-                      [&](int k) { perLevel[k] = levelMaxima(responses, scales, k, threshold, margin, allowed); });
+                      [&](int k) { perLevel[k] = levelMaxima(responses, grids, k, threshold, margin, allowed); });
   std::vector<Blob> blobs;
   for (const auto& level : perLevel) blobs.insert(blobs.end(), level.begin(), level.end());
   return blobs;

@@ -9,6 +9,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "mdbrief/image_pyramid.hpp"
+
 namespace mdbrief::detail {
 
 // det(Hessian) * sigma^4 of a level already smoothed by a Gaussian of `sigma` level pixels
@@ -31,10 +33,10 @@ struct Blob {
 bool strongerBlob(const Blob& a, const Blob& b);
 
 // Maxima of responses[k], 0 < k < levels - 1, that exceed `threshold`, every 3x3 neighbour on
-// their level and the 3x3 neighbourhoods around their position on levels k - 1 and k + 1 (scales[k]: level k's
-// scale, level pixels times scales[k] = input pixels). Only positions at least `margin` level
-// pixels from the level's border for which allowed(level, x, y) holds are considered.
-std::vector<Blob> hessianMaxima(const std::vector<cv::Mat>& responses, const std::vector<double>& scales,
+// their level and the 3x3 neighbourhoods around their position on levels k - 1 and k + 1 (grids[k]:
+// where level k's pixels lie in the input). Only positions at least `margin` level pixels from
+// the level's border for which allowed(level, x, y) holds are considered.
+std::vector<Blob> hessianMaxima(const std::vector<cv::Mat>& responses, const std::vector<LevelGrid>& grids,
                                 float threshold, int margin,
                                 const std::function<bool(int, int, int)>& allowed);
 

@@ -74,6 +74,12 @@ ImagePyramid::ImagePyramid(const cv::Mat& image, const PyramidOptions& options, 
   smoothed_ = std::make_shared<SmoothedLevels>(images_.size());
 }
 
+LevelGrid ImagePyramid::grid(int level) const {
+  const cv::Mat& image = images_.at(level);
+  return {scales_[level], cv::Point2d(static_cast<double>(inputSize_.width) / image.cols,
+                                      static_cast<double>(inputSize_.height) / image.rows)};
+}
+
 const cv::Mat& ImagePyramid::smoothedFloat(int level) const {
   cv::Mat& target = smoothed_->floats.at(level);
   std::call_once(smoothed_->floatOnce[level], [&] {

@@ -31,7 +31,7 @@ struct Placement {
   cv::Point2d centre;        // affine: level coordinates of the keypoint
   cv::Matx22d map;           // affine: offset -> level coordinates; paper: offset -> plane
   const TangentPlaneFrame* frame = nullptr;  // paper form
-  double scale = 1.0;        // octave scale (level-0 px per level px)
+  LevelGrid grid;            // the level's place in the input
 };
 
 // Whether every offset, placed affinely, can be sampled in a width x height level: the corners
@@ -64,10 +64,10 @@ bool placeOffsets(const Placement& pl, const Camera* camera, const Offsets& q, c
     const cv::Point2d offset(m(0, 0) * q.x[i] + m(0, 1) * q.y[i], m(1, 0) * q.x[i] + m(1, 1) * q.y[i]);
     cv::Point2d px;
     if (!planeToPixel(*camera, *pl.frame, offset, px)) return false;
-    const double lx = px.x / pl.scale, ly = px.y / pl.scale;
-    if (!(std::abs(lx) < kCoordinateLimit && std::abs(ly) < kCoordinateLimit)) return false;
-    x[i] = toFixed(lx);
-    y[i] = toFixed(ly);
+    const cv::Point2d l = pl.grid.toLevel(px);
+    if (!(std::abs(l.x) < kCoordinateLimit && std::abs(l.y) < kCoordinateLimit)) return false;
+    x[i] = toFixed(l.x);
+    y[i] = toFixed(l.y);
   }
   return true;
 }
@@ -82,7 +82,7 @@ bool cornersValid(const Placement& pl, const Camera& camera) {
     const cv::Vec2d o = pl.map * cv::Vec2d(q.x, q.y);
     cv::Point2d px;
     if (pl.affine) {
-      px = (pl.centre + cv::Point2d(o[0], o[1])) * pl.scale;
+      px = pl.grid.toInput(pl.centre + cv::Point2d(o[0], o[1]));
     } else if (!planeToPixel(camera, *pl.frame, cv::Point2d(o[0], o[1]), px)) {
       return false;
     }
@@ -121,25 +121,25 @@ struct OrientationInput {
   int* ys = nullptr;
 };
 
-// Placements of the offsets for one keypoint sampled on the level of scale `scale`, the
+// Placements of the offsets for one keypoint sampled on the level `grid` places, the
 // footprint enlarged by `fraction` on that level (Support). Rotation 0, then (masked kinds)
 // +delta and -delta. Returns the number of placements, 0 when the keypoint cannot be described.
 // imageAngle receives the image direction (degrees) of a re-measured orientation, else -1.
-int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::KeyPoint& kp, double scale,
+int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::KeyPoint& kp, const LevelGrid& grid,
                   double fraction, const OrientationInput& measure, TangentPlaneFrame& frame,
                   std::array<Placement, 3>& out, float& imageAngle) {
   imageAngle = -1.f;
   if (!std::isfinite(kp.pt.x) || !std::isfinite(kp.pt.y)) return 0;
   const int count = hasMasks(o.kind) ? 3 : 1;
   const double deltas[3] = {0.0, o.maskRotationDeg, -o.maskRotationDeg};
-  const cv::Point2d centre(kp.pt.x / scale, kp.pt.y / scale);
+  const cv::Point2d centre = grid.toLevel(cv::Point2d(kp.pt.x, kp.pt.y));
 
   if (!usesCamera(o.kind)) {
     const bool oriented = o.useOrientation && kp.angle >= 0.f;
     for (int r = 0; r < count; ++r) {
       out[r].centre = centre;
-      out[r].map = rotation((oriented ? kp.angle : 0.0) + deltas[r]) * fraction;
-      out[r].scale = scale;
+      out[r].map = grid.fromNominal() * rotation((oriented ? kp.angle : 0.0) + deltas[r]) * fraction;
+      out[r].grid = grid;
     }
     return count;
   }
@@ -151,7 +151,8 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
   // Offset -> level coordinates before rotation. Affine: shape from the camera, size from the
   // detector (unit-determinant Jacobian). Paper: the Jacobian itself (plane offsets are scaled
   // by the octave scale, level coordinates divide it out); used for the orientation disc.
-  const cv::Matx22d shape = (o.form == DistortionForm::Affine
+  const cv::Matx22d shape = grid.fromNominal() *
+                            (o.form == DistortionForm::Affine
                                  ? frame.jacobian * (1.0 / std::sqrt(std::abs(cv::determinant(frame.jacobian))))
                                  : frame.jacobian) *
                             fraction;
@@ -171,7 +172,7 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
   for (int r = 0; r < count; ++r) {
     const cv::Matx22d rot = rotation(planeAngle + deltas[r]);
     Placement& pl = out[r];
-    pl.scale = scale;
+    pl.grid = grid;
     if (o.form == DistortionForm::Affine) {
       pl.affine = true;
       pl.centre = centre;
@@ -179,7 +180,7 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
     } else {
       pl.affine = false;
       pl.frame = &frame;
-      pl.map = rot * (scale * fraction);
+      pl.map = rot * (grid.scale * fraction);
     }
   }
   return count;
@@ -245,14 +246,14 @@ Disc orientationDisc(const DescriptorOptions& o) {
 }
 
 int placeChecked(const DescriptorOptions& o, const Camera* camera, const Offsets& offsets, const Disc& disc,
-                 const SamplingKernels& kernels, const cv::KeyPoint& kp, const cv::Mat& img, double scale,
+                 const SamplingKernels& kernels, const cv::KeyPoint& kp, const cv::Mat& img, const LevelGrid& grid,
                  const Support& support, PlacedPoints& points, float& imageAngle) {
   const int n = static_cast<int>(offsets.x.size());
   const OrientationInput in{disc.u.empty() ? nullptr : &img, &kernels, &disc, points.discX.data(),
                             points.discY.data()};
   TangentPlaneFrame frame;
   std::array<Placement, 3> placements;
-  const int count = placementsFor(o, camera, kp, scale, support.fraction, in, frame, placements, imageAngle);
+  const int count = placementsFor(o, camera, kp, grid, support.fraction, in, frame, placements, imageAngle);
   for (int r = 0; r < count; ++r) {
     int* x = &points.x[static_cast<size_t>(n) * r];
     int* y = &points.y[static_cast<size_t>(n) * r];

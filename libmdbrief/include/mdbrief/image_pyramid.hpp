@@ -2,7 +2,7 @@
 // ORB-style scale pyramid shared by the detector and the descriptors. Level k is the input
 // resampled by 1 / scale(k), scale(k) = scaleFactor^(k - firstLevel) (as cv::ORB): levels above
 // firstLevel are bilinear reductions of the level before, levels below it enlarge the input.
-// Keypoint coordinates are always input pixels; level coordinates are pt / scale(k).
+// Keypoint coordinates are always input pixels; LevelGrid maps them to level coordinates.
 #include <memory>
 #include <vector>
 
@@ -31,6 +31,24 @@ const OptionTable<PyramidOptions>& pyramidOptionFields();
 // Throws OptionError naming the first option out of its field's range.
 void validate(const PyramidOptions& options);
 
+// Where a level's pixels lie in the input. cv::resize aligns pixel centres, so level pixel x is
+// input pixel (x + 0.5) * step - 0.5, step = input size / level size along each axis (the rounded
+// sizes): pt / scale would misplace a coarse level's keypoints by half a level pixel and more
+// (several input pixels), and matches across levels by the difference.
+struct LevelGrid {
+  double scale = 1.0;      // the level's nominal scale: sizes
+  cv::Point2d step{1, 1};  // input pixels per level pixel, per axis: positions
+  cv::Point2d toInput(const cv::Point2d& level) const {
+    return {(level.x + 0.5) * step.x - 0.5, (level.y + 0.5) * step.y - 0.5};
+  }
+  cv::Point2d toLevel(const cv::Point2d& input) const {
+    return {(input.x + 0.5) / step.x - 0.5, (input.y + 0.5) / step.y - 0.5};
+  }
+  // Offsets in nominal level pixels (input pixels / scale) to the level's own, which differ by
+  // the rounding of its size: a footprint stays supportScale * size input pixels on both axes.
+  cv::Matx22d fromNominal() const { return {scale / step.x, 0.0, 0.0, scale / step.y}; }
+};
+
 class ImagePyramid {
  public:
   ImagePyramid() = default;
@@ -42,6 +60,7 @@ class ImagePyramid {
   // Size of the input image (level firstLevel), the frame of keypoint coordinates.
   cv::Size inputSize() const { return inputSize_; }
   double scale(int level) const { return scales_.at(level); }
+  LevelGrid grid(int level) const;
   const PyramidOptions& options() const { return options_; }
   const cv::Mat& image(int level) const { return images_.at(level); }
   // The level smoothed by the options' Gaussian, as CV_32F intensities in [0, 1], and the same
