@@ -88,6 +88,34 @@ TEST(BearingHomography, RecoversAPlaneBeyondNinetyDegreesAmongOutliers) {
   EXPECT_EQ(cv::norm(again->h - fit->h), 0.0);
 }
 
+// Noisy correspondences (1.2 px), many of them near the 2 px inlier threshold: the fit must be
+// the one refined on the pixel residuals, even when refining moves a borderline inlier past the
+// threshold. The DLT's algebraic fit was kept then: 5 of these 30 fits were 0.15 to 0.19 px from
+// the truth; refined, none is beyond 0.14.
+TEST(BearingHomography, KeepsTheRefinedFitOfNoisyCorrespondences) {
+  const TwoViews views;
+  const double pixelsPerRadian = 300.0, noisePx = 1.2;
+  for (unsigned seed = 1; seed <= 30; ++seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> noise(0.0, noisePx / pixelsPerRadian);
+    std::vector<cv::Vec3d> a, b, truthA, truthB;
+    for (const auto& x : planePoints(400, rng)) {
+      truthA.push_back(unit(x));
+      truthB.push_back(unit(views.toB(x)));
+      a.push_back(truthA.back());
+      // Noise across b's ray: a rotation about an axis perpendicular to it.
+      b.push_back(unit(rotationAbout(truthB.back().cross(randomBearing(rng)), noise(rng)) * truthB.back()));
+    }
+    const std::vector<double> scale(a.size(), pixelsPerRadian);
+    const auto fit = fitBearingHomography(a, b, scale, {});
+    ASSERT_TRUE(fit);
+    std::vector<double> errors;
+    for (size_t k = 0; k < truthA.size(); ++k) errors.push_back(angle(fit->h * truthA[k], truthB[k]) * pixelsPerRadian);
+    std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+    EXPECT_LT(errors[errors.size() / 2], 0.15) << "seed " << seed << ": median distance of the fit from the truth, px";
+  }
+}
+
 TEST(BearingHomography, NeedsFourCorrespondences) {
   const std::vector<cv::Vec3d> three{{0, 0, 1}, {0.1, 0, 1}, {0, 0.1, 1}};
   EXPECT_FALSE(fitBearingHomography(three, three, {1, 1, 1}, {}));
