@@ -337,8 +337,9 @@ TEST(CameraFormatSeeds, TruncatedAndLookAlikeSeedsAreRefusedNamingTheProblem) {
   }
   for (const auto& entry : fs::directory_iterator(seedsDir())) {
     const std::string name = entry.path().filename().string();
-    if (name.rfind("truncated_", 0) == 0 || name.rfind("lookalike_", 0) == 0)
+    if (name.rfind("truncated_", 0) == 0 || name.rfind("lookalike_", 0) == 0) {
       EXPECT_TRUE(needles.count(name)) << name << " is a bad seed this test does not check";
+    }
   }
 }
 
