@@ -19,7 +19,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> heldOut;
   mdbrief::OptionFlags<ExtractionOptions> flags;
   CLI::App app{"Extract 32x32 training patches (HDF5) at ORB, AKAZE or SURF keypoints", "mdbrief-patchextract"};
-  flags.add(app, extractionOptionFields());
+  const ExtractionOptions defaults;  // named: a temporary trips GCC 12 -Wmaybe-uninitialized under LTO
+  flags.add(app, extractionOptionFields(), defaults);
   app.get_option("--images")->required();
   app.add_option("--held-out", heldOut,
                  "file of image digests never to extract from, in addition to the shipped evaluations' images");
@@ -32,7 +33,7 @@ int main(int argc, char** argv) {
   mdbrief::ProgressReporter progress(std::cout, isatty(fileno(stdout)) != 0);
   try {
     checkPatchSetOutput(out);  // before the extraction, not after it
-    ExtractionOptions o = flags.apply(ExtractionOptions{}, [](const ExtractionOptions& e) { validate(e); });
+    ExtractionOptions o = flags.apply(defaults, [](const ExtractionOptions& e) { validate(e); });
     for (const auto& file : heldOut) o.heldOut.merge(readHeldOutImages(file));
     ExtractionReport report;
     const PatchSet set = extractPatches(o, report, [&](const char* stage, size_t d, size_t t) {

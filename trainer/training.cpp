@@ -31,8 +31,8 @@ std::string recordedCommand(const TrainOptions& s, int counterparts, const std::
     if (!e.cameraPath.empty()) c << " --camera " << e.cameraPath;
     if (e.renderThroughCamera) c << " --render-through-camera";
     c << " --patches " << e.patches << " --seed " << e.seed;
-    if (e.keypointsPerImage != ExtractionOptions{}.keypointsPerImage)
-      c << " --keypoints-per-image " << e.keypointsPerImage;
+    const ExtractionOptions defaults;  // named: a temporary trips GCC 12 -Wmaybe-uninitialized under LTO
+    if (e.keypointsPerImage != defaults.keypointsPerImage) c << " --keypoints-per-image " << e.keypointsPerImage;
     const DescriptorOptions placement;
     if (e.placement.form != placement.form) c << " --form " << toString(e.placement.form);
     if (e.placement.orientation != placement.orientation) c << " --orientation " << toString(e.placement.orientation);
