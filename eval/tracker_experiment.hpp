@@ -36,7 +36,7 @@ struct TrackerExperimentOptions {
   std::string outDir;
   int budget = 500;
   // The ratio sweep; 1 = mutual nearest neighbours without a ratio test.
-  std::vector<double> ratios{0.6, 0.65, 0.7, 0.75, 0.8, 0.85, 0.9, 1.0};
+  std::vector<double> ratios{0.5, 0.55, 0.6, 0.65, 0.7, 0.75, 0.8, 0.85, 0.9, 1.0};
   int gridStep = 8;  // ground-truth grid of the fit check, pixels
   TrackerOptions tracker;
 };

@@ -393,6 +393,7 @@ DetectorOptions hessianOptions(int nfeatures) {
 struct SyntheticBlob {
   cv::Point2d centre;
   double sigma;
+  double depth = 150.0;  // grey levels below the background at the centre
 };
 cv::Mat blobImage(const std::vector<SyntheticBlob>& blobs) {
   cv::Mat image(480, 560, CV_32F, cv::Scalar(200));
@@ -400,7 +401,7 @@ cv::Mat blobImage(const std::vector<SyntheticBlob>& blobs) {
     for (int x = 0; x < image.cols; ++x)
       for (const auto& b : blobs) {
         const double d2 = (x - b.centre.x) * (x - b.centre.x) + (y - b.centre.y) * (y - b.centre.y);
-        image.at<float>(y, x) -= static_cast<float>(150.0 * std::exp(-d2 / (2 * b.sigma * b.sigma)));
+        image.at<float>(y, x) -= static_cast<float>(b.depth * std::exp(-d2 / (2 * b.sigma * b.sigma)));
       }
   cv::Mat out;
   image.convertTo(out, CV_8U);
@@ -439,6 +440,50 @@ TEST(HessianDetector, WideBlobsFoundOnCoarseLevelsAreWhereTheyAre) {
     std::printf("blob sigma %.1f: level %d, %.3f px off\n", b.sigma, nearest->octave, cv::norm(cv::Point2d(nearest->pt) - b.centre));
     EXPECT_GE(nearest->octave, 7) << b.centre;  // scale 1.25^6 = 3.8 and coarser
     EXPECT_LT(cv::norm(cv::Point2d(nearest->pt) - b.centre), 0.6) << b.centre << " " << nearest->pt;
+  }
+}
+
+// Three fine, deep blobs and three wide, shallower ones; a budget of three. The normalised
+// determinant alone prefers the fine ones (it grows with the square of the depth and does not
+// depend on the width); weighted by the scale, the wide ones win. The weight only ranks: every
+// blob is found at the same position and size either way.
+TEST(HessianDetector, TheScaleExponentLetsCoarseBlobsWinTheBudget) {
+  const std::vector<SyntheticBlob> fine{{{100.3, 110.6}, 3.0}, {{260.5, 100.2}, 3.0}, {{420.7, 120.4}, 3.0}};
+  const std::vector<SyntheticBlob> wide{
+      {{150.2, 320.7}, 10.0, 100.0}, {{280.6, 330.3}, 10.0, 100.0}, {{410.4, 310.5}, 10.0, 100.0}};
+  std::vector<SyntheticBlob> all = fine;
+  all.insert(all.end(), wide.begin(), wide.end());
+  const cv::Mat image = blobImage(all);
+  const auto keptNear = [](const std::vector<cv::KeyPoint>& kps, const std::vector<SyntheticBlob>& blobs) {
+    int n = 0;
+    for (const auto& b : blobs)
+      n += std::any_of(kps.begin(), kps.end(),
+                       [&](const cv::KeyPoint& k) { return cv::norm(cv::Point2d(k.pt) - b.centre) < 0.35 * b.sigma; });
+    return n;
+  };
+  DetectorOptions o = hessianOptions(3);
+  o.hessianScaleExponent = 0.0;
+  const auto byDeterminant = Detector(nullptr, o).detect(image);
+  EXPECT_EQ(keptNear(byDeterminant, fine), 3);
+  EXPECT_EQ(keptNear(byDeterminant, wide), 0);
+  o.hessianScaleExponent = 1.0;
+  const auto weighted = Detector(nullptr, o).detect(image);
+  EXPECT_EQ(keptNear(weighted, wide), 3);
+  EXPECT_EQ(keptNear(weighted, fine), 0);
+
+  // Without a binding budget both keep every blob, at the same place and size.
+  o.nfeatures = 1000;
+  const auto every = Detector(nullptr, o).detect(image);
+  o.hessianScaleExponent = 0.0;
+  const auto everyUnweighted = Detector(nullptr, o).detect(image);
+  ASSERT_EQ(every.size(), everyUnweighted.size());
+  for (const auto& k : every) {
+    const auto same = std::find_if(everyUnweighted.begin(), everyUnweighted.end(), [&](const cv::KeyPoint& u) {
+      return u.pt == k.pt && u.size == k.size && u.octave == k.octave;
+    });
+    ASSERT_NE(same, everyUnweighted.end()) << k.pt;
+    // The response is the weighted determinant: the one the budget ranked by.
+    EXPECT_NEAR(k.response, same->response * k.size / 31.f, 1e-4f * k.response);
   }
 }
 

@@ -232,6 +232,15 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
   });
   std::vector<detail::Blob> blobs = detail::hessianMaxima(
       responses, grids, static_cast<float>(options_.hessianThreshold), options_.borderMargin, allowed);
+  const double logFactor = std::log(options_.pyramid.scaleFactor);
+  const auto refinedScale = [&](const detail::Blob& b) {
+    return grids[b.level].scale * std::exp(b.dlevel * logFactor);
+  };
+  // After the maxima, which choose each blob's scale by the determinant alone: the weight only
+  // decides which blobs the budget keeps.
+  if (options_.hessianScaleExponent != 0.0)
+    for (detail::Blob& b : blobs)
+      b.response = static_cast<float>(b.response * std::pow(refinedScale(b), options_.hessianScaleExponent));
   // The mask after the refinement, which moves a blob up to half a level pixel from its maximum
   // (several input pixels on coarse levels), and before the budget, which it must not eat.
   if (!mask.empty())
@@ -259,12 +268,10 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
   }
 
   const detail::IntensityCentroid centroid(options_.orientationRadius);
-  const double logFactor = std::log(options_.pyramid.scaleFactor);
   std::vector<cv::KeyPoint> keypoints;
   keypoints.reserve(blobs.size());
   for (const detail::Blob& b : blobs) {
-    const double refined = grids[b.level].scale * std::exp(b.dlevel * logFactor);
-    keypoints.emplace_back(blobPosition(b, grids[b.level]), static_cast<float>(options_.patchSize * refined),
+    keypoints.emplace_back(blobPosition(b, grids[b.level]), static_cast<float>(options_.patchSize * refinedScale(b)),
                            measureAngles ? centroid.angleDegrees(pyramid.image(b.level), b.x, b.y) : -1.f,
                            b.response, b.level);
   }

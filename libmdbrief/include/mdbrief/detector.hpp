@@ -11,8 +11,9 @@
 // maxima over space and over both neighbouring levels (so never on the first or last level,
 // whose maxima may belong to a structure finer or coarser than the pyramid), refined to
 // sub-pixel position and sub-level scale; the nfeatures strongest over all levels (or one
-// quadtree over the image with `spread`).
-// size = patchSize * the refined scale, octave = the level, response = the normalised
+// quadtree over the image with `spread`), by the determinant weighted with the blob's scale
+// (hessianScaleExponent).
+// size = patchSize * the refined scale, octave = the level, response = the weighted normalised
 // determinant, angle = the intensity centroid.
 //
 // Keypoints are only returned where the descriptor's rotated 32x32 patch fits: at least
@@ -83,6 +84,12 @@ struct DetectorOptions {
   // determinant kept (intensities in [0, 1]).
   double hessianSigma = 2.0;
   double hessianThreshold = 1e-5;
+  // Hessian: blobs compete for nfeatures by their normalised determinant times
+  // scale^hessianScaleExponent (scale: input pixels per level pixel, refined), which is also
+  // their response. 0 ranks by the determinant alone, which favours fine blobs; coarse blobs
+  // survive blur and zoom and match more often (docs/RESULTS.md "Coarse blobs first (issue 17)").
+  // The scale of a blob is still chosen by the determinant alone.
+  double hessianScaleExponent = 1.0;
   int orientationRadius = 15;         // circular patch of the intensity centroid (cv::ORB: 15)
   int patchSize = 31;                 // keypoint size = patchSize * scale (cv::ORB: 31)
   // Minimum distance (level pixels) to the level's border and to the camera's invalid area.
