@@ -604,6 +604,10 @@ TEST(HessianDetector, InvalidOptionsAreNamed) {
   o.hessianThreshold = -1;
   EXPECT_NE(messageOf([&] { Detector d(nullptr, o); }).find("hessianThreshold"), std::string::npos);
   o = hessianOptions(100);
+  o.hessianScaleExponent = std::nan("");
+  EXPECT_NE(messageOf([&] { Detector d(nullptr, o); }).find("hessianScaleExponent must be in [0, 4], got nan"),
+            std::string::npos);
+  o = hessianOptions(100);
   o.pyramid.levels = 2;
   EXPECT_NE(messageOf([&] { Detector d(nullptr, o); }).find("pyramid.levels must be in [3, 32], got 2"), std::string::npos);
 }
