@@ -12,6 +12,7 @@ import argparse
 import csv
 import os
 import sys
+import textwrap
 from collections import OrderedDict
 
 import matplotlib
@@ -66,7 +67,8 @@ def main():
     groups = OrderedDict()
     for r in rows:
         groups.setdefault(r["group"], []).append(r)
-    fig, axes = plt.subplots(len(groups), 1, figsize=(11, 3.2 * len(groups)), squeeze=False)
+    fig, axes = plt.subplots(len(groups), 1, figsize=(11, 3.6 * len(groups)), squeeze=False)
+    fig.subplots_adjust(hspace=0.6)
     for ax, (group, members) in zip(axes[:, 0], groups.items()):
         n = len(members)
         width = 0.8 / len(METRICS)
@@ -77,7 +79,8 @@ def main():
             ax.text(i, 1.02, "%.0f kp, %.0f correct\nratio %s" % (float(m["keypoints"]), float(m["correct_per_pair"]),
                                                                  m["ratio"]), ha="center", va="bottom", fontsize=7)
         ax.set_xticks(range(n))
-        ax.set_xticklabels([m["pipeline"] for m in members], fontsize=8)
+        # Wrapped: the library's pipeline names are wider than their bars.
+        ax.set_xticklabels([textwrap.fill(m["pipeline"], 12, break_long_words=False) for m in members], fontsize=8)
         ax.set_ylim(0, 1.25)
         ax.set_yticks([0, 0.25, 0.5, 0.75, 1.0])
         ax.grid(axis="y", alpha=0.3)
