@@ -11,11 +11,12 @@ spec.loader.exec_module(bound)
 
 HEADER = "group,sequence,image_a,image_b,pipeline,ratio,average_precision\n"
 # Two pairs, two ratios each (AP is per pair); A wins pair 1-2, B pair 1-3 and the poster pair
-# shares image b with the first but is another group.
+# shares image b with the first but is another group, where Z has AP 0 (no ratio to it).
 ROWS = [
     ("oxford", "graf", 1, 2, "A", 0.5, 0.8), ("oxford", "graf", 1, 2, "A", 0.8, 0.8),
     ("oxford", "graf", 1, 2, "B", 0.8, 0.6), ("oxford", "graf", 1, 3, "A", 0.8, 0.2),
     ("oxford", "graf", 1, 3, "B", 0.8, 0.4), ("poster-dev", "graf", 1, 2, "A", 0.8, 0.1),
+    ("poster-dev", "graf", 1, 2, "Z", 0.8, 0.0),
 ]
 
 
@@ -42,7 +43,8 @@ def test_prints_the_ratios_to_the_reference(pairs, capsys):
 
 
 @pytest.mark.parametrize("args, message", [
-    (["--reference", "AKAZE"], "no pipeline 'AKAZE'; there are: A, B"),
+    (["--reference", "AKAZE"], "no pipeline 'AKAZE' with a mean AP above 0; there are: A, B"),
+    (["--group", "poster-dev", "--reference", "Z"], "no pipeline 'Z' with a mean AP above 0"),
     (["--group", "rendered"], "has no pair of group 'rendered'"),
     (["--reference", "A", "--perfect", "graf:1-9"], "--perfect graf:1-9: no such pair"),
 ])
