@@ -1,6 +1,7 @@
-// Benchmarks run at the level named by MDBRIEF_SIMD_LEVEL (portable, avx2, avx512; default: the
-// highest the CPU supports), so one build measures every kernel. The level in use is printed
-// in the benchmark context.
+// Benchmarks run at the level named by MDBRIEF_SIMD_LEVEL (portable, sse4, neon, avx2, avx512;
+// default: the highest the CPU supports; the library reads it), so one build measures every
+// level. The benchmark context names the CPU, the level and its Highway target, so that every
+// figure says where it was measured.
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -8,19 +9,19 @@
 #include <stdexcept>
 
 #include "mdbrief/simd_level.hpp"
+#include "toolkit/cpu_model.hpp"
 
 namespace {
 
 const bool kLevelChosen = [] {
-  if (const char* env = std::getenv("MDBRIEF_SIMD_LEVEL"); env && *env) {
-    try {
-      mdbrief::limitSimdLevel(mdbrief::parseSimdLevel(env));
-    } catch (const std::invalid_argument& e) {
-      std::fprintf(stderr, "MDBRIEF_SIMD_LEVEL: %s\n", e.what());
-      std::exit(2);
-    }
+  try {
+    benchmark::AddCustomContext("mdbrief_simd_level", mdbrief::toString(mdbrief::activeSimdLevel()) + " (" +
+                                                          mdbrief::activeSimdTargetName() + ")");
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "MDBRIEF_SIMD_LEVEL: %s\n", e.what());
+    std::exit(2);
   }
-  benchmark::AddCustomContext("mdbrief_simd_level", mdbrief::toString(mdbrief::activeSimdLevel()));
+  benchmark::AddCustomContext("cpu_model", mdbrief::toolkit::cpuModel());
   return true;
 }();
 

@@ -8,10 +8,11 @@ PACKAGES=(
   libopencv-dev opencv-doc
   libeigen3-dev libtbb-dev libcli11-dev libhdf5-dev
   libgtest-dev libbenchmark-dev
-  libyaml-cpp-dev nlohmann-json3-dev zlib1g-dev libopengv-dev
+  libyaml-cpp-dev nlohmann-json3-dev zlib1g-dev libopengv-dev libhwy-dev
   python3-opencv python3-numpy python3-matplotlib python3-h5py
   pybind11-dev python3-dev python3-pytest
   clang
+  g++-aarch64-linux-gnu qemu-user-static
 )
 
 missing=()

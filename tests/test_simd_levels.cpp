@@ -3,6 +3,9 @@
 // with MDBRIEF_PORTABLE_KERNELS has only the portable one (and the comparison is trivial).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -30,9 +33,8 @@ struct LevelCap {
 };
 
 std::vector<SimdLevel> supportedLevels() {
-  std::vector<SimdLevel> levels;
-  for (SimdLevel l : {SimdLevel::Portable, SimdLevel::Avx2, SimdLevel::Avx512})
-    if (l <= mdbrief::supportedSimdLevel()) levels.push_back(l);
+  const std::vector<SimdLevel> levels = mdbrief::supportedSimdLevels();
+  EXPECT_EQ(levels.front(), SimdLevel::Portable);  // the reference of every comparison
   return levels;
 }
 
@@ -48,19 +50,62 @@ cv::Mat texturedImage(int width, int height) {
 TEST(SimdLevel, CapLowersTheActiveLevel) {
   const SimdLevel supported = mdbrief::supportedSimdLevel();
   EXPECT_EQ(mdbrief::activeSimdLevel(), supported);
+  EXPECT_EQ(mdbrief::supportedSimdLevels().back(), supported);
   {
     LevelCap cap(SimdLevel::Portable);
     EXPECT_EQ(mdbrief::activeSimdLevel(), SimdLevel::Portable);
+    EXPECT_EQ(mdbrief::activeSimdTargetName(), "SCALAR");
   }
   EXPECT_EQ(mdbrief::activeSimdLevel(), supported);
-  EXPECT_EQ(mdbrief::toString(SimdLevel::Portable), "portable");
-  EXPECT_EQ(mdbrief::toString(SimdLevel::Avx2), "avx2");
-  EXPECT_EQ(mdbrief::toString(SimdLevel::Avx512), "avx512");
-  EXPECT_EQ(mdbrief::parseSimdLevel("avx2"), SimdLevel::Avx2);
-  EXPECT_THROW(mdbrief::parseSimdLevel("sse4"), std::invalid_argument);
-#if !defined(__x86_64__)
+  // Every level the CPU runs can be chosen; a cap picks the widest supported level within it.
+  for (const SimdLevel level : mdbrief::supportedSimdLevels()) {
+    LevelCap cap(level);
+    EXPECT_EQ(mdbrief::activeSimdLevel(), level);
+  }
+  for (const auto& entry : mdbrief::kSimdLevelNames) {
+    EXPECT_EQ(mdbrief::toString(entry.value), entry.name);
+    EXPECT_EQ(mdbrief::parseSimdLevel(entry.name), entry.value);
+  }
+  try {
+    mdbrief::parseSimdLevel("sse9");
+    FAIL() << "an unknown level was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "SIMD level 'sse9' is not one of: portable, sse4, neon, avx2, avx512");
+  }
+#if defined(__x86_64__) && !defined(MDBRIEF_PORTABLE_KERNELS)
+  // Every x86-64 CPU this project meets has SSE4.2; no x86 CPU has NEON.
+  const std::vector<SimdLevel> levels = mdbrief::supportedSimdLevels();
+  EXPECT_NE(std::find(levels.begin(), levels.end(), SimdLevel::Sse4), levels.end());
+  EXPECT_EQ(std::find(levels.begin(), levels.end(), SimdLevel::Neon), levels.end());
+  {
+    LevelCap cap(SimdLevel::Neon);  // as wide as SSE4: the x86 level of that width
+    EXPECT_EQ(mdbrief::activeSimdLevel(), SimdLevel::Sse4);
+  }
+#elif defined(MDBRIEF_PORTABLE_KERNELS)
   EXPECT_EQ(supported, SimdLevel::Portable);
 #endif
+}
+
+// MDBRIEF_SIMD_LEVEL is read on the first kernel call of a process: a fresh process (the death
+// test's "threadsafe" style runs this test again in a new one) with an unknown name is told the
+// names, and one with a known name runs at that level.
+TEST(SimdLevel, EnvironmentNamesTheLevel) {
+  ::testing::FLAGS_gtest_death_test_style = "threadsafe";
+  const auto firstCall = [] {
+    try {
+      std::fprintf(stderr, "level %s\n", mdbrief::toString(mdbrief::activeSimdLevel()).c_str());
+    } catch (const std::invalid_argument& e) {
+      std::fprintf(stderr, "%s\n", e.what());
+      std::exit(2);
+    }
+    std::exit(0);
+  };
+  setenv("MDBRIEF_SIMD_LEVEL", "avx1024", 1);
+  EXPECT_EXIT(firstCall(), ::testing::ExitedWithCode(2),
+              "SIMD level 'avx1024' is not one of: portable, sse4, neon, avx2, avx512");
+  setenv("MDBRIEF_SIMD_LEVEL", "portable", 1);
+  EXPECT_EXIT(firstCall(), ::testing::ExitedWithCode(0), "level portable");
+  unsetenv("MDBRIEF_SIMD_LEVEL");
 }
 
 // The pyramid's smoothing (both forms) and the Hessian detector on it, for the narrowest,

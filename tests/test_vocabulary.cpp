@@ -79,7 +79,7 @@ TEST(Vocabulary, RandomTreesGiveTheReferenceWordsAtEverySimdLevel) {
       for (int r = 0; r < desc.rows; ++r)
         expected.push_back(referenceWord(t, desc.ptr(r), masked ? masks.ptr(r) : nullptr));
       const SimdLevel top = supportedSimdLevel();
-      for (const SimdLevel level : {SimdLevel::Portable, SimdLevel::Avx2, SimdLevel::Avx512}) {
+      for (const SimdLevel level : supportedSimdLevels()) {
         limitSimdLevel(level);
         // Created at this level too: the masks' weights are counted on load, by a kernel per level.
         const Vocabulary v = Vocabulary::create(t);

@@ -165,7 +165,7 @@ TEST(VocabularyFile, RefusesBrokenTreesWeightsAndEmptyMasks) {
   EXPECT_NO_THROW(Vocabulary::create(t)) << "-0 is >= 0";
   // Masks: counted by a kernel per SIMD level, each of which finds the first empty one.
   const SimdLevel top = supportedSimdLevel();
-  for (const SimdLevel level : {SimdLevel::Portable, SimdLevel::Avx2, SimdLevel::Avx512}) {
+  for (const SimdLevel level : supportedSimdLevels()) {
     limitSimdLevel(level);
     for (const int bits : {96, 256}) {
       t = randomTree(3, 2, bits, true, 5);

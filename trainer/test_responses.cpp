@@ -7,7 +7,6 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
-#include "mdbrief/simd_level.hpp"
 #include "trainer/test_response_kernels.hpp"
 
 namespace mdbrief::train {
@@ -17,13 +16,6 @@ namespace {
 using kernels::activeResponseKernels;
 using kernels::kLanes;
 using kernels::ResponseKernels;
-
-// Bit k = a[k] < b[k] (unsigned), k = 0..63.
-uint64_t lessMask(const uint8_t* a, const uint8_t* b) {
-  uint64_t m = 0;
-  for (size_t k = 0; k < kLanes; ++k) m |= uint64_t(a[k] < b[k]) << k;
-  return m;
-}
 
 // Per-test counts summed over chunks handled by several threads: integer sums, so the total
 // does not depend on which thread counted which chunk.
@@ -35,19 +27,6 @@ std::vector<uint32_t> sumCounts(tbb::enumerable_thread_specific<std::vector<uint
 }
 
 }  // namespace
-
-ResponseKernels kernels::portableResponseKernels() { return responseKernelsWith<lessMask>(); }
-
-ResponseKernels kernels::activeResponseKernels() {
-#if defined(MDBRIEF_X86_KERNELS)
-  switch (activeSimdLevel()) {
-    case SimdLevel::Avx512: return avx512ResponseKernels();
-    case SimdLevel::Avx2: return avx2ResponseKernels();
-    case SimdLevel::Portable: break;
-  }
-#endif
-  return portableResponseKernels();
-}
 
 std::vector<PixelPair> pixelPairsOf(const std::vector<TestPair>& tests) {
   std::vector<PixelPair> pixels(tests.size());

@@ -9,7 +9,6 @@
 
 #include "descriptor_kernels.hpp"
 #include "mdbrief/patterns.hpp"
-#include "mdbrief/simd_level.hpp"
 #include "test_placement.hpp"
 
 namespace mdbrief {
@@ -18,53 +17,24 @@ namespace {
 using namespace descriptor_kernels;
 using namespace placement;
 
-void affineCoordinate(double c, double a, double b, const double* qa, const double* qb, int* out, int n) {
-  for (int i = 0; i < n; ++i) out[i] = toFixed(c + a * qa[i] + b * qb[i]);
-}
-
-template <int (*Sample)(const uint8_t*, size_t, int, int)>
-void packBits(const uint8_t* data, size_t step, const int* x, const int* y, int nTests, uint8_t* out) {
+// Nearest-pixel tests (DescriptorOptions::sampling), no default's hot loop: plain C++.
+void packBitsNearest(const uint8_t* data, size_t step, const int* x, const int* y, int nTests, uint8_t* out) {
   for (int byte = 0; byte < nTests / 8; ++byte) {
     unsigned v = 0;
     for (int b = 0; b < 8; ++b) {
       const int d = byte * 8 + b;
-      v |= static_cast<unsigned>(Sample(data, step, x[d], y[d]) < Sample(data, step, x[nTests + d], y[nTests + d]))
+      v |= static_cast<unsigned>(sampleNearest(data, step, x[d], y[d]) <
+                                 sampleNearest(data, step, x[nTests + d], y[nTests + d]))
            << b;
     }
     out[byte] = static_cast<uint8_t>(v);
   }
 }
 
-void centroidMoments(const uint8_t* data, size_t step, const int* x, const int* y, const int* u, const int* v,
-                     int n, long long& m10, long long& m01) {
-  m10 = m01 = 0;
-  for (int i = 0; i < n; ++i) {
-    const long long val = sampleBilinear(data, step, x[i], y[i]);
-    m10 += val * u[i];
-    m01 += val * v[i];
-  }
-}
-
-}  // namespace
-
-SamplingKernels descriptor_kernels::portableSamplingKernels() {
-  return {affineCoordinate, packBits<sampleBilinear>, allInsideImage, centroidMoments};
-}
-
-SamplingKernels descriptor_kernels::activeSamplingKernels() {
-#if defined(MDBRIEF_X86_KERNELS)
-  if (activeSimdLevel() >= SimdLevel::Avx512) return avx512SamplingKernels();
-  if (activeSimdLevel() >= SimdLevel::Avx2) return avx2SamplingKernels();
-#endif
-  return portableSamplingKernels();
-}
-
-namespace {
-
 // Bits of one placement: x, y hold the first points of the tests, then their second points.
 void sampleDescriptor(const cv::Mat& img, const int* x, const int* y, int nTests, Sampling sampling,
                       const SamplingKernels& kernels, uchar* out) {
-  if (sampling == Sampling::Nearest) return packBits<sampleNearest>(img.data, img.step[0], x, y, nTests, out);
+  if (sampling == Sampling::Nearest) return packBitsNearest(img.data, img.step[0], x, y, nTests, out);
   kernels.packBitsBilinear(img.data, img.step[0], x, y, nTests, out);
 }
 

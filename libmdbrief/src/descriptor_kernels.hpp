@@ -1,10 +1,7 @@
 #pragma once
-// Sampling kernels of the descriptor (descriptor.cpp). The portable forms live here and in
-// descriptor.cpp; descriptor_kernel_avx2.cpp holds the AVX2 forms (-mavx2) and
-// descriptor_kernel_avx512.cpp the AVX-512 placement (-mavx512f), chosen at run time
-// (simd_level.hpp). Every form gives the same bits. Only plain data crosses the boundary, and
-// the inline helpers below have internal linkage, so no copy compiled with AVX flags can stand
-// in for a baseline one at link time.
+// Sampling kernels of the descriptor (descriptor.cpp), written once with Highway in
+// descriptor_kernels.cpp and compiled for every SIMD level (simd_level.hpp); the scalar helpers
+// below serve the vectors' tails and the nearest-pixel sampling. Every level gives the same bits.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -33,9 +30,6 @@ struct SamplingKernels {
                           const int* v, int n, long long& m10, long long& m01);
 };
 
-SamplingKernels portableSamplingKernels();
-SamplingKernels avx2SamplingKernels();
-SamplingKernels avx512SamplingKernels();
 // The kernels of the active SIMD level (simd_level.hpp).
 SamplingKernels activeSamplingKernels();
 
@@ -54,7 +48,7 @@ inline int sampleNearest(const uint8_t* data, size_t step, int px, int py) {
   return data[((py + kSub / 2) >> kSubBits) * step + ((px + kSub / 2) >> kSubBits)];
 }
 
-// Min/max in one pass; vectorised by the compiler (at AVX2, with 8-lane integer min/max).
+// Min/max in one pass.
 inline bool allInsideImage(const int* x, const int* y, int n, int width, int height) {
   int minX = x[0], minY = y[0], maxX = x[0], maxY = y[0];
   for (int i = 1; i < n; ++i) {

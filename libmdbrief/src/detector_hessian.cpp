@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "gaussian_smoothing.hpp"
+#include "hessian_kernels.hpp"
 
 namespace mdbrief::detail {
 
@@ -19,14 +20,11 @@ cv::Mat gaussianSmoothed(const cv::Mat& level, double sigma) {
 }
 
 cv::Mat hessianResponse(const cv::Mat& smooth, double sigma) {
-  // Central second differences and det * sigma^4 in one pass. It replaced eight OpenCV passes
-  // (sepFilter2D and arithmetic) at a third of the time, with the same operations in the same
-  // order (the scalings by 0.5 and 2 are exact; no fused multiply-add, libmdbrief/CMakeLists.txt),
-  // so the responses are bit-identical except in the few rightmost columns, where OpenCV's
-  // scalar tail sums in another order; no maximum is that close to the border. Borders reflect
-  // as BORDER_REFLECT_101: the maxima of the neighbouring levels read them.
+  // Central second differences and det * sigma^4 in one pass (hessian_kernels.hpp). Borders
+  // reflect as BORDER_REFLECT_101: the maxima of the neighbouring levels read them.
   const int rows = smooth.rows, cols = smooth.cols;
   const float scale = static_cast<float>(sigma * sigma * sigma * sigma);
+  const hessian_kernels::HessianKernels kernels = hessian_kernels::activeHessianKernels();
   cv::Mat response(rows, cols, CV_32F);
   const auto reflect = [](int i, int n) { return n == 1 ? 0 : i < 0 ? -i : i >= n ? 2 * n - 2 - i : i; };
   for (int y = 0; y < rows; ++y) {
@@ -34,25 +32,16 @@ cv::Mat hessianResponse(const cv::Mat& smooth, double sigma) {
     const float* b = smooth.ptr<float>(y);
     const float* c = smooth.ptr<float>(reflect(y + 1, rows));
     float* out = response.ptr<float>(y);
+    // The two border columns as the kernel does the others, with reflected neighbours.
     const auto at = [&](int x) {
       const int l = reflect(x - 1, cols), r = reflect(x + 1, cols);
       const float dxx = (b[l] + b[r]) - 2.f * b[x];
       const float dyy = (a[x] + c[x]) - 2.f * b[x];
       const float dxy = ((c[r] - c[l]) - (a[r] - a[l])) * 0.25f;
-      const float det = dxx * dyy;
-      const float twist = dxy * dxy;
-      return (det - twist) * scale;
+      return (dxx * dyy - dxy * dxy) * scale;
     };
     out[0] = at(0);
-    // The interior without reflections, so that the compiler vectorises it.
-    for (int x = 1; x + 1 < cols; ++x) {
-      const float dxx = (b[x - 1] + b[x + 1]) - 2.f * b[x];
-      const float dyy = (a[x] + c[x]) - 2.f * b[x];
-      const float dxy = ((c[x + 1] - c[x - 1]) - (a[x + 1] - a[x - 1])) * 0.25f;
-      const float det = dxx * dyy;
-      const float twist = dxy * dxy;
-      out[x] = (det - twist) * scale;
-    }
+    kernels.responseRow(a, b, c, cols, scale, out);
     if (cols > 1) out[cols - 1] = at(cols - 1);
   }
   return response;
@@ -65,10 +54,9 @@ bool strongerBlob(const Blob& a, const Blob& b) {
 
 namespace {
 
-// Largest response of `r` in the 3x3 neighbourhood of the nearest pixel to p; -inf when that
-// pixel is outside the level.
-float neighbourhoodMax(const cv::Mat& r, const cv::Point2d& p) {
-  const int cx = static_cast<int>(std::lround(p.x)), cy = static_cast<int>(std::lround(p.y));
+// Largest response of `r` in the 3x3 neighbourhood of pixel (cx, cy); -inf when that pixel is
+// outside the level or on its border.
+float neighbourhoodMax(const cv::Mat& r, int cx, int cy) {
   if (cx < 1 || cy < 1 || cx >= r.cols - 1 || cy >= r.rows - 1) return -INFINITY;
   float best = -INFINITY;
   for (int v = -1; v <= 1; ++v) {
@@ -76,6 +64,19 @@ float neighbourhoodMax(const cv::Mat& r, const cv::Point2d& p) {
     for (int u = -1; u <= 1; ++u) best = std::max(best, row[cx + u]);
   }
   return best;
+}
+
+// The pixel of level `to` nearest to each column and each row of level `from`, through the
+// input image (the axes map independently): computed once per level pair instead of per
+// candidate.
+struct PixelMap {
+  std::vector<int> column, row;
+};
+PixelMap pixelMap(const LevelGrid& from, const LevelGrid& to, int cols, int rows) {
+  PixelMap m{std::vector<int>(cols), std::vector<int>(rows)};
+  for (int x = 0; x < cols; ++x) m.column[x] = static_cast<int>(std::lround(to.toLevel(from.toInput(cv::Point2d(x, 0))).x));
+  for (int y = 0; y < rows; ++y) m.row[y] = static_cast<int>(std::lround(to.toLevel(from.toInput(cv::Point2d(0, y))).y));
+  return m;
 }
 
 // Vertex of the parabola through (-1, a), (0, b), (1, c), clamped to [-0.5, 0.5].
@@ -114,23 +115,24 @@ std::vector<Blob> levelMaxima(const std::vector<cv::Mat>& responses, const std::
   std::vector<Blob> blobs;
   const cv::Mat& r = responses[k];
   if (r.cols <= 2 * margin || r.rows <= 2 * margin) return blobs;
-  cv::Mat dilated;
-  cv::dilate(r, dilated, cv::Mat());
+  // The pixels above the threshold that are maxima of their 3x3 neighbourhood, a row at a time.
+  const hessian_kernels::HessianKernels kernels = hessian_kernels::activeHessianKernels();
+  const PixelMap finerPixel = pixelMap(grids[k], grids[k - 1], r.cols, r.rows);
+  const PixelMap coarserPixel = pixelMap(grids[k], grids[k + 1], r.cols, r.rows);
+  std::vector<int32_t> xs(r.cols + 16);
   for (int y = margin; y < r.rows - margin; ++y) {
     const float* above = r.ptr<float>(y - 1);
     const float* row = r.ptr<float>(y);
     const float* below = r.ptr<float>(y + 1);
-    const float* top = dilated.ptr<float>(y);
-    for (int x = margin; x < r.cols - margin; ++x) {
+    const int found = kernels.candidates(above, row, below, margin, r.cols - margin, threshold, xs.data());
+    for (int i = 0; i < found; ++i) {
+      const int x = xs[i];
       const float value = row[x];
-      // One branch, almost always taken: two (threshold, then maximum) mispredict on texture.
-      if (!((value > threshold) & (value >= top[x]))) continue;
       // Plateaus: keep the first pixel in scan order only.
       if (row[x - 1] == value || above[x - 1] == value || above[x] == value || above[x + 1] == value) continue;
       // Same point on the neighbouring levels.
-      const cv::Point2d input = grids[k].toInput(cv::Point2d(x, y));
-      const float finer = neighbourhoodMax(responses[k - 1], grids[k - 1].toLevel(input));
-      const float coarser = neighbourhoodMax(responses[k + 1], grids[k + 1].toLevel(input));
+      const float finer = neighbourhoodMax(responses[k - 1], finerPixel.column[x], finerPixel.row[y]);
+      const float coarser = neighbourhoodMax(responses[k + 1], coarserPixel.column[x], coarserPixel.row[y]);
       if (!(value > finer) || !(value > coarser)) continue;
       if (!allowed(k, x, y)) continue;
       Blob b;

@@ -9,20 +9,9 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "mdbrief/simd_level.hpp"
 #include "smoothing_kernels.hpp"
 
 namespace mdbrief {
-
-smoothing_kernels::SmoothingKernels smoothing_kernels::portableSmoothingKernels() { return {smoothRow, smoothColumns}; }
-
-smoothing_kernels::SmoothingKernels smoothing_kernels::activeSmoothingKernels() {
-#if defined(MDBRIEF_X86_KERNELS)
-  if (activeSimdLevel() >= SimdLevel::Avx512) return avx512SmoothingKernels();
-  if (activeSimdLevel() >= SimdLevel::Avx2) return avx2SmoothingKernels();
-#endif
-  return portableSmoothingKernels();
-}
 
 namespace detail {
 namespace {
@@ -78,11 +67,15 @@ Smoothing gaussianSmoothing(const cv::Mat& level8u, int taps, double sigma, bool
   };
   Smoothing out{cv::Mat(rows, cols, CV_8U), withFloats ? cv::Mat(rows, cols, CV_32F) : cv::Mat()};
   std::vector<const uint16_t*> taken(window);
+  // The source row of every row an output row reads (-radius .. rows - 1 + radius), reflected
+  // once here rather than per output row and tap.
+  std::vector<int> source(rows + 2 * radius);
+  for (int i = 0; i < rows + 2 * radius; ++i) source[i] = cv::borderInterpolate(i - radius, rows, cv::BORDER_REFLECT_101);
   int smoothedRows = 0;
   for (int y = 0; y < rows; ++y) {
     for (; smoothedRows < rows && smoothedRows <= y + radius; ++smoothedRows) smoothSourceRow(smoothedRows);
     for (int k = -radius; k <= radius; ++k)
-      taken[radius + k] = &ring[static_cast<size_t>(cv::borderInterpolate(y + k, rows, cv::BORDER_REFLECT_101) % window) * cols];
+      taken[radius + k] = &ring[static_cast<size_t>(source[y + k + radius] % window) * cols];
     kernels.columns(taken.data(), cols, columnWeights.data(), radius, out.bytes.ptr<uint8_t>(y),
                     withFloats ? out.floats.ptr<float>(y) : nullptr);
   }

@@ -1,9 +1,8 @@
 #pragma once
 // The mask weights w(o) of a masked vocabulary's nodes, computed on load (vocabulary_file.cpp):
-// one popcount per mask word over every node, the largest part of loading a masked vocabulary
-// when counted without the POPCNT instruction. One translation unit per instruction set, as the
-// matcher's kernels (matcher_kernels.hpp), chosen at run time (simd_level.hpp); only plain data
-// crosses this boundary.
+// one bit count per mask word over every node, the largest part of loading a masked vocabulary
+// when counted without a bit-count instruction. Written once in mask_weight_kernels.cpp and
+// compiled for every SIMD level (simd_level.hpp).
 #include <cstddef>
 #include <cstdint>
 
@@ -15,9 +14,7 @@ namespace mdbrief::mask_weight_kernels {
 using MaskWeights = size_t (*)(const uint32_t* rows, size_t count, int nwords, const uint32_t* weightOfOnes,
                                uint32_t* weights);
 
-size_t maskWeightsPortable(const uint32_t* rows, size_t count, int nwords, const uint32_t* weightOfOnes,
-                           uint32_t* weights);
-size_t maskWeightsPopcnt(const uint32_t* rows, size_t count, int nwords, const uint32_t* weightOfOnes,
-                         uint32_t* weights);  // POPCNT
+// The kernel of the active SIMD level.
+MaskWeights activeMaskWeights();
 
 }  // namespace mdbrief::mask_weight_kernels

@@ -14,7 +14,6 @@
 #include "matcher_kernels.hpp"
 #include "mdbrief/hamming.hpp"
 #include "mdbrief/masked_hamming.hpp"
-#include "mdbrief/simd_level.hpp"
 #include "popcount.hpp"
 #include "query_row.hpp"
 
@@ -23,23 +22,6 @@ namespace mdbrief {
 namespace {
 
 using namespace matcher_kernels;
-
-// The kernel of the active SIMD level and the train layout it reads; resolved once per call.
-struct Kernel {
-  Nearest (*nearestTwo)(const QueryRow&, const TrainView&) = nearestTwoPortable;
-  int lanes = 1;
-};
-
-Kernel activeKernel() {
-#if defined(MDBRIEF_X86_KERNELS)
-  switch (activeSimdLevel()) {
-    case SimdLevel::Avx512: return {nearestTwoAvx512, kAvx512Lanes};
-    case SimdLevel::Avx2: return {nearestTwoAvx2, 1};
-    case SimdLevel::Portable: break;
-  }
-#endif
-  return {};
-}
 
 // The train side packed once per call (contiguous 32-bit words, effective masks, weights) in
 // the layout of the kernel (matcher_kernels.hpp).
@@ -77,7 +59,7 @@ TrainSet pack(const cv::Mat& desc, const cv::Mat* masks, int lanes) {
 
 // For every row of `rows`, its two nearest in `set`.
 std::vector<Nearest> nearestAll(const cv::Mat& rows, const cv::Mat* rowMasks, const TrainSet& set,
-                                const Kernel& kernel, bool parallel) {
+                                const MatcherKernels& kernel, bool parallel) {
   std::vector<Nearest> out(rows.rows);
   const int nwords = rows.cols / 4;
   auto run = [&](int begin, int end) {
@@ -120,7 +102,7 @@ std::vector<cv::DMatch> match(const cv::Mat& query, const cv::Mat* queryMasks,
   if (trainMasks) checkMasks(*trainMasks, train, "trainMasks", "train");
   if (query.empty() || train.empty()) return {};
 
-  const Kernel kernel = activeKernel();
+  const MatcherKernels kernel = activeMatcherKernels();  // resolved once per call
   const std::vector<Nearest> forward =
       nearestAll(query, queryMasks, pack(train, trainMasks, kernel.lanes), kernel, options.parallel);
   std::vector<Nearest> backward;

@@ -1,16 +1,13 @@
 #pragma once
-// Kernels of the brute-force matcher (matcher.cpp): the two nearest train descriptors of one
-// query. One translation unit per instruction set, each compiled with its own target flags
-// (libmdbrief/CMakeLists.txt) and chosen at run time (simd_level.hpp). Only plain data crosses
-// this boundary, so no inline function or template of another header is emitted with AVX
-// flags, where the linker could pick it for baseline code.
+// Kernels of the brute-force matcher (matcher.cpp) and of the vocabulary's descent
+// (vocabulary.cpp): the two nearest train descriptors of one query. Written once with Highway in
+// matcher_kernels.cpp and compiled for every SIMD level (simd_level.hpp).
 #include <cstdint>
 
 namespace mdbrief::matcher_kernels {
 
-constexpr int kMaxWords = 16;                // 32-bit words of the widest descriptor (512 bits)
-constexpr uint32_t kNone = 0xFFFFFFFFu;      // above any distance
-constexpr int kAvx512Lanes = 16;             // train descriptors per AVX-512 step
+constexpr int kMaxWords = 16;            // 32-bit words of the widest descriptor (512 bits)
+constexpr uint32_t kNone = 0xFFFFFFFFu;  // above any distance
 
 // Distances are plain Hamming or the masked fixed-point form (masked_hamming.hpp), both exact
 // integers.
@@ -28,9 +25,9 @@ struct QueryRow {
 };
 
 // The train side, packed once per call by matcher.cpp in the layout of the kernel. lanes = 1:
-// row-major. lanes = 16: element (block b, word k, lane l) at [(b * nwords + k) * 16 + l], the
-// padding lanes of the last block zero and excluded by `count`. mask and weight are null for
-// plain matching.
+// row-major. lanes = L > 1: blocks of L descriptors, element (block b, word k, lane l) at
+// [(b * nwords + k) * L + l], the padding lanes of the last block zero and excluded by `count`.
+// mask and weight are null for plain matching.
 struct TrainView {
   const uint32_t* desc = nullptr;
   const uint32_t* mask = nullptr;
@@ -41,8 +38,15 @@ struct TrainView {
 };
 
 // Ties keep the lowest train index in every kernel, so all give the same result.
-Nearest nearestTwoPortable(const QueryRow& q, const TrainView& t);  // lanes = 1
-Nearest nearestTwoAvx2(const QueryRow& q, const TrainView& t);      // lanes = 1, POPCNT
-Nearest nearestTwoAvx512(const QueryRow& q, const TrainView& t);    // lanes = 16
+struct MatcherKernels {
+  // Over a train set packed with `lanes` lanes.
+  Nearest (*nearestTwo)(const QueryRow& q, const TrainView& t);
+  int lanes;
+  // Over a row-major train set (lanes = 1): for the few children of a vocabulary node.
+  Nearest (*nearestTwoRows)(const QueryRow& q, const TrainView& t);
+};
+
+// The kernels of the active SIMD level.
+MatcherKernels activeMatcherKernels();
 
 }  // namespace mdbrief::matcher_kernels

@@ -7,7 +7,6 @@
 
 #include "matcher_kernels.hpp"
 #include "mdbrief/hamming.hpp"
-#include "mdbrief/simd_level.hpp"
 #include "query_row.hpp"
 #include "vocabulary_data.hpp"
 
@@ -17,16 +16,10 @@ namespace {
 
 using namespace matcher_kernels;
 
-using NearestTwo = Nearest (*)(const QueryRow&, const TrainView&);
-
 // The children of a node are few (the branching), so the row kernel serves every level; the
-// AVX-512 kernel wants 16 lanes packed per call and would not pay here.
-NearestTwo activeNearestTwo() {
-#if defined(MDBRIEF_X86_KERNELS)
-  if (activeSimdLevel() != SimdLevel::Portable) return nearestTwoAvx2;
-#endif
-  return nearestTwoPortable;
-}
+// block kernel wants its lanes packed per call and would not pay here.
+using NearestTwo = Nearest (*)(const QueryRow&, const TrainView&);
+NearestTwo activeNearestTwo() { return activeMatcherKernels().nearestTwoRows; }
 
 void checkInput(const Vocabulary::Data& d, const cv::Mat& desc, const cv::Mat& masks) {
   validateDescriptorMatrix(desc, "descriptors");

@@ -7,7 +7,6 @@
 #include "mdbrief/internal/atomic_file.hpp"
 #include "mask_weight_kernels.hpp"
 #include "mdbrief/masked_hamming.hpp"
-#include "mdbrief/simd_level.hpp"
 #include "vocabulary_data.hpp"
 
 namespace mdbrief {
@@ -66,13 +65,6 @@ void requireRows(const cv::Mat& m, const char* name, size_t nodes, int bytes) {
     throw std::invalid_argument(std::string("VocabularyTree::") + name + ": expected " + std::to_string(nodes) + " x " +
                                 std::to_string(bytes) + " CV_8UC1 (nodes x bits/8), got " + std::to_string(m.rows) +
                                 " x " + std::to_string(m.cols) + " " + cv::typeToString(m.type()));
-}
-
-mask_weight_kernels::MaskWeights activeMaskWeights() {
-#if defined(MDBRIEF_X86_KERNELS)
-  if (activeSimdLevel() != SimdLevel::Portable) return mask_weight_kernels::maskWeightsPopcnt;
-#endif
-  return mask_weight_kernels::maskWeightsPortable;
 }
 
 [[noreturn]] void broken(const std::string& problem) { throw VocabularyContentError(problem); }
@@ -230,7 +222,7 @@ std::shared_ptr<const Vocabulary::Data> vocabularyData(internal::FramedFile file
     d->maskWeights.resize(n);
     d->maskWeights[0] = 0;
     const size_t empty =
-        activeMaskWeights()(d->masks + nw, n - 1, nw, weightOfOnes.data(), d->maskWeights.data() + 1) + 1;
+        mask_weight_kernels::activeMaskWeights()(d->masks + nw, n - 1, nw, weightOfOnes.data(), d->maskWeights.data() + 1) + 1;
     if (empty < n) broken("node " + std::to_string(empty) + " has an empty mask");
   }
   return d;

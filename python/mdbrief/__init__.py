@@ -21,8 +21,8 @@ import cv2 as _cv2  # noqa: F401
 
 from ._mdbrief import (Camera, Database, MdBrief, TestSet, Vocabulary, camera_models, default_pattern,
                        limit_simd_level, load_camera, load_pattern, match, option_fields, patterns, presets, simd_level,
-                       supported_simd_level, train)
+                       supported_simd_level, supported_simd_levels, train)
 
 __all__ = ["Camera", "Database", "MdBrief", "TestSet", "Vocabulary", "camera_models", "default_pattern",
            "limit_simd_level", "load_camera", "load_pattern", "match", "option_fields", "patterns", "presets",
-           "simd_level", "supported_simd_level", "train"]
+           "simd_level", "supported_simd_level", "supported_simd_levels", "train"]

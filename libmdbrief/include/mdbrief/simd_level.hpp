@@ -1,34 +1,54 @@
 #pragma once
-// Which instruction-set kernels the library runs. The library is compiled for the x86-64
-// baseline; its hot loops (descriptor sampling, brute-force matching) also exist as AVX2 and
-// AVX-512 kernels, chosen at run time from what the CPU supports, so one binary runs on any
-// x86-64 and is fast on recent ones. Every level gives bit-identical results (tests check it).
-// Builds for other CPUs, or with -DMDBRIEF_PORTABLE_KERNELS=ON, have only the portable level.
+// Which instruction-set kernels the library runs. Each hot loop (smoothing, the Hessian response
+// and its maxima, descriptor sampling, matching, mask weights) is written once with Google
+// Highway and compiled for every level of the build's CPU family; the level is chosen at run time
+// from what the CPU supports, so one binary runs on any CPU of its family and is fast on recent
+// ones. Every level gives bit-identical results (tests check it, on x86 and on AArch64).
+//
+// The environment variable MDBRIEF_SIMD_LEVEL caps the level for the whole process, as
+// limitSimdLevel() does, from the first call that runs a kernel on; an unknown name makes that
+// call throw std::invalid_argument listing the names.
 #include <string>
+#include <vector>
 
 #include "mdbrief/enum_names.hpp"
 
 namespace mdbrief {
 
 enum class SimdLevel {
-  Portable,  // plain C++ (x86-64 baseline on x86)
-  Avx2,      // AVX2 + POPCNT
-  Avx512,    // AVX-512 F/BW + VPOPCNTDQ (Ice Lake, Zen 4 and later)
+  Portable,  // plain C++, one lane: any CPU, and builds with -DMDBRIEF_PORTABLE_KERNELS=ON
+  Sse4,      // x86: SSE4.2 + CLMUL + AES, 128-bit (every x86-64 CPU since about 2010)
+  Neon,      // AArch64: NEON, 128-bit (Raspberry Pi 4 and 5, Jetson, Apple, Graviton)
+  Avx2,      // x86: AVX2 + BMI2 + F16C + FMA, 256-bit (the FMA is never used: same bits)
+  Avx512,    // x86: AVX-512 F/VL/DQ/BW, 512-bit; with VPOPCNTDQ and the other Ice Lake
+             // extensions (Ice Lake, Zen 4 and later) its bit counts are one instruction
 };
 
 // The highest level this CPU and this build support; detected once.
 SimdLevel supportedSimdLevel();
 
-// The level the kernels use now: the supported level, or lower after limitSimdLevel().
+// Every level this CPU and this build support, lowest first (Portable always).
+std::vector<SimdLevel> supportedSimdLevels();
+
+// The level the kernels use now: the highest supported level no wider than the cap (the
+// MDBRIEF_SIMD_LEVEL environment variable, or limitSimdLevel()).
 SimdLevel activeSimdLevel();
 
-// Caps the level for the whole process (e.g. to compare kernels, or to rule one out). A cap
-// above the supported level leaves the supported one. Calls in flight keep the level they
-// started with: each call resolves its kernels once.
+// Caps the level for the whole process (e.g. to compare kernels, or to measure what a smaller
+// CPU runs). The cap orders levels by width: Portable < Sse4 = Neon < Avx2 < Avx512, so a cap
+// of avx2 on an ARM board gives neon, and a cap above the supported level leaves the supported
+// one. Calls in flight keep the level they started with: each call resolves its kernels once.
 void limitSimdLevel(SimdLevel cap);
 
-inline constexpr EnumName<SimdLevel> kSimdLevelNames[] = {
-    {SimdLevel::Portable, "portable"}, {SimdLevel::Avx2, "avx2"}, {SimdLevel::Avx512, "avx512"}};
+// The Highway target name of the active level's kernels (e.g. "AVX3_DL", "AVX2", "SSE4",
+// "NEON", "SCALAR"): what a benchmark reports beside the level.
+std::string activeSimdTargetName();
+
+inline constexpr EnumName<SimdLevel> kSimdLevelNames[] = {{SimdLevel::Portable, "portable"},
+                                                           {SimdLevel::Sse4, "sse4"},
+                                                           {SimdLevel::Neon, "neon"},
+                                                           {SimdLevel::Avx2, "avx2"},
+                                                           {SimdLevel::Avx512, "avx512"}};
 inline std::string toString(SimdLevel level) { return nameOf(level, kSimdLevelNames); }
 inline SimdLevel parseSimdLevel(const std::string& name) { return parseName(name, kSimdLevelNames, "SIMD level"); }
 

@@ -1,0 +1,25 @@
+#pragma once
+// The Hessian detector's per-pixel loops (detector_hessian.cpp), written once with Highway in
+// hessian_kernels.cpp and compiled for every SIMD level (simd_level.hpp). Each lane does the
+// scalar form's operations in the same order, rounded one at a time (no fused multiply-add), so
+// every level gives the same bits.
+#include <cstdint>
+
+namespace mdbrief::hessian_kernels {
+
+struct HessianKernels {
+  // Columns 1 .. cols - 2 of one row of the response: with a, b, c the rows above, at and below,
+  // dxx = (b[x-1] + b[x+1]) - 2 b[x], dyy = (a[x] + c[x]) - 2 b[x],
+  // dxy = ((c[x+1] - c[x-1]) - (a[x+1] - a[x-1])) / 4 and out[x] = (dxx dyy - dxy^2) scale.
+  void (*responseRow)(const float* a, const float* b, const float* c, int cols, float scale, float* out);
+  // The columns x in [begin, end) where row[x] > threshold and row[x] is at least each of its
+  // eight neighbours (above, row, below; columns begin - 1 .. end readable), in increasing order,
+  // into xs (room for end - begin + 16 entries). Returns how many.
+  int (*candidates)(const float* above, const float* row, const float* below, int begin, int end, float threshold,
+                    int32_t* xs);
+};
+
+// The kernels of the active SIMD level.
+HessianKernels activeHessianKernels();
+
+}  // namespace mdbrief::hessian_kernels

@@ -1,0 +1,82 @@
+// The pyramid's smoothing passes (smoothing_kernels.hpp) for every SIMD level: this file is
+// compiled once per Highway target (hwy/foreach_target.h) and the active level's copy is chosen
+// at run time (simd_dispatch.hpp). Vectors cover whole chunks of a row; the last few columns
+// take the same integer arithmetic one at a time.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "smoothing_kernels.cpp"
+#include <hwy/foreach_target.h>  // must come before highway.h
+
+#include <hwy/highway.h>
+
+#include "mdbrief/internal/simd_dispatch.hpp"
+#include "smoothing_kernels.hpp"
+
+HWY_BEFORE_NAMESPACE();
+namespace mdbrief::smoothing_kernels::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// Sums stay below 2^16 (weights sum to 256, pixels <= 255): 16-bit lanes wrap never.
+void Rows(const uint16_t* centre, int cols, const uint32_t* w, int radius, uint16_t* HWY_RESTRICT out) {
+  const hn::ScalableTag<uint16_t> d;
+  const int n = static_cast<int>(hn::Lanes(d));
+  uint16_t wk[kMaxRadius + 1];
+  for (int k = 0; k <= radius; ++k) wk[k] = static_cast<uint16_t>(w[k]);
+  int x = 0;
+  for (; x + n <= cols; x += n) {
+    auto sum = hn::Mul(hn::Set(d, wk[0]), hn::LoadU(d, centre + x));
+    for (int k = 1; k <= radius; ++k)
+      sum = hn::Add(sum, hn::Mul(hn::Set(d, wk[k]), hn::Add(hn::LoadU(d, centre + x - k), hn::LoadU(d, centre + x + k))));
+    hn::StoreU(sum, d, out + x);
+  }
+  for (; x < cols; ++x) {
+    uint16_t sum = static_cast<uint16_t>(wk[0] * centre[x]);
+    for (int k = 1; k <= radius; ++k) sum = static_cast<uint16_t>(sum + wk[k] * (centre[x - k] + centre[x + k]));
+    out[x] = sum;
+  }
+}
+
+// Sums below 65280 x 65536 + 2^15 < 2^32 in 32-bit lanes; the rounded value (<= 65280) then
+// fits signed lanes, which narrow to bytes and convert to floats.
+void Columns(const uint16_t* const* rows, int cols, const uint32_t* w, int radius, uint8_t* HWY_RESTRICT bytes,
+             float* HWY_RESTRICT floats) {
+  const hn::ScalableTag<uint32_t> d;
+  const hn::Rebind<uint16_t, decltype(d)> d16;
+  const hn::Rebind<int32_t, decltype(d)> di;
+  const hn::Rebind<uint8_t, decltype(d)> d8;
+  const hn::Rebind<float, decltype(d)> df;
+  const int n = static_cast<int>(hn::Lanes(d));
+  const uint16_t* const centre = rows[radius];
+  const auto load = [&](const uint16_t* row, int x) { return hn::PromoteTo(d, hn::LoadU(d16, row + x)); };
+  const float toUnit = 1.f / (256.f * 255.f);
+  int x = 0;
+  for (; x + n <= cols; x += n) {
+    auto sum = hn::Mul(hn::Set(d, w[0]), load(centre, x));
+    for (int k = 1; k <= radius; ++k)
+      sum = hn::Add(sum, hn::Mul(hn::Set(d, w[k]), hn::Add(load(rows[radius - k], x), load(rows[radius + k], x))));
+    const auto fixed = hn::BitCast(di, hn::ShiftRight<16>(hn::Add(sum, hn::Set(d, 1u << 15))));
+    hn::StoreU(hn::DemoteTo(d8, hn::ShiftRight<8>(hn::Add(fixed, hn::Set(di, 128)))), d8, bytes + x);
+    if (floats) hn::StoreU(hn::Mul(hn::ConvertTo(df, fixed), hn::Set(df, toUnit)), df, floats + x);
+  }
+  for (; x < cols; ++x) {
+    uint32_t sum = w[0] * centre[x];
+    for (int k = 1; k <= radius; ++k) sum += w[k] * (uint32_t{rows[radius - k][x]} + rows[radius + k][x]);
+    const uint32_t fixed = (sum + (1u << 15)) >> 16;
+    bytes[x] = static_cast<uint8_t>((fixed + 128u) >> 8);
+    if (floats) floats[x] = static_cast<float>(static_cast<int>(fixed)) * toUnit;
+  }
+}
+
+SmoothingKernels Kernels() { return {Rows, Columns}; }
+
+}  // namespace mdbrief::smoothing_kernels::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace mdbrief::smoothing_kernels {
+
+HWY_EXPORT(Kernels);
+
+SmoothingKernels activeSmoothingKernels() { return MDBRIEF_ACTIVE_KERNELS(Kernels)(); }
+
+}  // namespace mdbrief::smoothing_kernels
+#endif

@@ -1,0 +1,242 @@
+// Digests of every SIMD kernel's output on fixed inputs (smoothing, Hessian response and maxima,
+// descriptor placement, test bits and centroid, matching, mask weights), at every level this CPU
+// runs. Each level must give the digests recorded below, which came from x86-64: so a run on
+// AArch64 (scripts/test-arm.sh, under qemu-user) shows the same bits as on x86. Free of OpenCV
+// and GoogleTest, so that it cross-builds with the compiler alone; prints "N passed, N failed".
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "descriptor_kernels.hpp"
+#include "hessian_kernels.hpp"
+#include "mask_weight_kernels.hpp"
+#include "matcher_kernels.hpp"
+#include "mdbrief/simd_level.hpp"
+#include "smoothing_kernels.hpp"
+
+namespace {
+
+using namespace mdbrief;
+
+// FNV-1a, 64 bits.
+struct Digest {
+  uint64_t h = 1469598103934665603ull;
+  void add(const void* data, size_t n) {
+    const auto* p = static_cast<const uint8_t*>(data);
+    for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  }
+  template <typename T>
+  void add(const std::vector<T>& v) { add(v.data(), v.size() * sizeof(T)); }
+  void add(int64_t v) { add(&v, sizeof v); }
+};
+
+// A fixed sequence, the same on every CPU (no <random> distribution, whose algorithm may vary).
+struct Sequence {
+  uint64_t s;
+  uint32_t next() {
+    s = s * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<uint32_t>(s >> 33);
+  }
+};
+
+constexpr int kCols = 203, kRows = 157;  // odd: every vector loop has a tail
+
+std::vector<uint8_t> texture() {
+  Sequence r{1};
+  std::vector<uint8_t> img(kCols * kRows);
+  // Smooth blobs plus noise: maxima of every kind, and plateaus.
+  for (int y = 0; y < kRows; ++y)
+    for (int x = 0; x < kCols; ++x)
+      img[y * kCols + x] = static_cast<uint8_t>((((x * 7) ^ (y * 13)) & 0x3f) + (r.next() % 64) + ((x / 9 + y / 11) % 3) * 40);
+  return img;
+}
+
+uint64_t smoothingDigest(const std::vector<uint8_t>& img, std::vector<float>* level) {
+  const auto k = smoothing_kernels::activeSmoothingKernels();
+  Digest d;
+  for (const int radius : {0, 1, 3, 6, 13, 24}) {
+    std::vector<uint32_t> wr(radius + 1), wc(radius + 1);
+    // Weights summing to 256 and 65536 (their shape does not matter to the arithmetic).
+    uint32_t left8 = 256, left16 = 65536;
+    for (int i = radius; i >= 1; --i) {
+      wr[i] = left8 / (2 * (radius + 2)), wc[i] = left16 / (2 * (radius + 2));
+      left8 -= 2 * wr[i], left16 -= 2 * wc[i];
+    }
+    wr[0] = left8, wc[0] = left16;
+    std::vector<std::vector<uint16_t>> rows(kRows, std::vector<uint16_t>(kCols));
+    std::vector<uint16_t> padded(kCols + 2 * radius);
+    for (int y = 0; y < kRows; ++y) {
+      for (int x = 0; x < kCols + 2 * radius; ++x) {
+        const int s = x - radius < 0 ? radius - x : x - radius >= kCols ? 2 * kCols - 2 - (x - radius) : x - radius;
+        padded[x] = img[y * kCols + s];
+      }
+      k.rows(padded.data() + radius, kCols, wr.data(), radius, rows[y].data());
+      d.add(rows[y]);
+    }
+    std::vector<uint8_t> bytes(kCols);
+    std::vector<float> floats(kCols);
+    std::vector<const uint16_t*> taken(2 * radius + 1);
+    for (int y = 0; y < kRows; ++y) {
+      for (int i = -radius; i <= radius; ++i) {
+        const int s = y + i < 0 ? -(y + i) : y + i >= kRows ? 2 * kRows - 2 - (y + i) : y + i;
+        taken[radius + i] = rows[s].data();
+      }
+      k.columns(taken.data(), kCols, wc.data(), radius, bytes.data(), floats.data());
+      d.add(bytes);
+      d.add(floats);
+      if (radius == 6 && level) level->insert(level->end(), floats.begin(), floats.end());
+    }
+  }
+  return d.h;
+}
+
+uint64_t hessianDigest(const std::vector<float>& level) {
+  const auto k = hessian_kernels::activeHessianKernels();
+  Digest d;
+  std::vector<float> response(level.size(), 0.f);
+  for (int y = 1; y + 1 < kRows; ++y)
+    k.responseRow(&level[(y - 1) * kCols], &level[y * kCols], &level[(y + 1) * kCols], kCols, 16.f, &response[y * kCols]);
+  d.add(response);
+  std::vector<int32_t> xs(kCols + 16);
+  int64_t total = 0;
+  for (const float threshold : {-1.f, 0.f, 1e-7f, 1e-5f}) {
+    for (int y = 2; y + 2 < kRows; ++y) {
+      const int n = k.candidates(&response[(y - 1) * kCols], &response[y * kCols], &response[(y + 1) * kCols], 2,
+                                 kCols - 2, threshold, xs.data());
+      d.add(xs.data(), n * sizeof(int32_t));
+      total += n;
+    }
+  }
+  d.add(total);
+  return d.h;
+}
+
+uint64_t descriptorDigest(const std::vector<uint8_t>& img) {
+  const auto k = descriptor_kernels::activeSamplingKernels();
+  Digest d;
+  Sequence r{7};
+  constexpr int nTests = 512;
+  std::vector<double> qa(2 * nTests), qb(2 * nTests);
+  for (auto& v : qa) v = (static_cast<int>(r.next() % 3001) - 1500) / 100.0;
+  for (auto& v : qb) v = (static_cast<int>(r.next() % 3001) - 1500) / 100.0;
+  std::vector<int> x(2 * nTests), y(2 * nTests), u(2 * nTests), v(2 * nTests);
+  for (int i = 0; i < 2 * nTests; ++i) u[i] = static_cast<int>(r.next() % 31) - 15, v[i] = static_cast<int>(r.next() % 31) - 15;
+  std::vector<uint8_t> bits(nTests / 8);
+  for (int place = 0; place < 60; ++place) {
+    // A rotation from a rational parameter: no sin or cos, whose last bit libm may round
+    // differently on another CPU.
+    const double cx = 30 + place * 2.37, cy = 25 + place * 1.71, t = place * 0.05 - 1.5;
+    const double c = (1 - t * t) / (1 + t * t), s = 2 * t / (1 + t * t);
+    const int n = 2 * nTests - (place % 7) * 8;  // lengths with every tail
+    k.affineCoordinate(cx, c, -s, qa.data(), qb.data(), x.data(), n);
+    k.affineCoordinate(cy, s, c, qa.data(), qb.data(), y.data(), n);
+    d.add(x);
+    d.add(y);
+    const bool inside = k.allInside(x.data(), y.data(), n, kCols, kRows);
+    d.add(int64_t{inside});
+    d.add(int64_t{k.allInside(x.data(), y.data(), 3 + place % 5, kCols, kRows)});
+    if (!inside || n != 2 * nTests) continue;
+    for (const int tests : {32, 256, 512}) {
+      // The first points of `tests` tests, then their second points.
+      std::vector<int> px(x.begin(), x.begin() + tests), py(y.begin(), y.begin() + tests);
+      px.insert(px.end(), x.begin() + nTests, x.begin() + nTests + tests);
+      py.insert(py.end(), y.begin() + nTests, y.begin() + nTests + tests);
+      k.packBitsBilinear(img.data(), kCols, px.data(), py.data(), tests, bits.data());
+      d.add(bits.data(), tests / 8);
+    }
+    long long m10 = 0, m01 = 0;
+    k.centroidMoments(img.data(), kCols, x.data(), y.data(), u.data(), v.data(), 2 * nTests - 8 * (place % 5), m10, m01);
+    d.add(int64_t{m10});
+    d.add(int64_t{m01});
+  }
+  return d.h;
+}
+
+uint64_t matcherDigest() {
+  const auto k = matcher_kernels::activeMatcherKernels();
+  Digest d;
+  Sequence r{11};
+  for (const int nwords : {1, 3, 8, 9, 16}) {
+    const int count = 77;  // not a multiple of any lane count
+    std::vector<uint32_t> desc(count * nwords), mask(count * nwords), weight(count);
+    for (auto& w : desc) w = (r.next() % 4) * 0x55555555u;  // few values: many ties
+    for (auto& w : mask) w = r.next() % 3 ? 0xffffffffu : r.next();
+    for (auto& w : weight) w = 1000 + r.next() % 5000;
+    // The kernel's layout: blocks of `lanes` descriptors, word-major, zero padding.
+    const int lanes = k.lanes, blocks = (count + lanes - 1) / lanes;
+    std::vector<uint32_t> pd(blocks * lanes * nwords, 0), pm(pd.size(), 0), pw(blocks * lanes, 0);
+    for (int j = 0; j < count; ++j) {
+      for (int w = 0; w < nwords; ++w) {
+        pd[(j / lanes * nwords + w) * lanes + j % lanes] = desc[j * nwords + w];
+        pm[(j / lanes * nwords + w) * lanes + j % lanes] = mask[j * nwords + w];
+      }
+      pw[j] = weight[j];
+    }
+    for (int q = 0; q < 40; ++q) {
+      matcher_kernels::QueryRow row;
+      for (int w = 0; w < nwords; ++w) row.d[w] = (r.next() % 4) * 0x55555555u, row.l[w] = r.next() % 2 ? ~0u : r.next();
+      row.w = 2000 + r.next() % 3000;
+      for (const bool masked : {false, true}) {
+        const matcher_kernels::TrainView blocked{pd.data(), masked ? pm.data() : nullptr, masked ? pw.data() : nullptr,
+                                                 count, nwords, lanes};
+        const matcher_kernels::TrainView rowMajor{desc.data(), masked ? mask.data() : nullptr,
+                                                  masked ? weight.data() : nullptr, count, nwords, 1};
+        // Both kernels give the same nearest two; the digest takes them, not the layout.
+        for (const auto n : {k.nearestTwo(row, blocked), k.nearestTwoRows(row, rowMajor)}) {
+          d.add(int64_t{n.best});
+          d.add(int64_t{n.second});
+          d.add(int64_t{n.index});
+        }
+      }
+    }
+  }
+  return d.h;
+}
+
+uint64_t maskWeightDigest() {
+  Digest d;
+  Sequence r{13};
+  for (const int nwords : {1, 8, 9}) {
+    std::vector<uint32_t> rows(50 * nwords), weights(50, 0), ofOnes(nwords * 32 + 1);
+    for (auto& w : rows) w = r.next() | r.next() << 1;
+    for (size_t i = 0; i < ofOnes.size(); ++i) ofOnes[i] = static_cast<uint32_t>(i * i + 7);
+    for (int w = 0; w < nwords; ++w) rows[40 * nwords + w] = 0;  // row 40 empty
+    d.add(int64_t(mask_weight_kernels::activeMaskWeights()(rows.data(), 50, nwords, ofOnes.data(), weights.data())));
+    d.add(weights);
+  }
+  return d.h;
+}
+
+// Recorded on x86-64 (every level gives them).
+constexpr uint64_t kSmoothing = 0x035e1da41e92902cull, kHessian = 0xe238f8e09b5da087ull,
+                   kDescriptor = 0x4d88e70ee44c2b01ull, kMatcher = 0x165e26dd9d30e36full,
+                   kMaskWeights = 0x4bc4bc6c1deb2075ull;
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bool print = argc > 1 && std::strcmp(argv[1], "--print") == 0;
+  int passed = 0, failed = 0;
+  const std::vector<uint8_t> img = texture();
+  for (const SimdLevel level : supportedSimdLevels()) {
+    limitSimdLevel(level);
+    std::vector<float> smoothed;
+    const std::pair<const char*, std::pair<uint64_t, uint64_t>> checks[] = {
+        {"smoothing", {smoothingDigest(img, &smoothed), kSmoothing}},
+        {"hessian", {hessianDigest(smoothed), kHessian}},
+        {"descriptor", {descriptorDigest(img), kDescriptor}},
+        {"matcher", {matcherDigest(), kMatcher}},
+        {"mask weights", {maskWeightDigest(), kMaskWeights}}};
+    for (const auto& [name, digests] : checks) {
+      const bool ok = digests.first == digests.second;
+      ok ? ++passed : ++failed;
+      std::printf("%-8s %-12s %016llx %s\n", toString(level).c_str(), name,
+                  static_cast<unsigned long long>(digests.first), ok ? "ok" : print ? "" : "FAILED: differs from x86-64");
+    }
+  }
+  std::printf("%d passed, %d failed\n", passed, failed);
+  return failed == 0 ? 0 : 1;
+}

@@ -1,0 +1,93 @@
+// The test-response kernels (test_response_kernels.hpp) for every SIMD level: compiled once per
+// Highway target (hwy/foreach_target.h), the active level's copy chosen at run time
+// (mdbrief/internal/simd_dispatch.hpp). Comparisons and bit counts are exact at every level.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "trainer/test_response_kernels.cpp"
+#include <hwy/foreach_target.h>  // must come before highway.h
+
+#include <hwy/highway.h>
+
+#include "mdbrief/internal/simd_dispatch.hpp"
+#include "trainer/test_response_kernels.hpp"
+
+HWY_BEFORE_NAMESPACE();
+namespace mdbrief::train::kernels::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// SSE4.2 implies POPCNT and AArch64 has CNT; elsewhere the bit-parallel count, which the
+// baseline's builtin (a libgcc call) is several times slower than.
+HWY_INLINE uint32_t Ones(uint64_t v) {
+#if HWY_TARGET == HWY_SCALAR || HWY_TARGET == HWY_EMU128
+  v = v - ((v >> 1) & 0x5555555555555555ull);
+  v = (v & 0x3333333333333333ull) + ((v >> 2) & 0x3333333333333333ull);
+  v = (v + (v >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+  return static_cast<uint32_t>((v * 0x0101010101010101ull) >> 56);
+#else
+  return static_cast<uint32_t>(__builtin_popcountll(v));
+#endif
+}
+
+// Bit k = a[k] < b[k] (unsigned), k = 0..63, gathered from the mask bits of each vector.
+HWY_INLINE uint64_t LessMask(const uint8_t* a, const uint8_t* b) {
+  const hn::ScalableTag<uint8_t> d;
+  const size_t lanes = hn::Lanes(d);
+  uint64_t m = 0;
+  for (size_t k = 0; k < kLanes; k += lanes) {
+    uint8_t bits[8] = {};
+    hn::StoreMaskBits(d, hn::Lt(hn::LoadU(d, a + k), hn::LoadU(d, b + k)), bits);
+    for (size_t byte = 0; 8 * byte < lanes; ++byte) m |= uint64_t{bits[byte]} << (k + 8 * byte);
+  }
+  return m;
+}
+
+void LessMasks(const uint8_t* a, const uint8_t* b, size_t words, uint64_t* column) {
+  for (size_t w = 0; w < words; ++w) column[w] = LessMask(a + w * kLanes, b + w * kLanes);
+}
+
+uint32_t LessOnes(const uint8_t* a, const uint8_t* b, size_t words) {
+  uint32_t n = 0;
+  for (size_t w = 0; w < words; ++w) n += Ones(LessMask(a + w * kLanes, b + w * kLanes));
+  return n;
+}
+
+uint32_t Flips(const uint8_t* a1, const uint8_t* a2, const uint8_t* b1, const uint8_t* b2, size_t words) {
+  uint32_t n = 0;
+  for (size_t w = 0; w < words; ++w) {
+    const size_t o = w * kLanes;
+    n += Ones(LessMask(a1 + o, a2 + o) ^ LessMask(b1 + o, b2 + o));
+  }
+  return n;
+}
+
+size_t Popcount(const uint64_t* x, size_t n) {
+  size_t ones = 0;
+  for (size_t i = 0; i < n; ++i) ones += Ones(x[i]);
+  return ones;
+}
+
+size_t PopcountXor(const uint64_t* x, const uint64_t* y, size_t n) {
+  size_t ones = 0;
+  for (size_t i = 0; i < n; ++i) ones += Ones(x[i] ^ y[i]);
+  return ones;
+}
+
+size_t PopcountAnd(const uint64_t* x, const uint64_t* y, size_t n) {
+  size_t ones = 0;
+  for (size_t i = 0; i < n; ++i) ones += Ones(x[i] & y[i]);
+  return ones;
+}
+
+ResponseKernels Kernels() { return {LessMasks, LessOnes, Flips, Popcount, PopcountXor, PopcountAnd}; }
+
+}  // namespace mdbrief::train::kernels::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace mdbrief::train::kernels {
+
+HWY_EXPORT(Kernels);
+
+ResponseKernels activeResponseKernels() { return MDBRIEF_ACTIVE_KERNELS(Kernels)(); }
+
+}  // namespace mdbrief::train::kernels
+#endif
