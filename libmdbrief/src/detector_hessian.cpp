@@ -119,7 +119,7 @@ std::vector<Blob> levelMaxima(const std::vector<cv::Mat>& responses, const std::
   const hessian_kernels::HessianKernels kernels = hessian_kernels::activeHessianKernels();
   const PixelMap finerPixel = pixelMap(grids[k], grids[k - 1], r.cols, r.rows);
   const PixelMap coarserPixel = pixelMap(grids[k], grids[k + 1], r.cols, r.rows);
-  std::vector<int32_t> xs(r.cols + 16);
+  std::vector<int32_t> xs(r.cols);
   for (int y = margin; y < r.rows - margin; ++y) {
     const float* above = r.ptr<float>(y - 1);
     const float* row = r.ptr<float>(y);

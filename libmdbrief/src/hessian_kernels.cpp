@@ -40,7 +40,6 @@ void ResponseRow(const float* a, const float* b, const float* c, int cols, float
 int Candidates(const float* above, const float* row, const float* below, int begin, int end, float threshold,
                int32_t* HWY_RESTRICT xs) {
   const hn::ScalableTag<float> d;
-  const hn::RebindToSigned<decltype(d)> di;
   const int n = static_cast<int>(hn::Lanes(d));
   const auto t = hn::Set(d, threshold);
   int count = 0, x = begin;
@@ -52,7 +51,13 @@ int Candidates(const float* above, const float* row, const float* below, int beg
     const auto up = hn::Max(hn::Max(hn::LoadU(d, above + x - 1), hn::LoadU(d, above + x)), hn::LoadU(d, above + x + 1));
     const auto down = hn::Max(hn::Max(hn::LoadU(d, below + x - 1), hn::LoadU(d, below + x)), hn::LoadU(d, below + x + 1));
     const auto keep = hn::And(gate, hn::Ge(v, hn::Max(side, hn::Max(up, down))));
-    count += static_cast<int>(hn::CompressStore(hn::Iota(di, x), hn::RebindMask(di, keep), di, xs + count));
+    // The few set lanes one by one: Highway's CompressStore copies its table to the stack on
+    // every call (GCC 12), which took most of this loop's time.
+    uint8_t bytes[8] = {};
+    hn::StoreMaskBits(d, keep, bytes);
+    uint64_t bits = 0;
+    for (int b = 0; 8 * b < n; ++b) bits |= uint64_t{bytes[b]} << (8 * b);
+    for (; bits; bits &= bits - 1) xs[count++] = x + __builtin_ctzll(bits);
   }
   for (; x < end; ++x) {
     const float v = row[x];

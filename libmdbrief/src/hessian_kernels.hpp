@@ -14,7 +14,7 @@ struct HessianKernels {
   void (*responseRow)(const float* a, const float* b, const float* c, int cols, float scale, float* out);
   // The columns x in [begin, end) where row[x] > threshold and row[x] is at least each of its
   // eight neighbours (above, row, below; columns begin - 1 .. end readable), in increasing order,
-  // into xs (room for end - begin + 16 entries). Returns how many.
+  // into xs (room for end - begin entries). Returns how many.
   int (*candidates)(const float* above, const float* row, const float* below, int begin, int end, float threshold,
                     int32_t* xs);
 };
