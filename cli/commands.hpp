@@ -31,5 +31,6 @@ void addDrawCommand(CLI::App& app);
 void addCameraCommand(CLI::App& app);
 void addSimCommand(CLI::App& app);   // cli/command_sim.cpp (eval/ library)
 void addEvalCommand(CLI::App& app);  // cli/command_eval.cpp (eval/ library)
+void addBenchCommand(CLI::App& app);
 
 }  // namespace mdbrief::cli

@@ -10,5 +10,6 @@ int main(int argc, char** argv) {
                                 addCameraCommand,
                                 addSimCommand,
                                 addEvalCommand,
+                                addBenchCommand,
                             });
 }

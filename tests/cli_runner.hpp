@@ -24,7 +24,8 @@ inline CliResult runMdbrief(std::vector<std::string> args) {
   ::testing::internal::CaptureStderr();
   CliResult r;
   r.code = cli::runCli(static_cast<int>(argv.size()), argv.data(),
-                       {cli::addExtractCommand, cli::addMatchCommand, cli::addDrawCommand, cli::addCameraCommand});
+                       {cli::addExtractCommand, cli::addMatchCommand, cli::addDrawCommand, cli::addCameraCommand,
+                        cli::addBenchCommand});
   r.err = ::testing::internal::GetCapturedStderr();
   r.out = ::testing::internal::GetCapturedStdout();
   return r;
