@@ -40,6 +40,7 @@ TEST_F(CliBenchTest, PrintsTheCpuOpenCvAndALinePerLevel) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("one thread, " + image_ + " (320x240), median of 1 runs"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("OpenCV " CV_VERSION ": ORB "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" x ORB "), std::string::npos) << r.out;
   for (const mdbrief::SimdLevel level : mdbrief::supportedSimdLevels())
     EXPECT_NE(r.out.find("\n" + mdbrief::toString(level) + " ("), std::string::npos) << r.out;
   EXPECT_EQ(mdbrief::activeSimdLevel(), mdbrief::supportedSimdLevel());  // the cap is lifted again
