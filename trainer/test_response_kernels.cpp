@@ -7,6 +7,8 @@
 
 #include <hwy/highway.h>
 
+#include "mdbrief/internal/bit_count-inl.h"
+
 #include "mdbrief/internal/simd_dispatch.hpp"
 #include "trainer/test_response_kernels.hpp"
 
@@ -14,18 +16,7 @@ HWY_BEFORE_NAMESPACE();
 namespace mdbrief::train::kernels::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// SSE4.2 implies POPCNT and AArch64 has CNT; elsewhere the bit-parallel count, which the
-// baseline's builtin (a libgcc call) is several times slower than.
-HWY_INLINE uint32_t Ones(uint64_t v) {
-#if HWY_TARGET == HWY_SCALAR || HWY_TARGET == HWY_EMU128
-  v = v - ((v >> 1) & 0x5555555555555555ull);
-  v = (v & 0x3333333333333333ull) + ((v >> 2) & 0x3333333333333333ull);
-  v = (v + (v >> 4)) & 0x0F0F0F0F0F0F0F0Full;
-  return static_cast<uint32_t>((v * 0x0101010101010101ull) >> 56);
-#else
-  return static_cast<uint32_t>(__builtin_popcountll(v));
-#endif
-}
+using mdbrief::HWY_NAMESPACE::Ones;  // mdbrief/internal/bit_count-inl.h
 
 // Bit k = a[k] < b[k] (unsigned), k = 0..63, gathered from the mask bits of each vector.
 HWY_INLINE uint64_t LessMask(const uint8_t* a, const uint8_t* b) {

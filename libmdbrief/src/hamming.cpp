@@ -3,7 +3,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "popcount.hpp"
+#include "mdbrief/internal/popcount.hpp"
 
 namespace mdbrief {
 

@@ -7,23 +7,17 @@
 
 #include <hwy/highway.h>
 
+#include "mdbrief/internal/bit_count-inl.h"
+
 #include <cstring>
 
 #include "mask_weight_kernels.hpp"
-#include "popcount.hpp"
 #include "mdbrief/internal/simd_dispatch.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace mdbrief::mask_weight_kernels::HWY_NAMESPACE {
 
-// SSE4.2 implies POPCNT and AArch64 has CNT; the baseline's builtin would be a libgcc call.
-HWY_INLINE int Ones(uint64_t v) {
-#if HWY_TARGET == HWY_SCALAR || HWY_TARGET == HWY_EMU128
-  return popcount64(v);
-#else
-  return __builtin_popcountll(v);
-#endif
-}
+using mdbrief::HWY_NAMESPACE::Ones;  // mdbrief/internal/bit_count-inl.h
 
 // 64-bit counts plus a 32-bit tail word for odd word counts.
 size_t Weights(const uint32_t* rows, size_t count, int nwords, const uint32_t* weightOfOnes, uint32_t* weights) {

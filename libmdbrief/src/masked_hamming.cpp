@@ -5,7 +5,7 @@
 #include <string>
 
 #include "mdbrief/hamming.hpp"
-#include "popcount.hpp"
+#include "mdbrief/internal/popcount.hpp"
 
 namespace mdbrief {
 

@@ -6,24 +6,18 @@
 
 #include <hwy/highway.h>
 
+#include "mdbrief/internal/bit_count-inl.h"
+
 #include <cstring>
 
 #include "matcher_kernels.hpp"
-#include "popcount.hpp"
 #include "mdbrief/internal/simd_dispatch.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace mdbrief::matcher_kernels::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// SSE4.2 implies POPCNT and AArch64 has CNT; the baseline's builtin would be a libgcc call.
-HWY_INLINE uint32_t Ones(uint64_t v) {
-#if HWY_TARGET == HWY_SCALAR || HWY_TARGET == HWY_EMU128
-  return static_cast<uint32_t>(popcount64(v));
-#else
-  return static_cast<uint32_t>(__builtin_popcountll(v));
-#endif
-}
+using mdbrief::HWY_NAMESPACE::Ones;  // mdbrief/internal/bit_count-inl.h
 
 HWY_INLINE uint64_t LongWord(const uint32_t* p, int k) {
   uint64_t v;

@@ -6,7 +6,7 @@
 
 #include "matcher_kernels.hpp"
 #include "mdbrief/masked_hamming.hpp"
-#include "popcount.hpp"
+#include "mdbrief/internal/popcount.hpp"
 
 namespace mdbrief::matcher_kernels {
 namespace {

@@ -1,9 +1,9 @@
 #pragma once
-// Population count for the library's own translation units. Each one is compiled with known
-// flags (libmdbrief/CMakeLists.txt): with POPCNT (the AVX2 and AVX-512 kernels) the builtin is
-// one instruction; in the x86-64 baseline GCC would turn it into a libgcc call, which we
-// measured 4-5x slower in the matcher than this bit-parallel count. Internal linkage, so a
-// copy compiled with POPCNT can never stand in for the baseline one at link time.
+// Population count for code compiled for the x86-64 baseline (the library outside its kernels,
+// and the kernels' scalar target: bit_count-inl.h): there GCC would turn the builtin into a
+// libgcc call, which we measured 4-5x slower in the matcher than this bit-parallel count. With
+// POPCNT, and on other CPUs, the builtin. Internal linkage, so a copy compiled with POPCNT can
+// never stand in for the baseline one at link time.
 #include <cstdint>
 
 namespace mdbrief {
