@@ -19,6 +19,7 @@ without the GIL (but a Database's index, which adding changes, is used with it h
 # module returns are cv2's); private, so the package's namespace holds only its own names.
 import cv2 as _cv2  # noqa: F401
 
+from ._mdbrief import __version__  # noqa: F401
 from ._mdbrief import (Camera, Database, MdBrief, TestSet, Vocabulary, camera_models, default_pattern,
                        limit_simd_level, load_camera, load_pattern, match, option_fields, patterns, presets, simd_level,
                        supported_simd_level, supported_simd_levels, train)

@@ -1,8 +1,10 @@
 // The `mdbrief` Python module (imported through the package python/mdbrief/__init__.py).
 #include "bindings.hpp"
+#include "mdbrief/version.hpp"
 
 PYBIND11_MODULE(_mdbrief, m) {
   mdbrief::python::translateExceptions();
+  m.attr("__version__") = mdbrief::version();
   m.doc() = "mdbrief: distorted binary descriptors (BRIEF, dBRIEF, mdBRIEF) for calibrated fisheye cameras.";
   mdbrief::python::bindCamera(m);
   mdbrief::python::bindFeatures(m);

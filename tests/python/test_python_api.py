@@ -155,3 +155,11 @@ def test_module_holds_only_its_own_names():
     public = {name for name in dir(mdbrief) if not name.startswith("_")}
     assert public == set(mdbrief.__all__)
     assert "cv2" not in public
+
+
+def test_version_is_the_projects():
+    # The version the project's CMakeLists.txt declares, as MAJOR.MINOR.PATCH.
+    import re
+    cmake = (SOURCE / "CMakeLists.txt").read_text()
+    declared = re.search(r"project\(mdbrief VERSION (\d+\.\d+\.\d+)", cmake).group(1)
+    assert mdbrief.__version__ == declared

@@ -6,7 +6,7 @@
 //   right two-view fits per frame pair at a few milliseconds per frame.
 // - matching: 512 bits, more distinctive, for wide baselines and relocalisation, where the
 //   descriptor counts more than speed; its ratio 0.65 keeps more matches at about the
-//   precision of tracking's 0.6.
+//   precision of tracking's 0.55.
 // - paper: the paper's pipeline (modORB corners, the paper's plane and its learned criterion,
 //   nearest neighbours without a ratio test), to reproduce its experiments.
 // Start from a preset and change fields: presetSettings(Preset::Matching).features.detector.nfeatures = 2000.

@@ -1,0 +1,7 @@
+#include "mdbrief/version.hpp"
+
+namespace mdbrief {
+
+const char* version() { return MDBRIEF_VERSION_STRING; }
+
+}  // namespace mdbrief
