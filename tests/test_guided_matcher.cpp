@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <random>
@@ -15,6 +16,7 @@
 #include "mdbrief/hamming.hpp"
 #include "mdbrief/masked_hamming.hpp"
 #include "mdbrief/matcher.hpp"
+#include "mdbrief/simd_level.hpp"
 
 namespace {
 
@@ -72,7 +74,8 @@ Scene makeScene(int nTrain, int nQuery, int bytes, float predictionError, unsign
         s.query.at<uint8_t>(q, d / 8) ^= static_cast<uint8_t>(1u << (d % 8));
       }
       const cv::KeyPoint& k = s.trainKeypoints[t];
-      s.queryKeypoints.emplace_back(k.pt, k.size * (q % 4 == 0 ? 1.f : 1.2f), std::fmod(k.angle + 5.f * unit(rng), 360.f));
+      const float size = k.size * (q % 4 == 0 ? 1.f : 1.2f);
+      s.queryKeypoints.emplace_back(k.pt, size, std::fmod(k.angle + 5.f * unit(rng), 360.f));
       const float r = predictionError * unit(rng), a = 6.2831853f * unit(rng);
       s.predicted.emplace_back(k.pt.x + r * std::cos(a), k.pt.y + r * std::sin(a));
     } else {
@@ -108,7 +111,8 @@ std::vector<cv::DMatch> referenceGuided(const Scene& s, bool masked, const Guide
       return mdbrief::maskedHammingFixed(s.query.ptr<uint8_t>(q), s.queryMasks.ptr<uint8_t>(q), s.train.ptr<uint8_t>(t),
                                          s.trainMasks.ptr<uint8_t>(t), bytes);
     int count = 0;
-    for (int d = 0; d < bytes * 8; ++d) count += ((s.query.at<uint8_t>(q, d / 8) ^ s.train.at<uint8_t>(t, d / 8)) >> (d % 8)) & 1;
+    for (int d = 0; d < bytes * 8; ++d)
+      count += ((s.query.at<uint8_t>(q, d / 8) ^ s.train.at<uint8_t>(t, d / 8)) >> (d % 8)) & 1;
     return static_cast<uint32_t>(count);
   };
   std::vector<cv::DMatch> out;
@@ -128,7 +132,8 @@ std::vector<cv::DMatch> referenceGuided(const Scene& s, bool masked, const Guide
     }
     if (best < 0) continue;
     const float bits = masked ? mdbrief::maskedFixedToBits(static_cast<uint32_t>(bestD)) : static_cast<float>(bestD);
-    if (o.matching.ratio && secondD != UINT64_MAX && !(bestD < *o.matching.ratio * static_cast<double>(secondD))) continue;
+    const auto& ratio = o.matching.ratio;
+    if (ratio && secondD != UINT64_MAX && !(bestD < *ratio * static_cast<double>(secondD))) continue;
     if (o.matching.maxDistance && !(bits <= *o.matching.maxDistance)) continue;
     if (o.matching.crossCheck) {
       int back = -1;
@@ -171,25 +176,29 @@ std::string messageOf(const std::function<void()>& f) {
 }
 
 TEST(GuidedMatcher, EqualsWindowedReferenceForEveryOptionCombination) {
-  // Dense enough that windows hold several candidates and the checks decide.
-  const Scene s = makeScene(600, 400, 32, 12.f, 7);
-  for (bool masked : {false, true})
-    for (int combo = 0; combo < 32; ++combo) {
-      GuidedMatchOptions o;
-      o.radius = (combo & 1) ? 30.f : 15.f;
-      if (combo & 2) o.matching.ratio.reset();
-      o.matching.crossCheck = (combo & 4) != 0;
-      if (combo & 8) {
-        o.maxAngleDifference = 3.f;
-        o.maxScaleRatio = 1.1f;
+  // Dense enough that windows hold several candidates and the checks decide; 36 bytes has a
+  // tail word after the 64-bit counts.
+  for (int bytes : {32, 36}) {
+    const Scene s = makeScene(600, 400, bytes, 12.f, 7 + bytes);
+    for (bool masked : {false, true})
+      for (int combo = 0; combo < 32; ++combo) {
+        GuidedMatchOptions o;
+        o.radius = (combo & 1) ? 30.f : 15.f;
+        if (combo & 2) o.matching.ratio.reset();
+        o.matching.crossCheck = (combo & 4) != 0;
+        if (combo & 8) {
+          o.maxAngleDifference = 3.f;
+          o.maxScaleRatio = 1.1f;
+        }
+        if (combo & 16) o.matching.maxDistance = 40.f;
+        o.matching.parallel = (combo % 3) != 0;
+        const std::string what = std::string(masked ? "masked" : "plain") + " bytes " + std::to_string(bytes) +
+                                 " combo " + std::to_string(combo);
+        const auto matches = guided(s, masked, o);
+        expectSameMatches(matches, referenceGuided(s, masked, o), what);
+        EXPECT_GT(matches.size(), 20u) << what;  // the comparison is not vacuous
       }
-      if (combo & 16) o.matching.maxDistance = 40.f;
-      o.matching.parallel = (combo % 3) != 0;
-      const std::string what = std::string(masked ? "masked" : "plain") + " combo " + std::to_string(combo);
-      const auto matches = guided(s, masked, o);
-      expectSameMatches(matches, referenceGuided(s, masked, o), what);
-      EXPECT_GT(matches.size(), 20u) << what;  // the comparison is not vacuous
-    }
+  }
 }
 
 TEST(GuidedMatcher, KeepsEveryRightBruteForceMatchWhosePredictionIsWithinTheRadius) {
@@ -333,6 +342,28 @@ TEST(GuidedMatcher, SameResultWithAndWithoutThreads) {
     o.matching.parallel = true;
     expectSameMatches(guided(s, masked, o), serial, masked ? "masked" : "plain");
     EXPECT_GT(serial.size(), 1000u);
+  }
+}
+
+TEST(GuidedMatcher, SameResultAtEverySimdLevel) {
+  // The distances come from the dispatched kernels (matcher_kernels.hpp).
+  const Scene s = makeScene(2000, 2000, 36, 10.f, 9);  // 36 bytes: an odd word count's tail
+  GuidedMatchOptions o;
+  o.matching.ratio.reset();
+  o.matching.crossCheck = false;
+  for (bool masked : {false, true}) {
+    std::vector<cv::DMatch> reference;
+    for (const mdbrief::SimdLevel level : mdbrief::supportedSimdLevels()) {
+      mdbrief::limitSimdLevel(level);
+      const auto matches = guided(s, masked, o);
+      if (reference.empty()) {
+        reference = matches;
+        ASSERT_GT(reference.size(), 1000u);
+      } else {
+        expectSameMatches(matches, reference, mdbrief::toString(level));
+      }
+    }
+    mdbrief::limitSimdLevel(mdbrief::SimdLevel::Avx512);  // no cap: the widest the CPU runs
   }
 }
 

@@ -11,15 +11,18 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "matcher_kernels.hpp"
 #include "mdbrief/hamming.hpp"
 #include "mdbrief/masked_hamming.hpp"
+#include "query_row.hpp"
 
 namespace mdbrief {
 
 namespace {
 
-// The train keypoints by grid cell, in compressed rows: cell c holds index[start[c] ..
-// start[c + 1]), in increasing keypoint order.
+// The train keypoints by grid cell, in compressed rows: cell c holds entry[start[c] ..
+// start[c + 1]), in increasing keypoint order. Entries carry their positions, so a search reads
+// one contiguous run per cell instead of following indices into the keypoints.
 class Grid {
  public:
   Grid(const std::vector<cv::KeyPoint>& keypoints, cv::Size imageSize, float radius) {
@@ -37,24 +40,35 @@ class Grid {
     }
     for (size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
     // Counting sort; visiting keypoints in order keeps each cell sorted by index.
-    index_.resize(keypoints.size());
+    entry_.resize(keypoints.size());
     std::vector<int> next(start_.begin(), start_.end() - 1);
-    for (size_t i = 0; i < keypoints.size(); ++i) index_[next[cellOf[i]]++] = static_cast<int>(i);
+    for (size_t i = 0; i < keypoints.size(); ++i)
+      entry_[next[cellOf[i]]++] = {keypoints[i].pt, static_cast<int>(i)};
   }
 
-  // Calls visit(train index) for every keypoint of the cells that overlap the square around p.
+  // Calls visit(train index) for every keypoint within `radius` of p (border included).
   template <typename Visit>
-  void forEachNear(cv::Point2f p, float radius, Visit visit) const {
+  void forEachWithin(cv::Point2f p, float radius, Visit visit) const {
     const int c0 = column(p.x - radius), c1 = column(p.x + radius);
     const int r0 = row(p.y - radius), r1 = row(p.y + radius);
-    for (int r = r0; r <= r1; ++r)
-      for (int c = c0; c <= c1; ++c) {
-        const int cell = cellIndex(c, r);
-        for (int k = start_[cell]; k < start_[cell + 1]; ++k) visit(index_[k]);
+    const float r2 = radius * radius;
+    for (int r = r0; r <= r1; ++r) {
+      // The cells of one grid row are adjacent in entry_: one run per row.
+      const Entry* e = entry_.data() + start_[cellIndex(c0, r)];
+      const Entry* end = entry_.data() + start_[cellIndex(c1, r) + 1];
+      for (; e != end; ++e) {
+        const float dx = e->pt.x - p.x, dy = e->pt.y - p.y;
+        if (dx * dx + dy * dy <= r2) visit(e->index);
       }
+    }
   }
 
  private:
+  struct Entry {
+    cv::Point2f pt;
+    int index;
+  };
+
   // Positions outside the image (train keypoints may lie there) fall into the border cells.
   int column(float x) const { return clampedCell(x, cols_); }
   int row(float y) const { return clampedCell(y, rows_); }
@@ -66,13 +80,37 @@ class Grid {
 
   double cell_;
   int cols_, rows_;
-  std::vector<int> start_, index_;
+  std::vector<int> start_;
+  std::vector<Entry> entry_;
 };
 
-struct Candidate {
-  int train;
-  uint32_t distance;  // Hamming bits, or the masked fixed-point distance (masked_hamming.hpp)
+using namespace matcher_kernels;
+
+// The train rows packed once per call, row-major, for the kernels' distancesRows: words,
+// effective masks (all-zero -> all ones) and weights.
+struct TrainRows {
+  std::vector<uint32_t> desc, mask, weight;  // mask/weight only when masked
+  TrainView view;
 };
+
+TrainRows packRows(const cv::Mat& desc, const cv::Mat* masks) {
+  TrainRows t;
+  const int count = desc.rows, nwords = desc.cols / 4;
+  t.desc.resize(static_cast<size_t>(count) * nwords);
+  if (masks) {
+    t.mask.resize(t.desc.size());
+    t.weight.resize(count);
+  }
+  for (int j = 0; j < count; ++j) {
+    const uint8_t* p = desc.ptr<uint8_t>(j);
+    for (int k = 0; k < nwords; ++k) t.desc[static_cast<size_t>(j) * nwords + k] = rowWord(p, k);
+    if (masks) {
+      t.weight[j] = effectiveMaskWords(masks->ptr<uint8_t>(j), nwords, &t.mask[static_cast<size_t>(j) * nwords]);
+    }
+  }
+  t.view = {t.desc.data(), masks ? t.mask.data() : nullptr, masks ? t.weight.data() : nullptr, count, nwords, 1};
+  return t;
+}
 
 // A number as a message prints it: "-1", "nan", "0.5".
 std::string text(float v) {
@@ -138,7 +176,9 @@ std::vector<cv::DMatch> match(const cv::Mat& query, const cv::Mat* queryMasks,
   checkCount(predicted.size(), query.rows, "predicted", "query");
   checkCount(trainKeypoints.size(), train.rows, "trainKeypoints", "train");
   const bool checksKeypoints = options.maxAngleDifference || options.maxScaleRatio;
-  if (checksKeypoints || !queryKeypoints.empty()) checkCount(queryKeypoints.size(), query.rows, "queryKeypoints", "query");
+  if (checksKeypoints || !queryKeypoints.empty()) {
+    checkCount(queryKeypoints.size(), query.rows, "queryKeypoints", "query");
+  }
   if (imageSize.width < 1 || imageSize.height < 1) {
     throw std::invalid_argument("imageSize: " + std::to_string(imageSize.width) + "x" +
                                 std::to_string(imageSize.height) + " has no pixels");
@@ -146,8 +186,8 @@ std::vector<cv::DMatch> match(const cv::Mat& query, const cv::Mat* queryMasks,
   for (size_t i = 0; i < trainKeypoints.size(); ++i) {
     const cv::Point2f p = trainKeypoints[i].pt;
     if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
-      throw std::invalid_argument("trainKeypoints[" + std::to_string(i) + "]: position (" + text(p.x) + ", " + text(p.y) +
-                                  ") is not finite");
+      throw std::invalid_argument("trainKeypoints[" + std::to_string(i) + "]: position (" + text(p.x) + ", " +
+                                  text(p.y) + ") is not finite");
     }
   }
   checkKeypointFields(queryKeypoints, "queryKeypoints", options);
@@ -155,44 +195,50 @@ std::vector<cv::DMatch> match(const cv::Mat& query, const cv::Mat* queryMasks,
   if (query.empty() || train.empty()) return {};
 
   const Grid grid(trainKeypoints, imageSize, options.radius);
-  const int bytes = query.cols;
+  const MatcherKernels kernel = activeMatcherKernels();  // resolved once per call
+  const TrainRows rows = packRows(train, trainMasks);
+  const int nwords = query.cols / 4;
   const bool masked = queryMasks != nullptr;
-  const float radius = options.radius;
-  auto distance = [&](int q, int t) -> uint32_t {
-    if (masked) {
-      return maskedHammingFixed(query.ptr<uint8_t>(q), queryMasks->ptr<uint8_t>(q), train.ptr<uint8_t>(t),
-                                trainMasks->ptr<uint8_t>(t), bytes);
-    }
-    return static_cast<uint32_t>(hammingDistance(query.ptr<uint8_t>(q), train.ptr<uint8_t>(t), bytes));
-  };
   auto consistent = [&](int q, int t) {
     const cv::KeyPoint &a = queryKeypoints[q], &b = trainKeypoints[t];
     if (options.maxAngleDifference && !(angleDifference(a.angle, b.angle) <= *options.maxAngleDifference)) return false;
     return !options.maxScaleRatio || std::max(a.size, b.size) <= *options.maxScaleRatio * std::min(a.size, b.size);
   };
-
-  // Every query's candidates (window and consistency), kept for the mutual check.
-  std::vector<std::vector<Candidate>> candidates(query.rows);
-  auto collect = [&](int begin, int end) {
-    for (int q = begin; q < end; ++q) {
-      const cv::Point2f p = predicted[q];
-      // Also excludes NaN: every comparison with it is false.
-      if (!(p.x >= 0 && p.x < imageSize.width && p.y >= 0 && p.y < imageSize.height)) continue;
-      grid.forEachNear(p, radius, [&](int t) {
-        const cv::Point2f d = trainKeypoints[t].pt - p;
-        if (d.x * d.x + d.y * d.y > radius * radius) return;
-        if (checksKeypoints && !consistent(q, t)) return;
-        candidates[q].push_back({t, distance(q, t)});
+  // Calls visit(train) for each candidate of query q: in its window and consistent.
+  auto forEachCandidate = [&](int q, auto visit) {
+    const cv::Point2f p = predicted[q];
+    // Also excludes NaN: every comparison with it is false.
+    if (!(p.x >= 0 && p.x < imageSize.width && p.y >= 0 && p.y < imageSize.height)) return;
+    grid.forEachWithin(p, options.radius, [&](int t) {
+      if (!checksKeypoints || consistent(q, t)) visit(t);
+    });
+  };
+  auto forQueries = [&](auto run) {
+    if (options.matching.parallel) {
+      // Each query is handled by exactly one task, so the split does not change the results.
+      tbb::parallel_for(tbb::blocked_range<int>(0, query.rows, 64), [&](const tbb::blocked_range<int>& r) {
+        for (int q = r.begin(); q < r.end(); ++q) run(q);
       });
+    } else {
+      for (int q = 0; q < query.rows; ++q) run(q);
     }
   };
-  if (options.matching.parallel) {
-    // Each query is handled by exactly one task, so the split does not change the results.
-    tbb::parallel_for(tbb::blocked_range<int>(0, query.rows, 64),
-                      [&](const tbb::blocked_range<int>& r) { collect(r.begin(), r.end()); });
-  } else {
-    collect(0, query.rows);
-  }
+
+  // Every query's candidates and their distances, in one array (query q's from offset[q]), kept
+  // for the mutual check: counted first, so no list per query is allocated.
+  std::vector<int> offset(query.rows + 1, 0);
+  forQueries([&](int q) { forEachCandidate(q, [&](int) { ++offset[q + 1]; }); });
+  for (int q = 0; q < query.rows; ++q) offset[q + 1] += offset[q];
+  std::vector<int> candidate(offset.back());
+  std::vector<uint32_t> distance(offset.back());  // Hamming bits or the masked fixed point
+  forQueries([&](int q) {
+    int n = 0;
+    forEachCandidate(q, [&](int t) { candidate[offset[q] + n++] = t; });
+    if (n > 0) {
+      kernel.distancesRows(loadQueryRow(query, queryMasks, q, nwords), rows.view, candidate.data() + offset[q], n,
+                           distance.data() + offset[q]);
+    }
+  });
 
   // Each train's nearest query: queries in increasing order with a strict <, so the lowest
   // index wins a tie.
@@ -202,10 +248,10 @@ std::vector<cv::DMatch> match(const cv::Mat& query, const cv::Mat* queryMasks,
     nearestQuery.assign(train.rows, -1);
     std::vector<uint32_t> nearestDistance(train.rows, kNone);
     for (int q = 0; q < query.rows; ++q)
-      for (const Candidate& c : candidates[q])
-        if (c.distance < nearestDistance[c.train]) {  // every distance is below kNone
-          nearestQuery[c.train] = q;
-          nearestDistance[c.train] = c.distance;
+      for (int i = offset[q]; i < offset[q + 1]; ++i)
+        if (distance[i] < nearestDistance[candidate[i]]) {  // every distance is below kNone
+          nearestDistance[candidate[i]] = distance[i];
+          nearestQuery[candidate[i]] = q;
         }
   }
 
@@ -216,16 +262,18 @@ std::vector<cv::DMatch> match(const cv::Mat& query, const cv::Mat* queryMasks,
     int best = -1;
     uint32_t bestDistance = kNone, secondDistance = kNone;
     bool hasSecond = false;
-    for (const Candidate& c : candidates[q]) {
-      if (best < 0 || c.distance < bestDistance || (c.distance == bestDistance && c.train < best)) {
+    for (int i = offset[q]; i < offset[q + 1]; ++i) {
+      const int t = candidate[i];
+      const uint32_t d = distance[i];
+      if (best < 0 || d < bestDistance || (d == bestDistance && t < best)) {
         if (best >= 0) {
           secondDistance = bestDistance;
           hasSecond = true;
         }
-        best = c.train;
-        bestDistance = c.distance;
-      } else if (!hasSecond || c.distance < secondDistance) {
-        secondDistance = c.distance;
+        best = t;
+        bestDistance = d;
+      } else if (!hasSecond || d < secondDistance) {
+        secondDistance = d;
         hasSecond = true;
       }
     }

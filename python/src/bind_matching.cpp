@@ -60,7 +60,8 @@ as_array=True, a numpy structured array with fields query_idx, train_idx (int32)
       "match_guided",
       [](const py::handle& d1, const py::handle& d2, const py::handle& predicted, const py::handle& keypoints2,
          std::pair<int, int> imageSize, const py::handle& masks1, const py::handle& masks2,
-         const py::handle& keypoints1, const std::string& preset, bool asArray, const py::kwargs& kwargs) -> py::object {
+         const py::handle& keypoints1, const std::string& preset, bool asArray,
+         const py::kwargs& kwargs) -> py::object {
         if (masks1.is_none() != masks2.is_none())
           throw py::value_error("masks1 and masks2 must both be given (masked matching) or both be None");
         GuidedMatchOptions defaults;
