@@ -94,3 +94,17 @@ def test_keywords_and_bad_arguments():
         mdbrief.match_guided(d1, d2, predicted, keypoints2, (WIDTH, HEIGHT), masks1)
     with pytest.raises(ValueError, match=r"must have shape \(N, 2\)"):
         mdbrief.match_guided(d1, d2, np.zeros((20, 3)), keypoints2, (WIDTH, HEIGHT))
+
+
+@pytest.mark.parametrize("field", [f for f in mdbrief.option_fields("match_guided") if f["range"] is not None],
+                         ids=lambda f: f["keyword"])
+def test_every_numeric_keyword_just_outside_its_range_is_refused_naming_it(field):
+    d1, d2, predicted, keypoints2, _, _ = scene(n=5)
+    low, high, low_open, high_open, _, _ = field["range"]
+    # The options are C++ floats: one float step outside (a double step would round back in).
+    below = low if low_open else float(np.nextafter(np.float32(low), np.float32(-np.inf)))
+    above = high if high_open else float(np.nextafter(np.float32(high), np.float32(np.inf)))
+    for value in [below, above]:
+        with pytest.raises(ValueError) as error:
+            mdbrief.match_guided(d1, d2, predicted, keypoints2, (WIDTH, HEIGHT), **{field["keyword"]: value})
+        assert str(error.value).startswith(f"{field['keyword']} must be {field['range_text']}, got "), error.value
