@@ -1,6 +1,7 @@
 """mdbrief.match_guided: guided matching (libmdbrief/include/mdbrief/guided_matcher.hpp) from
-Python: the matches of mdbrief.match whose prediction is within the radius, predictions outside
-the image, the consistency checks, the keywords and bad arguments."""
+Python: the matches of mdbrief.match whose prediction is within the radius (synthetic and on a
+photo moved as a tracker sees it), predictions outside the image, the consistency checks, the
+keywords and bad arguments."""
 import math
 
 import cv2
@@ -8,6 +9,7 @@ import numpy as np
 import pytest
 
 import mdbrief
+from conftest import doc_image
 
 WIDTH, HEIGHT = 640, 480
 
@@ -32,6 +34,37 @@ def scene(n=800, nbytes=32, error=10.0, seed=1):
     masks1 = np.where(rng.random((n, nbytes)) < 0.9, 0xFF, 0xEF).astype(np.uint8)
     masks2 = np.where(rng.random((n, nbytes)) < 0.9, 0xFF, 0xF7).astype(np.uint8)
     return d1, d2, predicted, keypoints2, masks1, masks2
+
+
+def test_a_tracked_real_image_keeps_the_right_brute_force_matches(camera):
+    """A tracker's second frame: the photo moved by (6, -4) px, predictions within 6 px per axis
+    of the true positions, the library's default features and matcher settings."""
+    image = doc_image("graf1.png", camera.image_size)
+    shift = np.array([6.0, -4.0])
+    moved = cv2.warpAffine(image, np.float32([[1, 0, shift[0]], [0, 1, shift[1]]]), camera.image_size)
+    features = mdbrief.MdBrief(camera)
+    k1, d1, m1 = features.detect_and_compute(image)
+    k2, d2, m2 = features.detect_and_compute(moved)
+    p1, p2 = np.array([k.pt for k in k1]), np.array([k.pt for k in k2])
+    predicted = p1 + shift + np.random.default_rng(3).uniform(-6, 6, p1.shape)
+
+    def is_right(m):
+        return np.hypot(*(p2[m.trainIdx] - p1[m.queryIdx] - shift)) < 2
+
+    brute = mdbrief.match(d1, d2, m1, m2)
+    guided = mdbrief.match_guided(d1, d2, predicted, k2, camera.image_size, m1, m2)
+    found = {m.queryIdx: m.trainIdx for m in guided}
+    width, height = camera.image_size
+    inside = [m for m in brute if is_right(m) and 0 <= predicted[m.queryIdx][0] < width
+              and 0 <= predicted[m.queryIdx][1] < height]
+    assert len(inside) > 500
+    assert all(found.get(m.queryIdx) == m.trainIdx for m in inside)
+    right = sum(map(is_right, guided))
+    assert right >= sum(map(is_right, brute)) and right >= 0.9 * len(guided)
+    # The consistency checks, with this motion's orientations and sizes, keep nearly all of them.
+    checked = mdbrief.match_guided(d1, d2, predicted, k2, camera.image_size, m1, m2, keypoints1=k1,
+                                   max_angle_difference=20, max_scale_ratio=1.3)
+    assert sum(map(is_right, checked)) >= 0.95 * right
 
 
 @pytest.mark.parametrize("masked", [False, True])
