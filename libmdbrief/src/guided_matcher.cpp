@@ -11,8 +11,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "match_inputs.hpp"
 #include "matcher_kernels.hpp"
-#include "mdbrief/hamming.hpp"
 #include "mdbrief/masked_hamming.hpp"
 #include "query_row.hpp"
 
@@ -125,18 +125,6 @@ float angleDifference(float a, float b) {
   return d > 180.f ? 360.f - d : d;
 }
 
-void checkMasks(const cv::Mat& masks, const cv::Mat& desc, const char* name, const char* descName) {
-  if (masks.empty() && desc.empty()) return;
-  if (masks.size() != desc.size()) {
-    throw std::invalid_argument(std::string(name) + ": size " + std::to_string(masks.rows) + "x" +
-                                std::to_string(masks.cols) + " differs from " + descName + "'s " +
-                                std::to_string(desc.rows) + "x" + std::to_string(desc.cols));
-  }
-  if (masks.type() != CV_8UC1) {
-    throw std::invalid_argument(std::string(name) + ": masks must be CV_8UC1, got " + cv::typeToString(masks.type()));
-  }
-}
-
 void checkCount(size_t count, int rows, const char* name, const char* descName) {
   if (count != static_cast<size_t>(rows)) {
     throw std::invalid_argument(std::string(name) + ": " + std::to_string(count) + " given for " +
@@ -165,12 +153,7 @@ std::vector<cv::DMatch> match(const cv::Mat& query, const cv::Mat* queryMasks,
                               const cv::Mat* trainMasks, const std::vector<cv::KeyPoint>& trainKeypoints,
                               cv::Size imageSize, const GuidedMatchOptions& options) {
   validate(options);
-  validateDescriptorMatrix(query, "query");
-  validateDescriptorMatrix(train, "train");
-  if (!query.empty() && !train.empty() && query.cols != train.cols) {
-    throw std::invalid_argument("train: width " + std::to_string(train.cols) + " bytes differs from query's " +
-                                std::to_string(query.cols));
-  }
+  checkDescriptorPair(query, train);
   if (queryMasks) checkMasks(*queryMasks, query, "queryMasks", "query");
   if (trainMasks) checkMasks(*trainMasks, train, "trainMasks", "train");
   checkCount(predicted.size(), query.rows, "predicted", "query");
