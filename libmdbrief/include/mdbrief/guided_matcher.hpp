@@ -8,8 +8,9 @@
 // The distance, the ratio test and the mutual check are those of matcher.hpp restricted to the
 // windows: a query's two nearest are taken among its candidates, and the mutual check asks that
 // the query be the train's nearest among the queries whose windows contain that train. Hence a
-// match the brute-force matcher keeps is kept here too whenever its train lies within the
-// radius of the query's prediction (fewer candidates only loosen both tests).
+// match the brute-force matcher keeps is kept here too whenever the query's prediction lies in
+// the image and its train within the radius of it (and, with the consistency checks on, passes
+// them): fewer candidates only loosen both tests.
 //
 // Results are deterministic and independent of threading: ties go to the lowest train index
 // (mutual check: the lowest query index), whatever the order of the grid's cells.
@@ -28,8 +29,8 @@ struct GuidedMatchOptions {
   // Search radius in pixels of the train image: a train keypoint is a candidate of a query if
   // its position lies within this distance of the query's prediction (a disc, border
   // included). Must be in [0, 10000]; 0 keeps only keypoints exactly at the prediction.
-  // Default 15 px: the window of ORB-SLAM's frame-to-frame search by projection at the
-  // finest scale, for motion models good to a few pixels at VGA resolution.
+  // Default 15 px, the window ORB-SLAM's monocular motion-model search uses at the finest
+  // scale; the benchmark uses it with predictions up to 10 px off.
   float radius = 15.f;
   // Orientation consistency: keep a candidate only if its angle and the query keypoint's differ
   // by at most this many degrees (on the circle, so 359 and 1 differ by 2). In (0, 180]; unset
