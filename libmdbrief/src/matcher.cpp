@@ -11,6 +11,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "match_inputs.hpp"
 #include "matcher_kernels.hpp"
 #include "mdbrief/hamming.hpp"
 #include "mdbrief/masked_hamming.hpp"
@@ -75,29 +76,11 @@ std::vector<Nearest> nearestAll(const cv::Mat& rows, const cv::Mat* rowMasks, co
   return out;
 }
 
-void checkMasks(const cv::Mat& masks, const cv::Mat& desc, const char* name, const char* descName) {
-  if (masks.empty() && desc.empty()) return;  // 0x0 and 0 x bytes both mean "no descriptors"
-  if (masks.size() != desc.size()) {
-    throw std::invalid_argument(std::string(name) + ": size " + std::to_string(masks.rows) + "x" +
-                                std::to_string(masks.cols) + " differs from " + descName + "'s " +
-                                std::to_string(desc.rows) + "x" + std::to_string(desc.cols));
-  }
-  if (!masks.empty() && masks.type() != CV_8UC1) {
-    throw std::invalid_argument(std::string(name) + ": masks must be CV_8UC1, got " +
-                                cv::typeToString(masks.type()));
-  }
-}
-
 std::vector<cv::DMatch> match(const cv::Mat& query, const cv::Mat* queryMasks,
                               const cv::Mat& train, const cv::Mat* trainMasks,
                               const MatchOptions& options) {
   validate(options);
-  validateDescriptorMatrix(query, "query");
-  validateDescriptorMatrix(train, "train");
-  if (!query.empty() && !train.empty() && query.cols != train.cols) {
-    throw std::invalid_argument("train: width " + std::to_string(train.cols) +
-                                " bytes differs from query's " + std::to_string(query.cols));
-  }
+  checkDescriptorPair(query, train);
   if (queryMasks) checkMasks(*queryMasks, query, "queryMasks", "query");
   if (trainMasks) checkMasks(*trainMasks, train, "trainMasks", "train");
   if (query.empty() || train.empty()) return {};

@@ -35,38 +35,53 @@ HWY_INLINE void Keep(Nearest& n, uint32_t d, int j) {
   }
 }
 
-// One train row at a time in index order, 64-bit counts plus a 32-bit tail word for odd word
-// counts.
+// The query's words as 64-bit words, read once per query.
+struct LongQuery {
+  uint64_t d[kMaxWords / 2], l[kMaxWords / 2];
+};
+
+template <bool Masked>
+HWY_INLINE LongQuery LongWords(const QueryRow& q, int nwords) {
+  LongQuery lq;
+  std::memcpy(lq.d, q.d, sizeof(uint64_t) * (nwords / 2));
+  if constexpr (Masked) std::memcpy(lq.l, q.l, sizeof(uint64_t) * (nwords / 2));
+  return lq;
+}
+
+// Distance of the query to row-major train row j: 64-bit counts plus a 32-bit tail word for odd
+// word counts.
+template <bool Masked>
+HWY_INLINE uint32_t RowDistance(const QueryRow& q, const LongQuery& lq, const TrainView& t, int j) {
+  const int nwords = t.nwords, nlong = nwords / 2;
+  const uint32_t* row = t.desc + static_cast<size_t>(j) * nwords;
+  if constexpr (!Masked) {
+    uint32_t d = 0;
+    for (int k = 0; k < nlong; ++k) d += Ones(LongWord(row, k) ^ lq.d[k]);
+    if (nwords & 1) d += Ones(row[nwords - 1] ^ q.d[nwords - 1]);
+    return d;
+  } else {
+    const uint32_t* mask = t.mask + static_cast<size_t>(j) * nwords;
+    uint32_t a = 0, c = 0;
+    for (int k = 0; k < nlong; ++k) {
+      const uint64_t x = LongWord(row, k) ^ lq.d[k];
+      a += Ones(x & lq.l[k]);
+      c += Ones(x & LongWord(mask, k));
+    }
+    if (nwords & 1) {
+      const uint32_t x = row[nwords - 1] ^ q.d[nwords - 1];
+      a += Ones(x & q.l[nwords - 1]);
+      c += Ones(x & mask[nwords - 1]);
+    }
+    return a * q.w + c * t.weight[j];
+  }
+}
+
+// One train row at a time in index order.
 template <bool Masked>
 Nearest RowsOf(const QueryRow& q, const TrainView& t) {
-  const int nwords = t.nwords, nlong = nwords / 2;
-  uint64_t qd[kMaxWords / 2], ql[kMaxWords / 2];
-  std::memcpy(qd, q.d, sizeof(uint64_t) * nlong);
-  if constexpr (Masked) std::memcpy(ql, q.l, sizeof(uint64_t) * nlong);
+  const LongQuery lq = LongWords<Masked>(q, t.nwords);
   Nearest n;
-  for (int j = 0; j < t.count; ++j) {
-    const uint32_t* row = t.desc + static_cast<size_t>(j) * nwords;
-    uint32_t d = 0;
-    if constexpr (!Masked) {
-      for (int k = 0; k < nlong; ++k) d += Ones(LongWord(row, k) ^ qd[k]);
-      if (nwords & 1) d += Ones(row[nwords - 1] ^ q.d[nwords - 1]);
-    } else {
-      const uint32_t* mask = t.mask + static_cast<size_t>(j) * nwords;
-      uint32_t a = 0, c = 0;
-      for (int k = 0; k < nlong; ++k) {
-        const uint64_t x = LongWord(row, k) ^ qd[k];
-        a += Ones(x & ql[k]);
-        c += Ones(x & LongWord(mask, k));
-      }
-      if (nwords & 1) {
-        const uint32_t x = row[nwords - 1] ^ q.d[nwords - 1];
-        a += Ones(x & q.l[nwords - 1]);
-        c += Ones(x & mask[nwords - 1]);
-      }
-      d = a * q.w + c * t.weight[j];
-    }
-    Keep(n, d, j);
-  }
+  for (int j = 0; j < t.count; ++j) Keep(n, RowDistance<Masked>(q, lq, t, j), j);
   return n;
 }
 
@@ -74,8 +89,22 @@ Nearest NearestTwoRows(const QueryRow& q, const TrainView& t) {
   return t.mask ? RowsOf<true>(q, t) : RowsOf<false>(q, t);
 }
 
+template <bool Masked>
+void DistancesOf(const QueryRow& q, const TrainView& t, const int* rows, int count, uint32_t* out) {
+  const LongQuery lq = LongWords<Masked>(q, t.nwords);
+  for (int i = 0; i < count; ++i) out[i] = RowDistance<Masked>(q, lq, t, rows[i]);
+}
+
+void DistancesRows(const QueryRow& q, const TrainView& t, const int* rows, int count, uint32_t* out) {
+  if (t.mask) {
+    DistancesOf<true>(q, t, rows, count, out);
+  } else {
+    DistancesOf<false>(q, t, rows, count, out);
+  }
+}
+
 #if HWY_TARGET == HWY_SCALAR
-MatcherKernels Kernels() { return {NearestTwoRows, 1, NearestTwoRows}; }
+MatcherKernels Kernels() { return {NearestTwoRows, 1, NearestTwoRows, DistancesRows}; }
 #else
 
 using DU = hn::ScalableTag<uint32_t>;
@@ -158,7 +187,9 @@ Nearest NearestTwoBlocks(const QueryRow& q, const TrainView& t) {
   return t.mask ? BlocksOf<true>(q, t) : BlocksOf<false>(q, t);
 }
 
-MatcherKernels Kernels() { return {NearestTwoBlocks, static_cast<int>(hn::Lanes(DU())), NearestTwoRows}; }
+MatcherKernels Kernels() {
+  return {NearestTwoBlocks, static_cast<int>(hn::Lanes(DU())), NearestTwoRows, DistancesRows};
+}
 #endif
 
 }  // namespace mdbrief::matcher_kernels::HWY_NAMESPACE

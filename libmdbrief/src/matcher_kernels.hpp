@@ -1,6 +1,7 @@
 #pragma once
-// Kernels of the brute-force matcher (matcher.cpp) and of the vocabulary's descent
-// (vocabulary.cpp): the two nearest train descriptors of one query. Written once with Highway in
+// Kernels of the brute-force matcher (matcher.cpp), of the vocabulary's descent (vocabulary.cpp)
+// and of the guided matcher (guided_matcher.cpp): the two nearest train descriptors of one
+// query, or its distances to a few chosen ones. Written once with Highway in
 // matcher_kernels.cpp and compiled for every SIMD level (simd_level.hpp).
 #include <cstdint>
 
@@ -44,6 +45,9 @@ struct MatcherKernels {
   int lanes;
   // Over a row-major train set (lanes = 1): for the few children of a vocabulary node.
   Nearest (*nearestTwoRows)(const QueryRow& q, const TrainView& t);
+  // out[i] = distance to row rows[i] of a row-major train set (lanes = 1): for the few
+  // candidates of a guided search, where packing them into blocks would cost more.
+  void (*distancesRows)(const QueryRow& q, const TrainView& t, const int* rows, int count, uint32_t* out);
 };
 
 // The kernels of the active SIMD level.

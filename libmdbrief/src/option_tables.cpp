@@ -5,6 +5,7 @@
 #include "mdbrief/descriptor.hpp"
 #include "mdbrief/detector.hpp"
 #include "mdbrief/feature2d.hpp"
+#include "mdbrief/guided_matcher.hpp"
 #include "mdbrief/image_pyramid.hpp"
 #include "mdbrief/matcher.hpp"
 #include "mdbrief/option_fields.hpp"
@@ -168,6 +169,27 @@ const OptionTable<MatchOptions>& matchOptionFields() {
   return table;
 }
 
+const OptionTable<GuidedMatchOptions>& guidedMatchOptionFields() {
+  using O = GuidedMatchOptions;
+  static const OptionTable<O> table = [] {
+    OptionTable<O> t = {
+        // 10000 px is beyond any camera's image: the window is then the whole image.
+        realField<O>("radius", "", "radius", "--radius",
+                     "search radius around each prediction, pixels of the train image", R::closed(0, 10000),
+                     [](auto& o) -> auto& { return o.radius; }),
+        realField<O>("maxAngleDifference", "", "max_angle_difference", "--max-angle-difference",
+                     "keep candidates whose orientation differs by at most this many degrees (unset = off)",
+                     R::openLow(0, 180), [](auto& o) -> auto& { return o.maxAngleDifference; }),
+        realField<O>("maxScaleRatio", "", "max_scale_ratio", "--max-scale-ratio",
+                     "keep candidates whose keypoint sizes differ by at most this factor (unset = off)",
+                     R::closed(1, 1000), [](auto& o) -> auto& { return o.maxScaleRatio; }),
+    };
+    appendNested(t, matchOptionFields(), "matching", "matching", [](auto& o) -> auto& { return o.matching; });
+    return t;
+  }();
+  return table;
+}
+
 void validate(const PyramidOptions& options) { validateFields(pyramidOptionFields(), options, "PyramidOptions"); }
 void validate(const DetectorOptions& options) { validateFields(detectorOptionFields(), options, "DetectorOptions"); }
 void validate(const DescriptorOptions& options) {
@@ -175,5 +197,8 @@ void validate(const DescriptorOptions& options) {
 }
 void validate(const MdBriefOptions& options) { validateFields(mdBriefOptionFields(), options, "MdBriefOptions"); }
 void validate(const MatchOptions& options) { validateFields(matchOptionFields(), options, "MatchOptions"); }
+void validate(const GuidedMatchOptions& options) {
+  validateFields(guidedMatchOptionFields(), options, "GuidedMatchOptions");
+}
 
 }  // namespace mdbrief

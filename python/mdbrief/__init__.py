@@ -6,6 +6,8 @@
     kp1, d1, m1 = features.detect_and_compute(cv2.imread("a.png"))
     kp2, d2, m2 = features.detect_and_compute(cv2.imread("b.png"))
     matches = mdbrief.match(d1, d2, m1, m2)             # the preset's ratio test and mutual check
+    # A tracker's next frame: search only near where the motion model predicts each keypoint.
+    tracked = mdbrief.match_guided(d1, d2, predicted, kp2, (width, height), m1, m2, radius=15)
     vocabulary = mdbrief.Vocabulary.load("vocabulary.mdbvoc")   # place recognition (docs/vocabulary.md)
     database = mdbrief.Database(vocabulary)
     database.add(d1, m1)
@@ -21,9 +23,9 @@ import cv2 as _cv2  # noqa: F401
 
 from ._mdbrief import __version__  # noqa: F401
 from ._mdbrief import (Camera, Database, MdBrief, TestSet, Vocabulary, camera_models, default_pattern,
-                       limit_simd_level, load_camera, load_pattern, match, option_fields, patterns, presets, simd_level,
-                       supported_simd_level, supported_simd_levels, train)
+                       limit_simd_level, load_camera, load_pattern, match, match_guided, option_fields, patterns,
+                       presets, simd_level, supported_simd_level, supported_simd_levels, train)
 
 __all__ = ["Camera", "Database", "MdBrief", "TestSet", "Vocabulary", "camera_models", "default_pattern",
-           "limit_simd_level", "load_camera", "load_pattern", "match", "option_fields", "patterns", "presets",
-           "simd_level", "supported_simd_level", "supported_simd_levels", "train"]
+           "limit_simd_level", "load_camera", "load_pattern", "match", "match_guided", "option_fields", "patterns",
+           "presets", "simd_level", "supported_simd_level", "supported_simd_levels", "train"]

@@ -2,6 +2,7 @@
 // match()'s options, for introspection (and the tests that walk every option).
 #include "bindings.hpp"
 #include "mdbrief/feature2d.hpp"
+#include "mdbrief/guided_matcher.hpp"
 #include "mdbrief/matcher.hpp"
 #include "option_keywords.hpp"
 #include "trainer/train_options.hpp"
@@ -53,10 +54,11 @@ void bindOptions(py::module_& m) {
         if (callable == "MdBrief") return describe(mdBriefOptionFields());
         if (callable == "train") return describe(train::trainOptionFields());
         if (callable == "match") return describe(matchOptionFields());
-        throw py::value_error("callable must be one of: MdBrief, train, match, got '" + callable + "'");
+        if (callable == "match_guided") return describe(guidedMatchOptionFields());
+        throw py::value_error("callable must be one of: MdBrief, train, match, match_guided, got '" + callable + "'");
       },
       py::arg("callable"),
-      "The options of MdBrief, train or match, in table order: dicts with keyword, type (int, float,\n"
+      "The options of MdBrief, train, match or match_guided, in table order: dicts with keyword, type (int, float,\n"
       "bool, str, list, choice), doc, default, range ((low, high, low_open, high_open, multiple_of, odd)\n"
       "of the defaults, or None), range_text and choices.");
 }
