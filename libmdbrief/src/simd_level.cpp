@@ -2,7 +2,6 @@
 
 #include <atomic>
 #include <cstdlib>
-#include <optional>
 
 #include <hwy/highway.h>
 
@@ -37,7 +36,7 @@ constexpr int width(SimdLevel level) {
   return 0;
 }
 
-// The compiled targets (the same set in every kernel source: libmdbrief/CMakeLists.txt) this
+// The compiled targets (the same set in every kernel source: cmake/mdbrief_highway.cmake) this
 // CPU runs. Highway's CPUID check also asks the OS whether it saves the wide registers (XCR0).
 // Detected once: CPUID costs more than a kernel call on a small level.
 int64_t runnableTargets() {

@@ -5,7 +5,7 @@
 // the active level's target. The library chooses the target itself, instead of
 // HWY_DYNAMIC_DISPATCH's process-wide best, so that limitSimdLevel() and MDBRIEF_SIMD_LEVEL can
 // lower it. Every kernel source is compiled with the same Highway definitions
-// (libmdbrief/CMakeLists.txt), so HWY_TARGETS, and the table layout, is the same in each.
+// (cmake/mdbrief_highway.cmake), so HWY_TARGETS, and the table layout, is the same in each.
 #include <cstddef>
 #include <cstdint>
 
