@@ -21,6 +21,7 @@ void runConvert(const ConvertArgs& args) {
   if (!args.output.empty()) {
     try {
       internal::checkOutputPath(args.output);
+      internal::checkOutputsApart({args.input.path}, {args.output});
     } catch (const std::runtime_error& e) {
       throw InputError(e.what());
     }

@@ -73,6 +73,7 @@ void runMatch(const MatchArgs& args) {
   if (args.camera.path.empty() && (!args.camera.id.empty() || args.camera.format != toString(CameraFormat::Auto)))
     throw InputError("--camera-format and --camera-id need --camera");
   checkStorageOutput(args.output);
+  checkOutputsApart({args.query, args.train, args.camera.path}, {args.output});
   const Features a = readFeatureFile(args.query);
   const Features b = readFeatureFile(args.train);
   if (!a.descriptors.empty() && !b.descriptors.empty() && a.descriptors.cols != b.descriptors.cols)

@@ -23,6 +23,11 @@ void checkStorageOutput(const std::filesystem::path& path);
 // The same for an image cv::imencode can write (by extension).
 void checkImageOutput(const std::filesystem::path& path);
 
+// internal::checkOutputsApart as an InputError: no output may be an input (under any name) or
+// another output. Empty paths are skipped.
+void checkOutputsApart(const std::vector<std::filesystem::path>& inputs,
+                       const std::vector<std::filesystem::path>& outputs);
+
 void writeStorageAtomically(const std::filesystem::path& path, const std::function<void(cv::FileStorage&)>& write);
 void writeImageAtomically(const std::filesystem::path& path, const cv::Mat& image);
 
@@ -61,10 +66,11 @@ class StorageReader {
   std::unique_ptr<Parsed> parsed_;
 };
 
-// Nodes `keypoints` (cv::write), `descriptors` (N x bytes CV_8U) and, when not empty, `masks`
-// (N x bytes CV_8U).
-void writeFeatureFile(const std::filesystem::path& path, const Features& features);
-// Reads a file written by writeFeatureFile; `keypoints` and `masks` are optional, descriptors
+// features[i] into paths[i], nodes `keypoints` (cv::write), `descriptors` (N x bytes CV_8U) and,
+// when not empty, `masks` (N x bytes CV_8U). The files are replaced as one set: a failure leaves
+// every previous file.
+void writeFeatureFiles(const std::vector<std::filesystem::path>& paths, const std::vector<Features>& features);
+// Reads a file written by writeFeatureFiles; `keypoints` and `masks` are optional, descriptors
 // required. Checks types and that the rows agree.
 Features readFeatureFile(const std::string& path);
 

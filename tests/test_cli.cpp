@@ -504,7 +504,7 @@ TEST_F(CliTest, MatchInliersWithoutCameraFitsPixelsAndNeedsKeypoints) {
   cli::Features far;
   for (int i = 0; i < 8; ++i) far.keypoints.emplace_back(cv::Point2f(1e30f * static_cast<float>(i + 1), 3e9f), 7.f);
   far.descriptors = descriptors.rowRange(0, 8).clone();
-  cli::writeFeatureFile(path("far.yml"), far);
+  cli::writeFeatureFiles({path("far.yml")}, {far});
   const Result f = run({"match", path("far.yml"), path("far.yml"), "--inliers", "-o", path("f.yml")});
   ASSERT_EQ(f.code, 0) << f.err;
   EXPECT_GE(countBefore(f.out, "inliers"), 0) << f.out;
@@ -784,6 +784,58 @@ TEST_F(CliTest, MatchRefusesDescriptorsOfNoBytes) {
     storage << "descriptors" << cv::Mat();
   }
   EXPECT_EQ(run({"match", path("empty.yml"), path("empty.yml"), "-o", path("m.yml")}).code, 0);
+}
+
+// Issue 29: `match a.yml b.yml -o a.yml`, `draw pic.png -o pic.png`, `extract --camera kb.yaml
+// ... -o kb.yaml` and `camera convert chain.yaml -o chain.yaml` replaced their input with exit 0.
+// An output that is an input under any name (itself, a symbolic or a hard link) is refused with
+// exit 2, and the input keeps its bytes.
+TEST_F(CliTest, AnOutputThatIsAnInputIsRefusedAndTheInputKept) {
+  cv::Mat pixels(120, 160, CV_8UC1);
+  cv::randu(pixels, 0, 256);
+  ASSERT_TRUE(cv::imwrite(path("pic.png"), pixels));
+  cli::Features features;
+  features.descriptors = cv::Mat(3, 32, CV_8UC1, cv::Scalar(7));
+  cli::writeFeatureFiles({path("a.yml"), path("b.yml")}, {features, features});
+  fs::copy_file(kCamera, path("kb.yaml"));
+  fs::create_symlink(path("a.yml"), path("link.yml"));
+  fs::create_hard_link(path("kb.yaml"), path("hard.yaml"));
+  std::map<std::string, std::string> before;
+  for (const char* name : {"pic.png", "a.yml", "b.yml", "kb.yaml"}) before[name] = testing::readFile(path(name));
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"match", path("a.yml"), path("b.yml"), "-o", path("a.yml")}, path("a.yml")},
+      {{"match", path("a.yml"), path("b.yml"), "-o", path("link.yml")}, path("a.yml")},
+      {{"draw", "--descriptor", "brief", path("pic.png"), "-o", path("pic.png")}, path("pic.png")},
+      {{"extract", "--camera", path("kb.yaml"), "--allow-size-mismatch", path("pic.png"), "-o", path("hard.yaml")},
+       path("kb.yaml")},
+      {{"extract", "--descriptor", "brief", path("pic.png"), "--keypoints", path("a.yml"), "-o", path("a.yml")},
+       path("a.yml")},
+      {{"camera", "convert", path("kb.yaml"), "-o", path("kb.yaml")}, path("kb.yaml")},
+      {{"camera", "convert", path("hard.yaml"), "-o", path("kb.yaml")}, path("hard.yaml")},
+  };
+  for (const auto& [args, input] : cases) {
+    const Result r = run(args);
+    expectOneLineNaming(r, "the output is the same file as the input " + input);
+  }
+  for (const auto& [name, bytes] : before) EXPECT_EQ(testing::readFile(path(name)), bytes) << name;
+}
+
+// Issue 29: `extract m1.jpg m5.jpg text.png -o DIR` wrote two outputs, then failed on the third.
+// Every image is read before any output is written.
+TEST_F(CliTest, ExtractWritesNoOutputWhenAnyImageIsBad) {
+  cv::Mat pixels(120, 160, CV_8UC1);
+  cv::randu(pixels, 0, 256);
+  ASSERT_TRUE(cv::imwrite(path("a.png"), pixels));
+  ASSERT_TRUE(cv::imwrite(path("b.png"), pixels));
+  std::ofstream(path("text.png")) << "not an image";
+  fs::create_directories(path("out"));
+  const Result r = run({"extract", "--descriptor", "brief", path("a.png"), path("b.png"), path("text.png"), "-o",
+                        path("out")});
+  expectOneLineNaming(r, path("text.png"));
+  EXPECT_TRUE(fs::is_empty(path("out")));
+  ASSERT_EQ(run({"extract", "--descriptor", "brief", path("a.png"), path("b.png"), "-o", path("out")}).code, 0);
+  EXPECT_TRUE(fs::exists(path("out/a.yml")));
+  EXPECT_TRUE(fs::exists(path("out/b.yml")));
 }
 
 }  // namespace
