@@ -87,7 +87,13 @@ std::shared_ptr<Camera> readColmapCameras(const std::string& path, const std::st
     if (l.tokens.size() < 4 || !isCameraId(l.tokens[0]) || !isModelName(l.tokens[1]))
       throw std::runtime_error(path + ": line " + std::to_string(l.number) +
                                " is not 'CAMERA_ID MODEL WIDTH HEIGHT PARAMS...'");
-    ids.push_back(std::to_string(std::strtoull(l.tokens[0].c_str(), nullptr, 10)));
+    const std::string id = std::to_string(std::strtoull(l.tokens[0].c_str(), nullptr, 10));
+    // Two cameras of one id: which is meant cannot be told (the first was taken silently).
+    if (const auto same = std::find(ids.begin(), ids.end(), id); same != ids.end())
+      throw std::runtime_error(path + ": CAMERA_ID " + id + " appears twice, on lines " +
+                               std::to_string(lines[static_cast<std::size_t>(same - ids.begin())].number) + " and " +
+                               std::to_string(l.number));
+    ids.push_back(id);
   }
   const std::string id = chooseCamera(path, "the COLMAP cameras file", ids, camera);
   const Line& line = lines[std::find(ids.begin(), ids.end(), id) - ids.begin()];
