@@ -138,7 +138,7 @@ std::shared_ptr<Camera> cameraFromOpenCvArrays(const py::handle& kObject, const 
 }  // namespace
 
 void bindCamera(py::module_& m) {
-  py::class_<Camera, std::shared_ptr<Camera>>(m, "Camera", R"doc(
+  py::class_<Camera, std::shared_ptr<Camera>>(m, "Camera", initialisedObjectsOnly(), R"doc(
 A calibrated camera model (pinhole, radial, OCamCalib, Kannala-Brandt, double sphere, UCM/EUCM,
 radial-tangential). Pixels follow OpenCV: u = column, v = row, origin at the centre of the
 top-left pixel. Bearings are unit vectors, x right, y down, z along the optical axis.
@@ -204,10 +204,10 @@ Cameras pickle (as model, size and parameters).)doc")
       .def(
           "save", [](const Camera& c, const py::handle& path) { saveCamera(c, pathFrom(path, "path")); },
           py::arg("path"), "Writes to_yaml() to path (str, bytes or os.PathLike) atomically.")
-      .def("__repr__", [](const Camera& c) {
+      .def("__repr__", onInitialised<Camera>([](const Camera& c) {
         return "<mdbrief.Camera " + c.modelName() + " " + std::to_string(c.imageSize().width) + "x" +
                std::to_string(c.imageSize().height) + ">";
-      });
+      }));
 
   m.def(
       "load_camera",

@@ -192,3 +192,54 @@ def test_descriptors_of_no_bytes_are_refused():
     with pytest.raises(ValueError, match="width"):
         mdbrief.match(np.zeros((5, 0), np.uint8), np.zeros((5, 0), np.uint8))
     assert mdbrief.match(np.zeros((0, 0), np.uint8), np.zeros((5, 32), np.uint8)) == []
+
+
+UNINITIALISED = [
+    ("Camera.width", lambda: mdbrief.Camera.__new__(mdbrief.Camera).width),
+    ("Camera.pixel_to_bearing", lambda: mdbrief.Camera.__new__(mdbrief.Camera).pixel_to_bearing(np.zeros(2))),
+    ("repr(Camera)", lambda: repr(mdbrief.Camera.__new__(mdbrief.Camera))),
+    ("MdBrief.detect_and_compute",
+     lambda: mdbrief.MdBrief.__new__(mdbrief.MdBrief).detect_and_compute(np.zeros((64, 64), np.uint8))),
+    ("MdBrief.descriptor_size", lambda: mdbrief.MdBrief.__new__(mdbrief.MdBrief).descriptor_size),
+    ("Vocabulary.word_count", lambda: mdbrief.Vocabulary.__new__(mdbrief.Vocabulary).word_count),
+    ("Database.query", lambda: mdbrief.Database.__new__(mdbrief.Database).query(np.zeros((1, 32), np.uint8))),
+    ("len(Database)", lambda: len(mdbrief.Database.__new__(mdbrief.Database))),
+    ("TestSet.name", lambda: mdbrief.TestSet.__new__(mdbrief.TestSet).name),
+    ("len(TestSet)", lambda: len(mdbrief.TestSet.__new__(mdbrief.TestSet))),
+]
+
+
+@pytest.mark.parametrize("case", [c for _, c in UNINITIALISED], ids=[name for name, _ in UNINITIALISED])
+def test_an_object_made_with_new_alone_raises_instead_of_crashing(case):
+    """Issue 29: Camera.__new__(Camera).width crashed (exit 139), Database.__new__(Database).query
+    read garbage and TestSet.__new__(TestSet).name raised MemoryError. Run in a child process, so
+    that a crash fails this test instead of ending the session."""
+    import multiprocessing
+    context = multiprocessing.get_context("fork")
+    queue = context.Queue()
+
+    def child():
+        try:
+            case()
+            queue.put("no exception")
+        except TypeError as e:
+            queue.put("TypeError: " + str(e))
+        except BaseException as e:  # noqa: BLE001 (any other exception is a failure, reported)
+            queue.put(type(e).__name__ + ": " + str(e))
+
+    process = context.Process(target=child)
+    process.start()
+    process.join(60)
+    assert process.exitcode == 0, f"the child died (exit {process.exitcode})"
+    message = queue.get(timeout=5)
+    assert message.startswith("TypeError: ") and "never initialised" in message, message
+
+
+def test_unpickling_still_initialises_the_objects():
+    """Unpickling makes the object with __new__ and initialises it with __setstate__."""
+    import pickle
+    camera = mdbrief.load_camera(str(FISHEYE_CAMERA))
+    again = pickle.loads(pickle.dumps(camera))
+    assert again.width == camera.width and again.parameters == camera.parameters
+    tests = mdbrief.load_pattern(mdbrief.default_pattern())
+    assert len(pickle.loads(pickle.dumps(tests))) == len(tests)

@@ -1,15 +1,19 @@
-"""The tools run as processes, where the shell's limits apply: under `ulimit -f` with SIGXFSZ at
-its default (which kills the writer and left a hidden temporary, issue 29), a write past the limit
-is a failed write: exit 2 naming the file, the previous output unchanged, no temporary."""
+"""Processes and their signals (issue 29). The tools under `ulimit -f` with SIGXFSZ at its default
+(which killed the writer and left a hidden temporary): a write past the limit is a failed write,
+exit 2 naming the file, the previous output unchanged, no temporary. The module under Ctrl-C:
+KeyboardInterrupt, at once and without a crash, also in the middle of a long call."""
 import os
 import pathlib
 import resource
+import signal
 import subprocess
+import sys
+import time
 
 import numpy as np
 import pytest
 
-from conftest import FISHEYE_CAMERA
+from conftest import FISHEYE_CAMERA, OPENCV_DOC
 
 
 def limited(limit_bytes):
@@ -58,3 +62,58 @@ def test_the_vocabulary_trainer_under_a_file_size_limit_exits_2_and_keeps_the_ou
     assert str(out) in r.stderr
     assert out.read_bytes() == b"previous"
     assert hidden(tmp_path) == []
+
+
+def interrupted(code, delay):
+    """Runs code in a child Python whose SIGINT raises KeyboardInterrupt, sends SIGINT `delay` s after
+    the child prints "go"; returns the exit code, the child's other output and the seconds from the
+    signal to the child's answer."""
+    child = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             text=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    answer, sent, answered = "", None, None
+    for line in child.stdout:
+        if line.startswith("go"):
+            time.sleep(delay)
+            sent = time.monotonic()
+            child.send_signal(signal.SIGINT)
+        else:
+            answer, answered = line.strip(), time.monotonic()
+    child.wait(60)
+    return child.returncode, answer + child.stderr.read(), (answered or time.monotonic()) - (sent or 0.0)
+
+
+INTERRUPTIBLE = """
+import mdbrief, numpy as np
+{setup}
+print("go", flush=True)
+try:
+    {call}
+    print("finished")
+except KeyboardInterrupt:
+    print("interrupted")
+"""
+
+
+def test_ctrl_c_during_the_first_match_raises_keyboard_interrupt_without_a_crash():
+    """The first match probes cv2.DMatch's layout after the native matching; a signal that came
+    during the matching made cv2's constructor crash (exit 139)."""
+    code = INTERRUPTIBLE.format(setup="d = np.random.default_rng(1).integers(0, 256, (30000, 64), np.uint8)",
+                                call="mdbrief.match(d, d)")
+    for _ in range(2):
+        returncode, output, _ = interrupted(code, 0.2)
+        assert returncode == 0, output
+        assert output in ("interrupted", "finished"), output
+
+
+def test_ctrl_c_stops_a_long_training_at_once(tmp_path):
+    """Training checks Python's signals between its batches: KeyboardInterrupt came 32 s after SIGINT."""
+    names = ["box_in_scene.png", "building.jpg", "aero1.jpg", "HappyFish.jpg"]
+    if not all((OPENCV_DOC / name).exists() for name in names):
+        pytest.skip("opencv-doc photos not installed")
+    for name in names:
+        (tmp_path / name).write_bytes((OPENCV_DOC / name).read_bytes())
+    code = INTERRUPTIBLE.format(setup="", call=f"mdbrief.train(images={str(tmp_path)!r}, patches=20000, tests=512, "
+                                               "seed=1)")
+    returncode, output, seconds = interrupted(code, 1.0)
+    assert returncode == 0 and output == "interrupted", output
+    assert seconds < 1.0, f"KeyboardInterrupt {seconds:.1f} s after SIGINT"
