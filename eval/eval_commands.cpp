@@ -224,7 +224,8 @@ void addEvalCommand(CLI::App& app) {
       std::vector<std::string> inputs = datasetInputs(a->data, imagePaths);
       inputs.insert(inputs.end(), a->testSets.begin(), a->testSets.end());
       std::vector<std::string> outputs{(fs::path(a->pr.outDir) / "eval_summary.csv").string()};
-      for (const auto& g : groups) outputs.push_back((fs::path(a->pr.outDir) / ("eval_" + g.name + "_curves.csv")).string());
+      for (const auto& g : groups)
+        outputs.push_back((fs::path(a->pr.outDir) / ("eval_" + g.name + "_curves.csv")).string());
       checkOutputsApart(inputs, outputs);
       a->pr.keypointSource = parseKeypointSource(a->keypointsFrom);
       // The footprint study compares sizes on the keypoints the largest footprint keeps.

@@ -78,8 +78,10 @@ std::vector<CameraPose> renderedSequencePoses(int poses) {
 UserSequenceFiles userSequenceFiles(const std::string& dir, int images) {
   namespace fs = std::filesystem;
   UserSequenceFiles files;
-  for (int k = 1; k <= images; ++k) files.images.push_back((fs::path(dir) / ("img" + std::to_string(k) + ".png")).string());
-  for (int k = 2; k <= images; ++k) files.homographies.push_back((fs::path(dir) / ("H1to" + std::to_string(k))).string());
+  for (int k = 1; k <= images; ++k)
+    files.images.push_back((fs::path(dir) / ("img" + std::to_string(k) + ".png")).string());
+  for (int k = 2; k <= images; ++k)
+    files.homographies.push_back((fs::path(dir) / ("H1to" + std::to_string(k))).string());
   files.camera = (fs::path(dir) / "camera.yaml").string();
   return files;
 }

@@ -225,7 +225,8 @@ TEST_F(CameraFileErrors, DuplicateKeysAreRefusedNamingTheKeyAndBothLines) {
   const std::string kalibr = text(formatsDir() / "kalibr_camchain.yaml");
   std::string basalt = text(formatsDir() / "basalt_calib.json");
   basalt.replace(basalt.find("\"fx\":"), 5, "\"fx\": 1, \"fx\":");
-  expectError("project.yaml", text(cameras / "pinhole_example.yaml") + "fx: 400\n", "key 'fx' appears twice, on lines 6 and");
+  expectError("project.yaml", text(cameras / "pinhole_example.yaml") + "fx: 400\n",
+              "key 'fx' appears twice, on lines 6 and");
   expectError("ocam.yaml", text(cameras / "lafida_fisheye0.yaml") + "valid_radius: -5\n",
               "key 'valid_radius' appears twice, on lines 16 and");
   expectError("basalt.json", basalt, "key 'fx' appears twice, on lines 14 and 14");
@@ -233,7 +234,8 @@ TEST_F(CameraFileErrors, DuplicateKeysAreRefusedNamingTheKeyAndBothLines) {
               "key 'image_width' appears twice, on lines 5 and 6");
   expectError("kalibr.yaml", inserted(kalibr, "camera_model", "  camera_model: omni\n"),
               "key 'camera_model' appears twice, on lines 8 and 9");
-  expectError("kalibr_cam0.yaml", kalibr + kalibr.substr(0, kalibr.find("cam1:")), "key 'cam0' appears twice, on lines 1 and");
+  expectError("kalibr_cam0.yaml", kalibr + kalibr.substr(0, kalibr.find("cam1:")),
+              "key 'cam0' appears twice, on lines 1 and");
   const std::string colmap = text(formatsDir() / "colmap_cameras.txt");
   const size_t first = colmap.find("\n1 ") + 1;
   expectError("cameras.txt", colmap + colmap.substr(first, colmap.find('\n', first) - first + 1),

@@ -102,12 +102,14 @@ void run(Args& a, std::ostream& out, bool progressTty) {
   }
   const std::vector<fs::path> files = a.images.empty() ? std::vector<fs::path>{} : imageFiles(a.images);
   std::vector<fs::path> inputs(files.begin(), files.end());
-  for (const auto* list : {&a.descriptors, &a.masks, &a.heldOut}) inputs.insert(inputs.end(), list->begin(), list->end());
+  for (const auto* list : {&a.descriptors, &a.masks, &a.heldOut})
+    inputs.insert(inputs.end(), list->begin(), list->end());
   inputs.push_back(a.camera);
   internal::checkOutputsApart(inputs, {a.out, a.dbow2Text});
 
   ProgressReporter progress(out, progressTty);
-  const std::vector<TrainingImage> images = a.images.empty() ? readDescriptorFiles(a) : describeImages(a, files, features, progress);
+  const std::vector<TrainingImage> images =
+      a.images.empty() ? readDescriptorFiles(a) : describeImages(a, files, features, progress);
   size_t descriptors = 0;
   for (const auto& im : images) descriptors += static_cast<size_t>(im.descriptors.rows);
   const Vocabulary v = trainVocabulary(images, a.training, [&](const std::string& stage, size_t done, size_t total) {
