@@ -48,8 +48,8 @@ index; query returns the entries of highest L1 score. Entry ids are the order of
           "ValueError for a word outside the vocabulary or a value that is not finite and > 0.")
       .def(
           "query",
-          [](const Database& db, const py::handle& descriptors, const py::handle& masks, int maxResults) {
-            return resultsToPython(db.query(bowOf(db, descriptors, masks), maxResults));
+          [](const Database& db, const py::handle& descriptors, const py::handle& masks, const py::int_& maxResults) {
+            return resultsToPython(db.query(bowOf(db, descriptors, masks), saturatedInt(maxResults)));
           },
           py::arg("descriptors"), py::arg("masks") = py::none(), py::kw_only(), py::arg("max_results") = 5, R"doc(
 The at most max_results entries most similar to the image of these descriptors and masks, as a
@@ -57,8 +57,8 @@ list of (entry, score) tuples, best first (equal scores: lower entry first); ent
 word in common are not returned. score is the L1 score in (0, 1].)doc")
       .def(
           "query_bow",
-          [](const Database& db, const py::handle& bow, int maxResults) {
-            return resultsToPython(db.query(bowFromPython(bow, "bow"), maxResults));
+          [](const Database& db, const py::handle& bow, const py::int_& maxResults) {
+            return resultsToPython(db.query(bowFromPython(bow, "bow"), saturatedInt(maxResults)));
           },
           py::arg("bow"), py::kw_only(), py::arg("max_results") = 5, "query from a bag of words {word: value}.")
       .def(

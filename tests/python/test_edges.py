@@ -243,3 +243,31 @@ def test_unpickling_still_initialises_the_objects():
     assert again.width == camera.width and again.parameters == camera.parameters
     tests = mdbrief.load_pattern(mdbrief.default_pattern())
     assert len(pickle.loads(pickle.dumps(tests))) == len(tests)
+
+
+def test_setstate_on_a_live_object_raises():
+    """Issue 29: Camera.__setstate__(other) on a live object was silently ignored."""
+    camera = mdbrief.load_camera(str(FISHEYE_CAMERA))
+    other = mdbrief.load_camera(str(PINHOLE_CAMERA))
+    with pytest.raises(TypeError, match="already"):
+        camera.__setstate__(other.__getstate__())
+    assert camera.model == "ocam"
+
+
+def test_integers_beyond_a_c_int_get_the_range_error():
+    """Issue 29: Camera('pinhole', 2**40, ...) and query(..., max_results=2**31) raised pybind11's
+    "incompatible function arguments"; a width is refused by its range, a huge max_results means all."""
+    with pytest.raises(ValueError, match="'width' must be a positive integer \\(got 1099511627776\\)"):
+        mdbrief.Camera("pinhole", 2**40, 480, fx=400, fy=400, cx=320, cy=240)
+    with pytest.raises(ValueError, match="'height' must be a positive integer"):
+        mdbrief.Camera("pinhole", 640, -2**70, fx=400, fy=400, cx=320, cy=240)
+    vocabulary = mdbrief.Vocabulary.load(str(pathlib.Path(__file__).resolve().parents[2] / "vocabularies" /
+                                             "tracking_k10_L4.mdbvoc"))
+    database = mdbrief.Database(vocabulary)
+    rng = np.random.default_rng(5)
+    descriptors = rng.integers(0, 256, (50, vocabulary.bits // 8), dtype=np.uint8)
+    database.add(descriptors, np.full_like(descriptors, 255) if vocabulary.masked else None)
+    assert len(database.query(descriptors, np.full_like(descriptors, 255) if vocabulary.masked else None,
+                              max_results=2**31)) == 1
+    with pytest.raises(ValueError, match="maxResults must be >= 1"):
+        database.query(descriptors, np.full_like(descriptors, 255) if vocabulary.masked else None, max_results=-2**40)
