@@ -175,6 +175,15 @@ cv::Ptr<MdBrief> makeFeature(const ExtractionFlags& flags, const CameraPtr& cali
       throw InputError(imagePath + ": image size " + sizeText(imageSize) + " differs from the calibration " +
                        flags.camera.path + " (" + sizeText(camera->imageSize()) +
                        "); pass --allow-size-mismatch to rescale the calibration");
+    // Another aspect ratio (752x480 against 480x752, a rotated image) stretches the lens, which
+    // went unsaid (issue 29). Rounding the sides may differ by a pixel.
+    const cv::Size from = camera->imageSize();
+    const double sx = static_cast<double>(imageSize.width) / from.width;
+    const double sy = static_cast<double>(imageSize.height) / from.height;
+    if (std::abs(sx - sy) * std::max(from.width, from.height) > 1.0)
+      std::cerr << "warning: " << imagePath << ": image size " << sizeText(imageSize)
+                << " has another aspect ratio than the calibration " << flags.camera.path << " (" << sizeText(from)
+                << "): --allow-size-mismatch stretches it by " << sx << " across and " << sy << " down\n";
     camera = camera->resized(imageSize);
   }
   const MdBriefOptions options = extractionOptions(flags);

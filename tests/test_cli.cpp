@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -836,6 +837,33 @@ TEST_F(CliTest, ExtractWritesNoOutputWhenAnyImageIsBad) {
   ASSERT_EQ(run({"extract", "--descriptor", "brief", path("a.png"), path("b.png"), "-o", path("out")}).code, 0);
   EXPECT_TRUE(fs::exists(path("out/a.yml")));
   EXPECT_TRUE(fs::exists(path("out/b.yml")));
+}
+
+// Issue 29: --allow-size-mismatch stretched a calibration anisotropically (480x752 against
+// 752x480) without a word. Another aspect ratio is warned about, with both factors; a uniform
+// rescale is not.
+TEST_F(CliTest, AllowSizeMismatchWarnsAboutAnotherAspectRatio) {
+  const cv::Size size = loadCamera(kCamera)->imageSize();
+  cv::Mat rotated(size.width, size.height, CV_8UC1), half(size.height / 2, size.width / 2, CV_8UC1);
+  cv::randu(rotated, 0, 256);
+  cv::randu(half, 0, 256);
+  ASSERT_TRUE(cv::imwrite(path("rotated.png"), rotated));
+  ASSERT_TRUE(cv::imwrite(path("half.png"), half));
+  const Result r = run({"extract", "--camera", kCamera, "--allow-size-mismatch", path("rotated.png"), "-o",
+                        path("r.yml")});
+  EXPECT_EQ(r.code, 0) << r.err;
+  const double across = double(size.height) / size.width, down = double(size.width) / size.height;
+  std::ostringstream factors;
+  factors << "stretches it by " << across << " across and " << down << " down";
+  EXPECT_NE(r.err.find("warning: " + path("rotated.png") + ": image size " + std::to_string(size.height) + "x" +
+                       std::to_string(size.width) + " has another aspect ratio than the calibration"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find(factors.str()), std::string::npos) << r.err;
+  const Result ok = run({"extract", "--camera", kCamera, "--allow-size-mismatch", path("half.png"), "-o",
+                         path("h.yml")});
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  EXPECT_EQ(ok.err.find("aspect ratio"), std::string::npos) << ok.err;
 }
 
 }  // namespace
