@@ -64,6 +64,8 @@ TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
       {{"--camera", (dir.path / "empty").string(), "--out", o}, "empty: calibration file: is a folder"},
       {{"--patches-file", (dir.path / "empty").string(), "--out", o}, "empty: patch file: is a folder"},
       {{"--out", (dir.path / "missing_out").string()}, "missing_out"},
+      // Issue 29: a file was reported as a missing folder.
+      {{"--out", (dir.path / "textonly" / "a.txt").string()}, "a.txt: the output folder is a file, not a folder"},
       {{"--tests", "33", "--out", o}, "multiple of 32"},
       // Before: -1 became 18446744073709551615 patches and the run exited 0; -32 was reported as
       // "exceeds the candidates".

@@ -87,7 +87,8 @@ void validate(const TrainOptions& options) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (!options.out.empty() && !fs::is_directory(options.out, ec))
-    throw std::invalid_argument(options.out + ": output folder does not exist");
+    throw std::invalid_argument(options.out + (fs::exists(options.out, ec) ? ": the output folder is a file, not a folder"
+                                                                           : ": output folder does not exist"));
   if (options.makeDefault && options.out.empty())
     throw std::invalid_argument("make_default needs out (a patterns folder whose registry it changes)");
   const ExtractionOptions& e = options.extraction;
