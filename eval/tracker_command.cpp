@@ -135,6 +135,10 @@ void addTrackerCommand(CLI::App& app) {
       images.insert(images.end(), read.begin(), read.end());
     }
     if (groups.empty()) throw InputError("no data set could be read (see the messages above)");
+    std::vector<std::string> inputs = images;
+    inputs.insert(inputs.end(), a->paths.fisheyeCameras.begin(), a->paths.fisheyeCameras.end());
+    for (const auto& spec : a->library) inputs.push_back(spec.substr(spec.find('=') + 1));
+    checkOutputsApart(inputs, {a->options.outDir + "/tracker_pairs.csv", a->options.outDir + "/tracker_summary.csv"});
     std::vector<MethodSpec> methods;
     for (const auto& p : pipelines)
       if (p.kind == TrackerPipeline::Kind::Library) methods.push_back({p.name, MethodFamily::Library, p.options.descriptor});

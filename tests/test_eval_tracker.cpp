@@ -335,6 +335,21 @@ TEST(TrackerCommand, ADamagedDataSetIsSkippedWithItsReasonOrRefusedWhenNamed) {
   EXPECT_NE(err.find("skipping poster-dev: " + json + ": not a JSON object"), std::string::npos) << err;
 }
 
+// Issue 29: an output that is one of the inputs is refused before the run, the input kept.
+TEST(TrackerCommand, AnOutputThatIsAnInputIsRefused) {
+  FakePosterDev fake;
+  testing::TempDir out("tracker_same"), noPhotos("tracker_same_no_photos");
+  const std::string summary = (out.path / "tracker_summary.csv").string();
+  std::ofstream(summary) << "previous results\n";
+  ::testing::internal::CaptureStderr();
+  const std::string message =
+      runTrackerCommand({"--data", fake.data.path.string(), "--opencv-doc-dir", noPhotos.path.string(), "--only",
+                         "AKAZE", "--fisheye-camera", summary, "--out", out.path.string()});
+  ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(message.find("the output is the same file as the input " + summary), std::string::npos) << message;
+  EXPECT_EQ(testing::readFile(summary), "previous results\n");
+}
+
 TEST(PosterDev, TheSharedFramesGiveFortyFivePairs) {
   MDBRIEF_REQUIRE_SHARED_DATA(data);
   if (!std::filesystem::exists(data / "fisheye" / "poster-dev" / "ground_truth.json"))
