@@ -53,6 +53,12 @@ py::tuple testSetState(const TestSet& set) {
 
 // A set from Python: tests as (N, 4) rows (x1, y1, x2, y2) of offsets in [-16, 15].
 TestSet makeTestSet(const std::string& name, const py::handle& rows, const std::vector<std::string>& trainingImages) {
+  // Refused here, not first at save() (issue 29: TestSet('A B', ...) was accepted).
+  try {
+    requirePatternName(name);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(std::string("TestSet: ") + e.what());
+  }
   TestSet set;
   set.name = name;
   set.trainingImages = trainingImages;

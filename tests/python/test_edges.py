@@ -271,3 +271,12 @@ def test_integers_beyond_a_c_int_get_the_range_error():
                               max_results=2**31)) == 1
     with pytest.raises(ValueError, match="maxResults must be >= 1"):
         database.query(descriptors, np.full_like(descriptors, 255) if vocabulary.masked else None, max_results=-2**40)
+
+
+def test_a_set_name_the_registry_refuses_is_refused_at_once(tmp_path):
+    """Issue 29: TestSet('A B', ...) and train(name='A B') were accepted, then refused at save()."""
+    with pytest.raises(ValueError, match="pattern name 'A B' must match"):
+        mdbrief.TestSet("A B", [[0, 0, 1, 1]] * 32)
+    with pytest.raises(ValueError, match="pattern name 'A B' must match"):
+        mdbrief.train(images=str(tmp_path), name="A B")
+    assert mdbrief.TestSet("a_b", [[0, 0, 1, 1]] * 32).name == "a_b"
