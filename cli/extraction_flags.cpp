@@ -142,12 +142,19 @@ CameraPtr loadCalibration(const ExtractionFlags& flags) {
 
 cv::Mat loadImage(const std::string& path, bool strict) {
   requireReadableFile(path);
-  if (const std::string problem = truncationProblem(path); !problem.empty()) {
-    if (strict) throw InputError(path + ": " + problem + " (--strict)");
-    std::cerr << "warning: " << path << ": " << problem << "; describing the decodable part\n";
-  }
+  const std::string truncation = truncationProblem(path);
+  if (!truncation.empty() && strict) throw InputError(path + ": " + truncation + " (--strict)");
   const cv::Mat image = decodeGreyImage(path);
-  if (image.empty()) throw InputError(path + ": cannot decode the image (unsupported format or truncated file)");
+  // One message for a failure (a truncated file said "describing the decodable part", then
+  // "cannot decode"), naming an image too large to decode as such (issue 29).
+  if (image.empty()) {
+    if (!truncation.empty())  // "truncated PNG (no IEND chunk)", without the claim that a part decodes
+      throw InputError(path + ": cannot decode the image: " + truncation.substr(0, truncation.find(':')));
+    if (const std::string size = imageSizeProblem(path); !size.empty())
+      throw InputError(path + ": cannot decode the image: " + size);
+    throw InputError(path + ": cannot decode the image (unsupported format or damaged file)");
+  }
+  if (!truncation.empty()) std::cerr << "warning: " << path << ": " << truncation << "; describing the decodable part\n";
   return image;
 }
 

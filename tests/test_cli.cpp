@@ -866,5 +866,38 @@ TEST_F(CliTest, AllowSizeMismatchWarnsAboutAnotherAspectRatio) {
   EXPECT_EQ(ok.err.find("aspect ratio"), std::string::npos) << ok.err;
 }
 
+// A PNG chunk: length, type, data and the CRC-32 of type and data.
+std::string pngChunk(const std::string& type, const std::string& data) {
+  const auto bigEndian = [](uint32_t v) {
+    return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+  };
+  uint32_t crc = 0xFFFFFFFFu;
+  for (const char c : type + data) {
+    crc ^= static_cast<unsigned char>(c);
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+  }
+  return bigEndian(static_cast<uint32_t>(data.size())) + type + data + bigEndian(~crc);
+}
+
+// Issue 29: a 60000x60000 PNG was "unsupported format or truncated", and a PNG cut in half was
+// warned about as "describing the decodable part" before "cannot decode". One message each.
+TEST_F(CliTest, ImagesThatDoNotDecodeSayWhy) {
+  const std::string side = std::string{0, 0, char(0xEA), 0x60};  // 60000
+  const std::string header = side + side + std::string{8, 0, 0, 0, 0};
+  std::ofstream(path("huge.png"), std::ios::binary)
+      << "\x89PNG\r\n\x1a\n" + pngChunk("IHDR", header) + pngChunk("IDAT", "") + pngChunk("IEND", "");
+  expectOneLineNaming(run({"extract", "--descriptor", "brief", path("huge.png"), "-o", path("h.yml")}),
+                      path("huge.png") + ": cannot decode the image: 60000x60000 = 3600000000 pixels, over the "
+                                         "1073741824 OpenCV decodes (CV_IO_MAX_IMAGE_PIXELS)");
+  cv::Mat pixels(200, 200, CV_8UC1);
+  cv::randu(pixels, 0, 256);
+  std::vector<uchar> png;
+  ASSERT_TRUE(cv::imencode(".png", pixels, png));
+  std::ofstream(path("half.png"), std::ios::binary).write(reinterpret_cast<const char*>(png.data()), 60);
+  const Result r = run({"extract", "--descriptor", "brief", path("half.png"), "-o", path("h.yml")});
+  expectOneLineNaming(r, path("half.png") + ": cannot decode the image: truncated PNG (no IEND chunk)\n");
+  EXPECT_EQ(r.err.find("describing the decodable part"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace mdbrief

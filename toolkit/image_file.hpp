@@ -14,6 +14,11 @@ namespace mdbrief {
 // checked (""). An unreadable file gives "cannot read the file".
 std::string truncationProblem(const std::filesystem::path& path);
 
+// "" unless the image size a PNG's or a JPEG's header declares is beyond what OpenCV decodes (its
+// CV_IO_MAX_IMAGE_PIXELS, default 2^30 pixels, and CV_IO_MAX_IMAGE_WIDTH / _HEIGHT, default
+// 2^20), else the size and the limit it exceeds: OpenCV itself only fails to decode it.
+std::string imageSizeProblem(const std::filesystem::path& path);
+
 // The file decoded as 8-bit grey (cv::IMREAD_GRAYSCALE), or an empty Mat when it is missing or
 // no decoder reads it (decoder exceptions included). Check truncationProblem first where a
 // partly decoded image matters.
