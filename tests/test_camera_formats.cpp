@@ -242,6 +242,23 @@ TEST_F(CameraFileErrors, DuplicateKeysAreRefusedNamingTheKeyAndBothLines) {
               "CAMERA_ID 1 appears twice, on lines");
 }
 
+// Issue 29: COLMAP files with a lower-case model or a negative CAMERA_ID were taken for OCamCalib
+// files, one with a byte order mark was unrecognised, and so was a Kalibr file with a merge key.
+TEST_F(CameraFileErrors, ColmapLookAlikesAndMergeKeysGetTheirOwnMessages) {
+  const std::string colmap = mdbrief::testing::readFile(formatsDir() / "colmap_cameras.txt");
+  std::string lower = colmap, negative = colmap;
+  lower.replace(lower.find("PINHOLE 1024 768"), 7, "pinhole");
+  negative.replace(negative.find("\n1 OPENCV_FISHEYE"), 2, "\n-1");
+  expectError("lower.txt", lower, "model pinhole has no camera model here", {CameraFormat::Auto, "5"});
+  expectError("lower.txt", lower, "COLMAP's model names are upper case: PINHOLE", {CameraFormat::Auto, "5"});
+  expectError("negative.txt", negative, ": CAMERA_ID -1 must be a non-negative integer");
+  const fs::path bom = dir_ / "bom.txt";
+  std::ofstream(bom) << "\xEF\xBB\xBF" + colmap;
+  EXPECT_EQ(readCameraFile(bom.string(), {CameraFormat::Auto, "5"}).format, CameraFormat::Colmap);
+  expectError("merge.yaml", "base: &base\n  camera_model: pinhole\ncam0:\n  <<: *base\n  resolution: [752, 480]\n",
+              "line 4: YAML merge keys ('<<') are not supported");
+}
+
 TEST_F(CameraFileErrors, AnExplicitFormatReadsOnlyThatFormat) {
   const fs::path kalibr = formatsDir() / "kalibr_camchain.yaml";
   EXPECT_NE(errorOf(kalibr, {CameraFormat::Basalt, ""}).find("key 'value0' is missing"), std::string::npos);

@@ -238,6 +238,8 @@ const std::vector<FileFormat>& fileFormats() {
 
 // yaml-cpp keeps the first of two equal keys of a map and drops the other without a word (issue
 // 29: an appended `fx`, or a second `cam0`, was ignored). Throws naming the key and both lines.
+// A YAML 1.1 merge key (`<<: *base`), which yaml-cpp leaves unmerged, is refused as such: the
+// file was "unrecognised".
 // The walk stops after as many nodes as the text has bytes: only aliases make more, and their
 // expansion could be exponential.
 void requireUniqueKeys(const std::string& path, const YAML::Node& root, std::size_t textBytes) {
@@ -253,6 +255,9 @@ void requireUniqueKeys(const std::string& path, const YAML::Node& root, std::siz
       pending.push_back(entry.second);
       if (!entry.first.IsScalar()) continue;
       const int line = entry.first.Mark().line + 1;
+      if (entry.first.Scalar() == "<<" && entry.first.Tag() != "!")
+        throw std::runtime_error(path + ": line " + std::to_string(line) +
+                                 ": YAML merge keys ('<<') are not supported; write the keys out");
       const auto [first, fresh] = lines.emplace(entry.first.Scalar(), line);
       if (!fresh)
         throw std::runtime_error(path + ": key '" + entry.first.Scalar() + "' appears twice, on lines " +
