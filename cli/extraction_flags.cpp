@@ -1,6 +1,7 @@
 #include "cli/extraction_flags.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -13,6 +14,7 @@
 #include "cli/commands.hpp"
 #include "cli/storage_io.hpp"
 #include "mdbrief/camera_io.hpp"
+#include "mdbrief/internal/framed_file.hpp"
 #include "mdbrief/internal/input_file.hpp"
 #include "mdbrief/internal/size_text.hpp"
 #include "mdbrief/presets.hpp"
@@ -202,10 +204,25 @@ cv::Ptr<MdBrief> makeFeature(const ExtractionFlags& flags, const CameraPtr& cali
   }
 }
 
+std::string contentDigest(const void* data, size_t size) {
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx",
+                static_cast<unsigned long long>(internal::contentChecksum(static_cast<const uint8_t*>(data), size)));
+  return hex;
+}
+
+std::string cameraDigest(const Camera& camera) {
+  const std::string yaml = cameraToYaml(camera);
+  return contentDigest(yaml.data(), yaml.size());
+}
+
 Features extractFeatures(const ExtractionFlags& flags, const CameraPtr& calibration, const std::string& imagePath,
                          const cv::Mat& image, const std::optional<std::vector<cv::KeyPoint>>& given) {
   const cv::Ptr<MdBrief> feature = makeFeature(flags, calibration, imagePath, image.size());
   Features f;
+  const TestSet& tests = feature->extractor().testSet();
+  f.provenance = {tests.name, contentDigest(tests.tests.data(), tests.tests.size() * sizeof(TestPair)),
+                  calibration ? cameraDigest(*calibration) : ""};
   if (given) f.keypoints = *given;
   try {
     feature->detectAndComputeWithMasks(image, cv::noArray(), f.keypoints, f.descriptors, f.masks, given.has_value());

@@ -178,6 +178,9 @@ void writeFeatures(cv::FileStorage& storage, const Features& features) {
   cv::write(storage, "keypoints", features.keypoints);
   storage << "descriptors" << features.descriptors;
   if (!features.masks.empty()) storage << "masks" << features.masks;
+  const Provenance& p = features.provenance;
+  if (!p.testSet.empty()) storage << "test_set" << p.testSet << "test_set_digest" << p.testSetDigest;
+  if (!p.cameraDigest.empty()) storage << "camera_digest" << p.cameraDigest;
 }
 
 }  // namespace
@@ -330,9 +333,23 @@ cv::Mat StorageReader::matrix(const std::string& key) const {
   return out;
 }
 
+std::string StorageReader::text(const std::string& key) const {
+  if (parsed_->storage.isOpened()) {
+    const cv::FileNode node = parsed_->storage[key];
+    if (node.empty()) return "";
+    if (!node.isString()) throw InputError(path_ + ": node '" + key + "': expected text");
+    return node.string();
+  }
+  const YAML::Node node = std::as_const(parsed_->yaml)[key];
+  if (!node || node.IsNull()) return "";
+  if (!node.IsScalar()) throw InputError(path_ + ": node '" + key + "': expected text");
+  return node.Scalar();
+}
+
 Features readFeatureFile(const std::string& path) {
   Features f;
   const StorageReader storage(path);
+  f.provenance = {storage.text("test_set"), storage.text("test_set_digest"), storage.text("camera_digest")};
   if (!storage.has("descriptors")) throw InputError(path + ": no node 'descriptors'");
   f.descriptors = storage.matrix("descriptors");
   f.masks = storage.matrix("masks");

@@ -59,6 +59,8 @@ class StorageReader {
   // A single-channel 2-D matrix as cv::FileStorage stores it (opencv-matrix: rows, cols, dt in
   // u, c, w, s, i, f, d, and rows x cols values in data).
   cv::Mat matrix(const std::string& key) const;
+  // A scalar node as text, "" when it is missing.
+  std::string text(const std::string& key) const;
 
  private:
   struct Parsed;
@@ -66,8 +68,9 @@ class StorageReader {
   std::unique_ptr<Parsed> parsed_;
 };
 
-// features[i] into paths[i], nodes `keypoints` (cv::write), `descriptors` (N x bytes CV_8U) and,
-// when not empty, `masks` (N x bytes CV_8U). The files are replaced as one set: a failure leaves
+// features[i] into paths[i], nodes `keypoints` (cv::write), `descriptors` (N x bytes CV_8U),
+// when not empty `masks` (N x bytes CV_8U), and the provenance: `test_set`, `test_set_digest`
+// and, with a calibration, `camera_digest`. The files are replaced as one set: a failure leaves
 // every previous file.
 void writeFeatureFiles(const std::vector<std::filesystem::path>& paths, const std::vector<Features>& features);
 // Reads a file written by writeFeatureFiles; `keypoints` and `masks` are optional, descriptors

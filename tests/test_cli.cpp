@@ -899,5 +899,38 @@ TEST_F(CliTest, ImagesThatDoNotDecodeSayWhy) {
   EXPECT_EQ(r.err.find("describing the decodable part"), std::string::npos) << r.err;
 }
 
+// Issue 29: match could not tell files of two test sets apart, nor that --inliers --camera named
+// another lens than the one that described them. Feature files record both; match refuses a
+// mismatch and still reads files without the record.
+TEST_F(CliTest, MatchRefusesFilesOfAnotherTestSetOrLens) {
+  REQUIRE_IMAGE(image, "view.png");
+  ASSERT_EQ(run({"extract", "--camera", kCamera, image, "-o", path("a.yml")}).code, 0);
+  ASSERT_EQ(run({"extract", "--camera", kCamera, "--pattern", "brief_random_512", image, "-o", path("r.yml")}).code,
+            0);
+  const FeatureFile a = readFeatures(path("a.yml"));
+  cv::FileStorage recorded(path("a.yml"), cv::FileStorage::READ);
+  EXPECT_EQ(recorded["test_set_digest"].string().size(), 16u);
+  EXPECT_EQ(recorded["camera_digest"].string(), cli::cameraDigest(*loadCamera(kCamera)));
+  expectOneLineNaming(run({"match", path("a.yml"), path("r.yml"), "-o", path("m.yml")}),
+                      "described with different test sets (");
+  const std::string pinhole = (testing::sourceDir() / "configs/cameras/pinhole_example.yaml").string();
+  expectOneLineNaming(run({"match", path("a.yml"), path("a.yml"), "--inliers", "--camera", pinhole, "-o", path("m.yml")}),
+                      "--camera " + pinhole + ": not the calibration " + path("a.yml") + " was described with");
+  EXPECT_FALSE(fs::exists(path("m.yml")));
+  const Result same = run({"match", path("a.yml"), path("a.yml"), "--inliers", "--camera", kCamera, "-o", path("m.yml")});
+  EXPECT_EQ(same.code, 0) << same.err;
+  // A file without the record (written before it) matches as before.
+  cli::Features old;
+  old.keypoints = a.keypoints;
+  old.descriptors = a.descriptors;
+  old.masks = a.masks;
+  cli::writeFeatureFiles({path("old.yml")}, {old});
+  const Result older = run({"match", path("old.yml"), path("r.yml"), "--inliers", "--camera", pinhole, "-o",
+                            path("m.yml")});
+  EXPECT_NE(older.err.find("not the calibration " + path("r.yml")), std::string::npos) << older.err;
+  EXPECT_EQ(run({"match", path("old.yml"), path("a.yml"), "--inliers", "--camera", kCamera, "-o", path("m.yml")}).code,
+            0);
+}
+
 }  // namespace
 }  // namespace mdbrief
