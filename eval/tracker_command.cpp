@@ -9,6 +9,7 @@
 #include "command_helpers.hpp"
 #include "eval_commands.hpp"
 #include "held_out.hpp"
+#include "mdbrief/internal/input_file.hpp"
 #include "poster_dev.hpp"
 #include "tracker_experiment.hpp"
 #include "toolkit/photo_camera.hpp"
@@ -31,6 +32,9 @@ std::vector<TrackerPipeline> libraryPipelines(const std::vector<std::string>& sp
     const auto eq = s.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == s.size()) throw InputError("--library " + s + ": expected name=file");
     const std::string path = s.substr(eq + 1);
+    // A regular file of a few options: a FIFO or /dev/zero blocked or ran without end (issue 29).
+    if (const std::string problem = internal::inputFileProblem(path); !problem.empty())
+      throw InputError(path + ": library options file: " + problem);
     cv::FileStorage fs;
     try {
       fs.open(path, cv::FileStorage::READ);
