@@ -109,6 +109,8 @@ TEST(TrainVocabularyCli, BadInputExitsWith2NamingTheProblemAndWritesNothing) {
       {{"--descriptors", inputs[1], "--masks", inputs[5], inputs[6], "--out", out}, "--masks: 2 files for 1"},
       {{"--descriptors", (dir.path / "missing.npy").string(), "--out", out}, "no such file"},
       {{"--images", (dir.path / "missing").string(), "--out", out}, "no such image or folder"},
+      // Issue 29: a device was "no such image or folder".
+      {{"--images", "/dev/zero", "--out", out}, "/dev/zero: is a character device, not a regular file"},
       {{"--images", dir.path.string(), "--bits", "100", "--out", out}, "bits"},
       {{"--images", dir.path.string(), "--nfeatures", "0", "--out", out}, "--nfeatures"},
       {{"--images", dir.path.string(), "--features", "orb", "--nfeatures", "-1", "--out", out}, "--nfeatures"},
