@@ -76,6 +76,13 @@ void addSimCommand(CLI::App& app) {
     if (o->bits % 32) throw InputError("--bits " + std::to_string(o->bits) + ": must be a multiple of 32");
     o->runProjected = !*noProjected;
     o->runDetected = !*noDetected;
+    // Every file sim writes is a "sim_*" in --out: an input of such a name there may be one.
+    std::vector<std::string> inputs{o->texturePath}, outputs;
+    for (const auto& spec : *cams) inputs.push_back(spec.substr(spec.find('=') + 1));
+    for (const auto& input : inputs)
+      if (fs::path(input).filename().string().rfind("sim_", 0) == 0)
+        outputs.push_back((fs::path(o->outDir) / fs::path(input).filename()).string());
+    checkOutputsApart(inputs, outputs);
     const auto cameras = parseCameras(*cams);
     loadGreyOrThrow(o->texturePath);
     // The simulation describes the texture with the default test set.

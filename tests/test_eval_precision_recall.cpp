@@ -318,7 +318,10 @@ TEST(EvalCli, AnOutputThatIsAnInputIsRefused) {
       {"export-rotated-views", "--camera", camera.string(), "--image", photo.string(), "--out", out.string()},
       {"held-out-images", "--only", photo.string(), "--out", photo.string()},
       {"timing", "--camera", camera.string(), "--texture", timingTexture.string(), "--out", dir.path.string()},
+      // A former output of sim as its texture.
+      {"sim", "--texture", (out / "sim_pinhole_views.png").string(), "--out", out.string()},
   };
+  fs::copy_file(photo, out / "sim_pinhole_views.png");
   for (const auto& args : cases) {
     const EvalRun r = runEval(args);
     EXPECT_EQ(r.code, 2) << args[0] << ": " << r.err;
@@ -327,6 +330,7 @@ TEST(EvalCli, AnOutputThatIsAnInputIsRefused) {
   EXPECT_EQ(testing::readFile(camera), cameraBytes);
   EXPECT_EQ(testing::readFile(photo), photoBytes);
   EXPECT_EQ(testing::readFile(dir.path / "timing_table.csv"), photoBytes);
+  EXPECT_EQ(testing::readFile(out / "sim_pinhole_views.png"), photoBytes);
   EXPECT_FALSE(fs::exists(out / "img1.png"));
 }
 
