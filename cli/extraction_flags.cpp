@@ -99,7 +99,8 @@ void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
   cmd.add_flag("--allow-size-mismatch", flags.allowSizeMismatch,
                "Rescale the calibration to the image size instead of rejecting a different size");
   cmd.add_flag("--strict", flags.strict,
-               "Reject a truncated (partly decodable) JPEG or PNG instead of warning and describing what decodes");
+               "Reject a truncated (partly decodable) JPEG or PNG, or a JPEG with damaged data, instead of warning "
+               "and describing what decodes");
 }
 
 MdBriefOptions extractionOptions(const ExtractionFlags& flags) {
@@ -146,6 +147,10 @@ cv::Mat loadImage(const std::string& path, bool strict) {
   requireReadableFile(path);
   const std::string truncation = truncationProblem(path);
   if (!truncation.empty() && strict) throw InputError(path + ": " + truncation + " (--strict)");
+  // Damage inside a complete JPEG, which OpenCV decodes with libjpeg's unnamed warning (issue 29):
+  // refused under --strict before OpenCV runs, else named once the image decoded.
+  const std::string damage = truncation.empty() ? jpegDataProblem(path) : "";
+  if (!damage.empty() && strict) throw InputError(path + ": damaged JPEG: " + damage + " (--strict)");
   const cv::Mat image = decodeGreyImage(path);
   // One message for a failure (a truncated file said "describing the decodable part", then
   // "cannot decode"), naming an image too large to decode as such (issue 29).
@@ -157,6 +162,7 @@ cv::Mat loadImage(const std::string& path, bool strict) {
     throw InputError(path + ": cannot decode the image (unsupported format or damaged file)");
   }
   if (!truncation.empty()) std::cerr << "warning: " << path << ": " << truncation << "; describing the decodable part\n";
+  if (!damage.empty()) std::cerr << "warning: " << path << ": damaged JPEG: " << damage << "; describing what decodes\n";
   return image;
 }
 

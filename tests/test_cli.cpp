@@ -866,6 +866,8 @@ TEST_F(CliTest, AllowSizeMismatchWarnsAboutAnotherAspectRatio) {
   EXPECT_EQ(ok.err.find("aspect ratio"), std::string::npos) << ok.err;
 }
 
+const std::vector<uchar> kStartOfScan{0xFF, 0xDA};
+
 // A PNG chunk: length, type, data and the CRC-32 of type and data.
 std::string pngChunk(const std::string& type, const std::string& data) {
   const auto bigEndian = [](uint32_t v) {
@@ -930,6 +932,34 @@ TEST_F(CliTest, MatchRefusesFilesOfAnotherTestSetOrLens) {
   EXPECT_NE(older.err.find("not the calibration " + path("r.yml")), std::string::npos) << older.err;
   EXPECT_EQ(run({"match", path("old.yml"), path("a.yml"), "--inliers", "--camera", kCamera, "-o", path("m.yml")}).code,
             0);
+}
+
+// Issue 29: --strict passed a complete JPEG with flipped bits (half the keypoints, exit 0), with
+// only libjpeg's unnamed "Corrupt JPEG data" line. libjpeg's warnings name the file; --strict
+// refuses it.
+TEST_F(CliTest, AJpegWithDamagedDataIsNamedAndRefusedUnderStrict) {
+  cv::Mat pixels(240, 320, CV_8UC1);
+  cv::randu(pixels, 0, 256);
+  std::vector<uchar> jpeg;
+  ASSERT_TRUE(cv::imencode(".jpg", pixels, jpeg));
+  ASSERT_TRUE(cv::imwrite(path("intact.jpg"), pixels));
+  // Flipped bits in the middle of the entropy-coded data; no byte becomes a marker (0xFF).
+  const size_t scan = std::search(jpeg.begin(), jpeg.end(), kStartOfScan.begin(), kStartOfScan.end()) - jpeg.begin();
+  for (size_t i = scan + (jpeg.size() - scan) / 2, end = i + 64; i < end; i += 4)
+    if (jpeg[i] != 0xFF && (jpeg[i] ^ 0x5A) != 0xFF) jpeg[i] ^= 0x5A;
+  std::ofstream(path("flipped.jpg"), std::ios::binary).write(reinterpret_cast<const char*>(jpeg.data()),
+                                                             static_cast<std::streamsize>(jpeg.size()));
+  expectOneLineNaming(run({"extract", "--descriptor", "brief", "--strict", path("flipped.jpg"), "-o", path("f.yml")}),
+                      path("flipped.jpg") + ": damaged JPEG: Corrupt JPEG data");
+  EXPECT_FALSE(fs::exists(path("f.yml")));
+  const Result lenient = run({"extract", "--descriptor", "brief", path("flipped.jpg"), "-o", path("f.yml")});
+  EXPECT_EQ(lenient.code, 0) << lenient.err;
+  EXPECT_NE(lenient.err.find("warning: " + path("flipped.jpg") + ": damaged JPEG: Corrupt JPEG data"),
+            std::string::npos)
+      << lenient.err;
+  const Result intact = run({"extract", "--descriptor", "brief", "--strict", path("intact.jpg"), "-o", path("i.yml")});
+  EXPECT_EQ(intact.code, 0) << intact.err;
+  EXPECT_EQ(intact.err, "");
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <csetjmp>
+#include <cstdio>
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
@@ -11,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include <jpeglib.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "mdbrief/internal/atomic_file.hpp"
@@ -74,6 +77,64 @@ uint64_t limitFromEnvironment(const char* name, uint64_t fallback) {
 }
 
 }  // namespace
+
+namespace {
+
+// libjpeg's error manager, recording instead of printing: the first warning, or the error that
+// ended the decoding (longjmp back to jpegDataProblem).
+struct RecordingErrors {
+  jpeg_error_mgr manager;
+  std::jmp_buf escape;
+  char message[JMSG_LENGTH_MAX];
+  bool recorded;
+};
+
+void recordMessage(j_common_ptr info, int level) {
+  auto* errors = reinterpret_cast<RecordingErrors*>(info->err);
+  if (level < 0 && !errors->recorded) {  // a warning (level >= 0: trace messages)
+    info->err->format_message(info, errors->message);
+    errors->recorded = true;
+  }
+}
+
+[[noreturn]] void recordErrorAndEscape(j_common_ptr info) {
+  auto* errors = reinterpret_cast<RecordingErrors*>(info->err);
+  info->err->format_message(info, errors->message);
+  errors->recorded = true;
+  std::longjmp(errors->escape, 1);
+}
+
+// Decodes the whole JPEG to grey, every scanline, so that libjpeg meets every damaged segment.
+// Only C objects live between setjmp and longjmp; the row is libjpeg's, freed with it.
+std::string decodeJpegRecording(const std::vector<unsigned char>& bytes) {
+  jpeg_decompress_struct info{};
+  RecordingErrors errors{};
+  info.err = jpeg_std_error(&errors.manager);
+  errors.manager.emit_message = recordMessage;
+  errors.manager.error_exit = recordErrorAndEscape;
+  if (setjmp(errors.escape) == 0) {
+    jpeg_create_decompress(&info);
+    jpeg_mem_src(&info, bytes.data(), static_cast<unsigned long>(bytes.size()));
+    jpeg_read_header(&info, TRUE);
+    info.out_color_space = JCS_GRAYSCALE;
+    jpeg_start_decompress(&info);
+    JSAMPARRAY row = (*info.mem->alloc_sarray)(reinterpret_cast<j_common_ptr>(&info), JPOOL_IMAGE,
+                                               info.output_width * info.output_components, 1);
+    while (info.output_scanline < info.output_height) jpeg_read_scanlines(&info, row, 1);
+    jpeg_finish_decompress(&info);
+  }
+  jpeg_destroy_decompress(&info);
+  return errors.recorded ? errors.message : "";
+}
+
+}  // namespace
+
+std::string jpegDataProblem(const std::filesystem::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  if (bytes.size() < 2 || bytes[0] != 0xFF || bytes[1] != 0xD8) return "";
+  return decodeJpegRecording(bytes);
+}
 
 std::string imageSizeProblem(const std::filesystem::path& path) {
   std::ifstream f(path, std::ios::binary);
