@@ -939,14 +939,15 @@ TEST_F(CliTest, MatchRefusesFilesOfAnotherTestSetOrLens) {
 // refuses it.
 TEST_F(CliTest, AJpegWithDamagedDataIsNamedAndRefusedUnderStrict) {
   cv::Mat pixels(240, 320, CV_8UC1);
-  cv::randu(pixels, 0, 256);
+  cv::RNG(29).fill(pixels, cv::RNG::UNIFORM, 0, 256);
   std::vector<uchar> jpeg;
   ASSERT_TRUE(cv::imencode(".jpg", pixels, jpeg));
   ASSERT_TRUE(cv::imwrite(path("intact.jpg"), pixels));
-  // Flipped bits in the middle of the entropy-coded data; no byte becomes a marker (0xFF).
+  // Flipped bits in the middle of the entropy-coded data; no marker (0xFF and the byte after it)
+  // is made or changed.
   const size_t scan = std::search(jpeg.begin(), jpeg.end(), kStartOfScan.begin(), kStartOfScan.end()) - jpeg.begin();
   for (size_t i = scan + (jpeg.size() - scan) / 2, end = i + 64; i < end; i += 4)
-    if (jpeg[i] != 0xFF && (jpeg[i] ^ 0x5A) != 0xFF) jpeg[i] ^= 0x5A;
+    if (jpeg[i] != 0xFF && jpeg[i - 1] != 0xFF && (jpeg[i] ^ 0x5A) != 0xFF) jpeg[i] ^= 0x5A;
   std::ofstream(path("flipped.jpg"), std::ios::binary).write(reinterpret_cast<const char*>(jpeg.data()),
                                                              static_cast<std::streamsize>(jpeg.size()));
   expectOneLineNaming(run({"extract", "--descriptor", "brief", "--strict", path("flipped.jpg"), "-o", path("f.yml")}),
