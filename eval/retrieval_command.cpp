@@ -100,7 +100,7 @@ void addRetrievalCommand(CLI::App& app) {
       inputs.insert(inputs.end(), read.begin(), read.end());
     }
     if (groups.empty()) throw InputError("no data set could be read (see the messages above)");
-    checkOutputsApart(inputs, {a->options.outDir + "/retrieval.csv", a->options.outDir + "/retrieval_speed.csv"});
+    checkOutputsApart(inputs, retrievalOutputs(a->options));
     asInputErrors([&] { runRetrieval(groups, training, distractors, a->options); });
   });
 }

@@ -188,13 +188,15 @@ TEST(RetrievalCli, AnOutputThatIsAnInputIsRefused) {
   const fs::path photos = dir.path / "photos";
   fs::create_directories(photos);
   writeTextures(photos, "p", 1, 3);
-  const std::string csv = (dir.path / "retrieval.csv").string();
-  std::ofstream(csv) << "previous results\n";
-  const EvalRun r = runRetrievalCli({"--photos", photos.string(), "--training-count", "2", "--data", data.string(),
-                                     "--datasets", "oxford", "--fisheye-camera", csv, "--out", dir.path.string()});
-  EXPECT_EQ(r.code, 2) << r.err;
-  EXPECT_NE(r.err.find("the output is the same file as the input " + csv), std::string::npos) << r.err;
-  EXPECT_EQ(testing::readFile(csv), "previous results\n");
+  for (const char* name : {"retrieval.csv", "orb.dbow2.txt"}) {
+    const std::string output = (dir.path / name).string();
+    std::ofstream(output) << "previous results\n";
+    const EvalRun r = runRetrievalCli({"--photos", photos.string(), "--training-count", "2", "--data", data.string(),
+                                       "--datasets", "oxford", "--fisheye-camera", output, "--out", dir.path.string()});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("the output is the same file as the input " + output), std::string::npos) << r.err;
+    EXPECT_EQ(testing::readFile(output), "previous results\n");
+  }
 }
 
 }  // namespace
