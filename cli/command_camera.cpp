@@ -1,6 +1,7 @@
 // `mdbrief camera convert`: a calibration of any format loadCamera reads (Kalibr, basalt,
 // ORB-SLAM3, OpenCV, COLMAP, OCamCalib, fisheye-calib-adapter, the project's YAML) written as the
 // project's YAML (configs/cameras/README.md), to a file or to stdout.
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -19,8 +20,13 @@ struct ConvertArgs {
 
 void runConvert(const ConvertArgs& args) {
   if (!args.output.empty()) {
+    // The project's format is YAML: `-o out.json` wrote YAML into a .json file (issue 29).
+    const std::string extension = std::filesystem::path(args.output).extension().string();
+    if (extension != ".yaml" && extension != ".yml")
+      throw InputError(args.output + ": the output is the project's YAML and must end in .yaml or .yml");
     try {
       internal::checkOutputPath(args.output);
+      internal::checkOutputsApart({args.input.path}, {args.output});
     } catch (const std::runtime_error& e) {
       throw InputError(e.what());
     }

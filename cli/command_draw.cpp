@@ -102,6 +102,9 @@ void runDraw(const DrawArgs& args) {
   if (args.other.empty() != args.matches.empty()) throw InputError("--other and --matches go together");
   if (!args.homography.empty() && args.matches.empty()) throw InputError("--homography needs --matches");
   checkImageOutput(args.output);
+  checkOutputsApart({args.flags.camera.path, args.image, args.keypoints, args.other, args.otherKeypoints, args.matches,
+                     args.homography},
+                    {args.output});
   const CameraPtr calibration = loadCalibration(args.flags);
   const cv::Mat image = loadImage(args.image, args.flags.strict);
   std::optional<std::vector<cv::KeyPoint>> given;

@@ -43,15 +43,23 @@ std::vector<fs::path> outputPaths(const ExtractArgs& args) {
 void runExtract(const ExtractArgs& args) {
   // Check everything cheap before the first (slow) image so a typo fails at once.
   const std::vector<fs::path> outputs = outputPaths(args);
+  std::vector<fs::path> inputs(args.images.begin(), args.images.end());
+  inputs.insert(inputs.end(), {args.flags.camera.path, args.keypoints});
+  checkOutputsApart(inputs, outputs);
   const CameraPtr calibration = loadCalibration(args.flags);
   std::optional<std::vector<cv::KeyPoint>> given;
   if (!args.keypoints.empty()) given = loadKeypoints(args.keypoints);
+  // Every image described before any output is written, so that a bad image leaves no output
+  // behind; the features are small beside the images.
+  std::vector<Features> features;
   for (size_t i = 0; i < args.images.size(); ++i) {
     const cv::Mat image = loadImage(args.images[i], args.flags.strict);
-    const Features f = extractFeatures(args.flags, calibration, args.images[i], image, given);
-    writeFeatureFile(outputs[i], f);
-    std::cout << args.images[i] << ": " << f.keypoints.size() << " keypoints -> " << outputs[i].string() << "\n";
+    features.push_back(extractFeatures(args.flags, calibration, args.images[i], image, given));
   }
+  writeFeatureFiles(outputs, features);
+  for (size_t i = 0; i < args.images.size(); ++i)
+    std::cout << args.images[i] << ": " << features[i].keypoints.size() << " keypoints -> " << outputs[i].string()
+              << "\n";
 }
 
 }  // namespace
@@ -62,7 +70,8 @@ void addExtractCommand(CLI::App& app) {
       "extract",
       "Detect keypoints and describe them (BRIEF, dBRIEF or mdBRIEF). Output: an OpenCV FileStorage file "
       "(.yml, .yml.gz, .json) with nodes keypoints, descriptors (N x bits/8, CV_8U) and masks (mdBRIEF only); "
-      "keypoints that cannot be described are left out of all three.");
+      "keypoints that cannot be described are left out of all three. Also test_set, test_set_digest and, with "
+      "--camera, camera_digest, which match checks.");
   addExtractionFlags(*cmd, args->flags);
   cmd->add_option("--keypoints", args->keypoints,
                   "Describe the keypoints of node 'keypoints' of this FileStorage file (for every image) instead of "

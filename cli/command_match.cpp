@@ -48,6 +48,12 @@ std::string inlierSummary(const MatchArgs& args, const Features& a, const Featur
     if (f->keypoints.size() != static_cast<size_t>(f->descriptors.rows))
       throw InputError((f == &a ? args.query : args.train) + ": --inliers needs the keypoints (node 'keypoints')");
   const CameraPtr calibration = args.camera.path.empty() ? nullptr : CameraPtr(readCalibrationFile(args.camera).camera);
+  if (calibration)
+    for (const auto* f : {&a, &b})
+      if (!f->provenance.cameraDigest.empty() && f->provenance.cameraDigest != cameraDigest(*calibration))
+        throw InputError("--camera " + args.camera.path + ": not the calibration " +
+                         (f == &a ? args.query : args.train) + " was described with (camera digest " +
+                         cameraDigest(*calibration) + ", the file records " + f->provenance.cameraDigest + ")");
   std::vector<cv::Point2f> pointsA, pointsB;
   for (const auto& kp : a.keypoints) pointsA.push_back(kp.pt);
   for (const auto& kp : b.keypoints) pointsB.push_back(kp.pt);
@@ -73,12 +79,18 @@ void runMatch(const MatchArgs& args) {
   if (args.camera.path.empty() && (!args.camera.id.empty() || args.camera.format != toString(CameraFormat::Auto)))
     throw InputError("--camera-format and --camera-id need --camera");
   checkStorageOutput(args.output);
+  checkOutputsApart({args.query, args.train, args.camera.path}, {args.output});
   const Features a = readFeatureFile(args.query);
   const Features b = readFeatureFile(args.train);
   if (!a.descriptors.empty() && !b.descriptors.empty() && a.descriptors.cols != b.descriptors.cols)
     throw InputError(args.query + " and " + args.train + ": descriptor lengths differ (" +
                      std::to_string(a.descriptors.cols * 8) + " vs " + std::to_string(b.descriptors.cols * 8) +
                      " bits)");
+  // Files that record their test sets must share one: other tests give unrelated bits.
+  const Provenance &pa = a.provenance, &pb = b.provenance;
+  if (!pa.testSetDigest.empty() && !pb.testSetDigest.empty() && pa.testSetDigest != pb.testSetDigest)
+    throw InputError(args.query + " and " + args.train + ": described with different test sets (" + pa.testSet + " " +
+                     pa.testSetDigest + ", " + pb.testSet + " " + pb.testSetDigest + ")");
   const bool masked = !a.masks.empty() && !b.masks.empty();
   const std::vector<cv::DMatch> matches =
       masked ? matchBruteForceMasked(a.descriptors, a.masks, b.descriptors, b.masks, options)

@@ -1,6 +1,7 @@
 #include "cli/extraction_flags.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -13,6 +14,7 @@
 #include "cli/commands.hpp"
 #include "cli/storage_io.hpp"
 #include "mdbrief/camera_io.hpp"
+#include "mdbrief/internal/framed_file.hpp"
 #include "mdbrief/internal/input_file.hpp"
 #include "mdbrief/internal/size_text.hpp"
 #include "mdbrief/presets.hpp"
@@ -97,7 +99,8 @@ void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
   cmd.add_flag("--allow-size-mismatch", flags.allowSizeMismatch,
                "Rescale the calibration to the image size instead of rejecting a different size");
   cmd.add_flag("--strict", flags.strict,
-               "Reject a truncated (partly decodable) JPEG or PNG instead of warning and describing what decodes");
+               "Reject a truncated (partly decodable) JPEG or PNG, or a JPEG with damaged data, instead of warning "
+               "and describing what decodes");
 }
 
 MdBriefOptions extractionOptions(const ExtractionFlags& flags) {
@@ -142,12 +145,24 @@ CameraPtr loadCalibration(const ExtractionFlags& flags) {
 
 cv::Mat loadImage(const std::string& path, bool strict) {
   requireReadableFile(path);
-  if (const std::string problem = truncationProblem(path); !problem.empty()) {
-    if (strict) throw InputError(path + ": " + problem + " (--strict)");
-    std::cerr << "warning: " << path << ": " << problem << "; describing the decodable part\n";
-  }
+  const std::string truncation = truncationProblem(path);
+  if (!truncation.empty() && strict) throw InputError(path + ": " + truncation + " (--strict)");
+  // Damage inside a complete JPEG, which OpenCV decodes with libjpeg's unnamed warning (issue 29):
+  // refused under --strict before OpenCV runs, else named once the image decoded.
+  const std::string damage = truncation.empty() ? jpegDataProblem(path) : "";
+  if (!damage.empty() && strict) throw InputError(path + ": damaged JPEG: " + damage + " (--strict)");
   const cv::Mat image = decodeGreyImage(path);
-  if (image.empty()) throw InputError(path + ": cannot decode the image (unsupported format or truncated file)");
+  // One message for a failure (a truncated file said "describing the decodable part", then
+  // "cannot decode"), naming an image too large to decode as such (issue 29).
+  if (image.empty()) {
+    if (!truncation.empty())  // "truncated PNG (no IEND chunk)", without the claim that a part decodes
+      throw InputError(path + ": cannot decode the image: " + truncation.substr(0, truncation.find(':')));
+    if (const std::string size = imageSizeProblem(path); !size.empty())
+      throw InputError(path + ": cannot decode the image: " + size);
+    throw InputError(path + ": cannot decode the image (unsupported format or damaged file)");
+  }
+  if (!truncation.empty()) std::cerr << "warning: " << path << ": " << truncation << "; describing the decodable part\n";
+  if (!damage.empty()) std::cerr << "warning: " << path << ": damaged JPEG: " << damage << "; describing what decodes\n";
   return image;
 }
 
@@ -175,6 +190,15 @@ cv::Ptr<MdBrief> makeFeature(const ExtractionFlags& flags, const CameraPtr& cali
       throw InputError(imagePath + ": image size " + sizeText(imageSize) + " differs from the calibration " +
                        flags.camera.path + " (" + sizeText(camera->imageSize()) +
                        "); pass --allow-size-mismatch to rescale the calibration");
+    // Another aspect ratio (752x480 against 480x752, a rotated image) stretches the lens, which
+    // went unsaid (issue 29). Rounding the sides may differ by a pixel.
+    const cv::Size from = camera->imageSize();
+    const double sx = static_cast<double>(imageSize.width) / from.width;
+    const double sy = static_cast<double>(imageSize.height) / from.height;
+    if (std::abs(sx - sy) * std::max(from.width, from.height) > 1.0)
+      std::cerr << "warning: " << imagePath << ": image size " << sizeText(imageSize)
+                << " has another aspect ratio than the calibration " << flags.camera.path << " (" << sizeText(from)
+                << "): --allow-size-mismatch stretches it by " << sx << " across and " << sy << " down\n";
     camera = camera->resized(imageSize);
   }
   const MdBriefOptions options = extractionOptions(flags);
@@ -186,10 +210,25 @@ cv::Ptr<MdBrief> makeFeature(const ExtractionFlags& flags, const CameraPtr& cali
   }
 }
 
+std::string contentDigest(const void* data, size_t size) {
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx",
+                static_cast<unsigned long long>(internal::contentChecksum(static_cast<const uint8_t*>(data), size)));
+  return hex;
+}
+
+std::string cameraDigest(const Camera& camera) {
+  const std::string yaml = cameraToYaml(camera);
+  return contentDigest(yaml.data(), yaml.size());
+}
+
 Features extractFeatures(const ExtractionFlags& flags, const CameraPtr& calibration, const std::string& imagePath,
                          const cv::Mat& image, const std::optional<std::vector<cv::KeyPoint>>& given) {
   const cv::Ptr<MdBrief> feature = makeFeature(flags, calibration, imagePath, image.size());
   Features f;
+  const TestSet& tests = feature->extractor().testSet();
+  f.provenance = {tests.name, contentDigest(tests.tests.data(), tests.tests.size() * sizeof(TestPair)),
+                  calibration ? cameraDigest(*calibration) : ""};
   if (given) f.keypoints = *given;
   try {
     feature->detectAndComputeWithMasks(image, cv::noArray(), f.keypoints, f.descriptors, f.masks, given.has_value());

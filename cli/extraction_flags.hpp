@@ -63,11 +63,27 @@ cv::Mat loadImage(const std::string& path, bool strict);
 // the keypoint for a non-finite position or a size that is not a positive finite number.
 std::vector<cv::KeyPoint> loadKeypoints(const std::string& path);
 
+// What a feature file's descriptors were made with, so that match can refuse files it cannot
+// compare (issue 29: two test sets, or --inliers --camera naming another lens, went unnoticed).
+// Empty in files written before it was recorded, which are still read.
+struct Provenance {
+  std::string testSet;        // the test set's name
+  std::string testSetDigest;  // contentDigest of its tests as used (the first bits of them)
+  std::string cameraDigest;   // cameraDigest of the calibration given; "" without one
+};
+
 struct Features {
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;
   cv::Mat masks;  // mdBRIEF only
+  Provenance provenance;
 };
+
+// 16 hex digits of a checksum of the bytes (not cryptographic: it tells files apart, not forgeries).
+std::string contentDigest(const void* data, size_t size);
+// contentDigest of the camera's project YAML (cameraToYaml): the same lens gives the same digest
+// whatever file format it came from.
+std::string cameraDigest(const Camera& camera);
 
 // Detects and describes the image at imagePath (or describes `given` keypoints) with the
 // flags; the calibration must match the image size unless flags.allowSizeMismatch.

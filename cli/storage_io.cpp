@@ -144,7 +144,18 @@ void checkImageOutput(const fs::path& path) {
   checkWritable(path);
 }
 
-void writeStorageAtomically(const fs::path& path, const std::function<void(cv::FileStorage&)>& write) {
+void checkOutputsApart(const std::vector<fs::path>& inputs, const std::vector<fs::path>& outputs) {
+  try {
+    internal::checkOutputsApart(inputs, outputs);
+  } catch (const std::runtime_error& e) {
+    throw InputError(e.what());
+  }
+}
+
+namespace {
+
+// The bytes of the FileStorage file `write` makes, in path's format.
+std::string storageBytes(const fs::path& path, const std::function<void(cv::FileStorage&)>& write) {
   checkStorageOutput(path);
   const std::string extension = storageExtension(path);
   const bool compressed = endsWith(extension, ".gz");
@@ -160,7 +171,22 @@ void writeStorageAtomically(const fs::path& path, const std::function<void(cv::F
     throw InputError(path.string() + ": writing failed: " + e.err);
   }
   // Level 3 is what FileStorage uses for .gz files it writes itself: the same bytes as before.
-  if (compressed) bytes = gzipCompress(bytes, 3);
+  return compressed ? gzipCompress(bytes, 3) : bytes;
+}
+
+void writeFeatures(cv::FileStorage& storage, const Features& features) {
+  cv::write(storage, "keypoints", features.keypoints);
+  storage << "descriptors" << features.descriptors;
+  if (!features.masks.empty()) storage << "masks" << features.masks;
+  const Provenance& p = features.provenance;
+  if (!p.testSet.empty()) storage << "test_set" << p.testSet << "test_set_digest" << p.testSetDigest;
+  if (!p.cameraDigest.empty()) storage << "camera_digest" << p.cameraDigest;
+}
+
+}  // namespace
+
+void writeStorageAtomically(const fs::path& path, const std::function<void(cv::FileStorage&)>& write) {
+  const std::string bytes = storageBytes(path, write);
   try {
     internal::writeFileAtomically(path, bytes);
   } catch (const std::runtime_error& e) {
@@ -180,12 +206,15 @@ void writeImageAtomically(const fs::path& path, const cv::Mat& image) {
   }
 }
 
-void writeFeatureFile(const fs::path& path, const Features& features) {
-  writeStorageAtomically(path, [&](cv::FileStorage& storage) {
-    cv::write(storage, "keypoints", features.keypoints);
-    storage << "descriptors" << features.descriptors;
-    if (!features.masks.empty()) storage << "masks" << features.masks;
-  });
+void writeFeatureFiles(const std::vector<fs::path>& paths, const std::vector<Features>& features) {
+  std::vector<internal::FileContent> files;
+  for (size_t i = 0; i < paths.size(); ++i)
+    files.push_back({paths[i], storageBytes(paths[i], [&](cv::FileStorage& s) { writeFeatures(s, features[i]); })});
+  try {
+    internal::writeFilesAtomically(files);
+  } catch (const std::runtime_error& e) {
+    throw InputError(e.what());
+  }
 }
 
 struct StorageReader::Parsed {
@@ -304,9 +333,23 @@ cv::Mat StorageReader::matrix(const std::string& key) const {
   return out;
 }
 
+std::string StorageReader::text(const std::string& key) const {
+  if (parsed_->storage.isOpened()) {
+    const cv::FileNode node = parsed_->storage[key];
+    if (node.empty()) return "";
+    if (!node.isString()) throw InputError(path_ + ": node '" + key + "': expected text");
+    return node.string();
+  }
+  const YAML::Node node = std::as_const(parsed_->yaml)[key];
+  if (!node || node.IsNull()) return "";
+  if (!node.IsScalar()) throw InputError(path_ + ": node '" + key + "': expected text");
+  return node.Scalar();
+}
+
 Features readFeatureFile(const std::string& path) {
   Features f;
   const StorageReader storage(path);
+  f.provenance = {storage.text("test_set"), storage.text("test_set_digest"), storage.text("camera_digest")};
   if (!storage.has("descriptors")) throw InputError(path + ": no node 'descriptors'");
   f.descriptors = storage.matrix("descriptors");
   f.masks = storage.matrix("masks");

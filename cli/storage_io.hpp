@@ -23,6 +23,11 @@ void checkStorageOutput(const std::filesystem::path& path);
 // The same for an image cv::imencode can write (by extension).
 void checkImageOutput(const std::filesystem::path& path);
 
+// internal::checkOutputsApart as an InputError: no output may be an input (under any name) or
+// another output. Empty paths are skipped.
+void checkOutputsApart(const std::vector<std::filesystem::path>& inputs,
+                       const std::vector<std::filesystem::path>& outputs);
+
 void writeStorageAtomically(const std::filesystem::path& path, const std::function<void(cv::FileStorage&)>& write);
 void writeImageAtomically(const std::filesystem::path& path, const cv::Mat& image);
 
@@ -54,6 +59,8 @@ class StorageReader {
   // A single-channel 2-D matrix as cv::FileStorage stores it (opencv-matrix: rows, cols, dt in
   // u, c, w, s, i, f, d, and rows x cols values in data).
   cv::Mat matrix(const std::string& key) const;
+  // A scalar node as text, "" when it is missing.
+  std::string text(const std::string& key) const;
 
  private:
   struct Parsed;
@@ -61,10 +68,12 @@ class StorageReader {
   std::unique_ptr<Parsed> parsed_;
 };
 
-// Nodes `keypoints` (cv::write), `descriptors` (N x bytes CV_8U) and, when not empty, `masks`
-// (N x bytes CV_8U).
-void writeFeatureFile(const std::filesystem::path& path, const Features& features);
-// Reads a file written by writeFeatureFile; `keypoints` and `masks` are optional, descriptors
+// features[i] into paths[i], nodes `keypoints` (cv::write), `descriptors` (N x bytes CV_8U),
+// when not empty `masks` (N x bytes CV_8U), and the provenance: `test_set`, `test_set_digest`
+// and, with a calibration, `camera_digest`. The files are replaced as one set: a failure leaves
+// every previous file.
+void writeFeatureFiles(const std::vector<std::filesystem::path>& paths, const std::vector<Features>& features);
+// Reads a file written by writeFeatureFiles; `keypoints` and `masks` are optional, descriptors
 // required. Checks types and that the rows agree.
 Features readFeatureFile(const std::string& path);
 

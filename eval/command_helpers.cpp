@@ -4,6 +4,7 @@
 
 #include "eval_datasets.hpp"
 #include "mdbrief/camera_io.hpp"
+#include "mdbrief/internal/atomic_file.hpp"
 #include "toolkit/data_folders.hpp"
 
 namespace mdbrief::eval {
@@ -33,6 +34,14 @@ CameraPtr loadCameraOrThrow(const std::string& path) {
 cv::Mat loadGreyOrThrow(const std::string& path) {
   try {
     return loadEvaluationImage(path);
+  } catch (const std::runtime_error& e) {
+    throw InputError(e.what());
+  }
+}
+
+void checkOutputsApart(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs) {
+  try {
+    internal::checkOutputsApart({inputs.begin(), inputs.end()}, {outputs.begin(), outputs.end()});
   } catch (const std::runtime_error& e) {
     throw InputError(e.what());
   }

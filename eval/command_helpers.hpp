@@ -2,6 +2,7 @@
 // What the subcommands of mdbrief-eval share: where the data is, the opencv-doc flag, and
 // turning file errors into input errors (exit 2).
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <opencv2/core.hpp>
@@ -21,6 +22,10 @@ void addOpencvDocFlag(CLI::App* cmd, std::string& dir);
 // loadCamera / loadEvaluationImage, throwing InputError.
 CameraPtr loadCameraOrThrow(const std::string& path);
 cv::Mat loadGreyOrThrow(const std::string& path);
+
+// internal::checkOutputsApart as an InputError: no output may be an input (under any name) or
+// another output; for the commands to call before the work.
+void checkOutputsApart(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
 
 // Runs `body`, turning file errors of the library (std::runtime_error naming the file) into
 // input errors so the caller exits 2. OpenCV failures are internal errors (exit 1): the

@@ -76,6 +76,13 @@ void addSimCommand(CLI::App& app) {
     if (o->bits % 32) throw InputError("--bits " + std::to_string(o->bits) + ": must be a multiple of 32");
     o->runProjected = !*noProjected;
     o->runDetected = !*noDetected;
+    // Every file sim writes is a "sim_*" in --out: an input of such a name there may be one.
+    std::vector<std::string> inputs{o->texturePath}, outputs;
+    for (const auto& spec : *cams) inputs.push_back(spec.substr(spec.find('=') + 1));
+    for (const auto& input : inputs)
+      if (fs::path(input).filename().string().rfind("sim_", 0) == 0)
+        outputs.push_back((fs::path(o->outDir) / fs::path(input).filename()).string());
+    checkOutputsApart(inputs, outputs);
     const auto cameras = parseCameras(*cams);
     loadGreyOrThrow(o->texturePath);
     // The simulation describes the texture with the default test set.
@@ -167,7 +174,22 @@ std::vector<EvalGroup> loadGroups(const DatasetFlags& d, std::vector<std::string
   }
   if (!d.userImages.empty())
     groups.push_back({"user", {loadUserSequence("user", d.userImages, d.userCamera, d.userHomographies)}});
+  // A group without sequences would replace its results with empty tables (issue 29: a mistyped
+  // --oxford-dir emptied eval_summary.csv and exited 0).
+  groups.erase(std::remove_if(groups.begin(), groups.end(), [](const EvalGroup& g) { return g.sequences.empty(); }),
+               groups.end());
+  if (groups.empty())
+    throw InputError("no sequence to evaluate (see the messages above); the previous results are left as they were");
   return groups;
+}
+
+// Every file the groups were read from, for the check that no output is one of them.
+std::vector<std::string> datasetInputs(const DatasetFlags& d, const std::vector<std::string>& imagePaths) {
+  std::vector<std::string> inputs = imagePaths;
+  inputs.insert(inputs.end(), d.fisheyeCameras.begin(), d.fisheyeCameras.end());
+  inputs.insert(inputs.end(), d.userHomographies.begin(), d.userHomographies.end());
+  inputs.push_back(d.userCamera);
+  return inputs;
 }
 
 }  // namespace
@@ -206,6 +228,12 @@ void addEvalCommand(CLI::App& app) {
     asInputErrors([&] {
       std::vector<std::string> imagePaths;
       const auto groups = loadGroups(a->data, imagePaths);
+      std::vector<std::string> inputs = datasetInputs(a->data, imagePaths);
+      inputs.insert(inputs.end(), a->testSets.begin(), a->testSets.end());
+      std::vector<std::string> outputs{(fs::path(a->pr.outDir) / "eval_summary.csv").string()};
+      for (const auto& g : groups)
+        outputs.push_back((fs::path(a->pr.outDir) / ("eval_" + g.name + "_curves.csv")).string());
+      checkOutputsApart(inputs, outputs);
       a->pr.keypointSource = parseKeypointSource(a->keypointsFrom);
       // The footprint study compares sizes on the keypoints the largest footprint keeps.
       a->pr.commonKeypoints = !a->supportScales.empty();
@@ -257,6 +285,8 @@ void addPipelinesCommand(CLI::App& app) {
     asInputErrors([&] {
       std::vector<std::string> imagePaths;
       const auto groups = loadGroups(a->data, imagePaths);
+      checkOutputsApart(datasetInputs(a->data, imagePaths),
+                        {(fs::path(a->options.outDir) / "pipelines_summary.csv").string()});
       std::vector<PipelineSpec> pipelines;
       for (const auto& p : standardPipelines())
         if (a->only.empty() || std::any_of(a->only.begin(), a->only.end(), [&](const std::string& prefix) {
@@ -287,8 +317,10 @@ void addTimingCommand(CLI::App& app) {
   cmd->add_option("--keypoints", o->keypoints, "Detector budget")->check(CLI::Range(10, 100000))->capture_default_str();
   cmd->add_option("--out", o->outDir, "Output folder")->required();
   cmd->callback([o, camPath, texture, docDir] {
+    const std::string texturePath = texture->empty() ? *docDir + "/graf1.png" : *texture;
+    checkOutputsApart({*camPath, texturePath}, {(fs::path(o->outDir) / "timing_table.csv").string()});
     const CameraPtr cam = loadCameraOrThrow(*camPath);
-    const cv::Mat tex = loadGreyOrThrow(texture->empty() ? *docDir + "/graf1.png" : *texture);
+    const cv::Mat tex = loadGreyOrThrow(texturePath);
     asInputErrors([&] {
       const auto seq = renderedFisheyeSequence("timing", tex, cam, 4);
       const auto rows = measureTimingTable(seq.images, cam, *o);
@@ -319,8 +351,10 @@ void addExportUserSampleCommand(CLI::App& app) {
   cmd->add_option("--poses", a->poses, "Images (the poses of the fisheye sequences)")->check(CLI::Range(2, 50))->capture_default_str();
   cmd->add_option("--out", a->out, "Output folder")->required();
   cmd->callback([a] {
+    const std::string texture = a->texture.empty() ? a->opencvDocDir + "/graf3.png" : a->texture;
+    checkOutputsApart({a->camera, texture}, allPaths(userSequenceFiles(a->out, a->poses)));
     const CameraPtr cam = loadCameraOrThrow(a->camera);
-    const cv::Mat tex = loadGreyOrThrow(a->texture.empty() ? a->opencvDocDir + "/graf3.png" : a->texture);
+    const cv::Mat tex = loadGreyOrThrow(texture);
     asInputErrors([&] { reportExported(a->out, exportUserSequence(a->out, tex, cam, a->poses)); });
   });
 }
@@ -339,6 +373,7 @@ void addExportRotatedViewsCommand(CLI::App& app) {
   cmd->add_option("--views", a->views, "Images, the photo included")->check(CLI::Range(2, 20))->capture_default_str();
   cmd->add_option("--out", a->out, "Output folder")->required();
   cmd->callback([a] {
+    checkOutputsApart({a->camera, a->photo}, allPaths(userSequenceFiles(a->out, a->views)));
     const CameraPtr cam = loadCameraOrThrow(a->camera);
     const cv::Mat photo = loadGreyOrThrow(a->photo);
     asInputErrors([&] { reportExported(a->out, exportRotatedViews(a->out, photo, cam, a->views)); });
@@ -362,6 +397,7 @@ void addHeldOutImagesCommand(CLI::App& app) {
                   "folder and file name");
   cmd->add_option("--out", *out, "Output file")->required();
   cmd->callback([dataDir, docDir, out, only] {
+    checkOutputsApart(*only, {*out});
     std::vector<EvaluationImage> images;
     for (const auto& p : *only) {
       loadGreyOrThrow(p);

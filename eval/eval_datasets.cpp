@@ -75,24 +75,34 @@ std::vector<CameraPose> renderedSequencePoses(int poses) {
   return ps;
 }
 
+UserSequenceFiles userSequenceFiles(const std::string& dir, int images) {
+  namespace fs = std::filesystem;
+  UserSequenceFiles files;
+  for (int k = 1; k <= images; ++k)
+    files.images.push_back((fs::path(dir) / ("img" + std::to_string(k) + ".png")).string());
+  for (int k = 2; k <= images; ++k)
+    files.homographies.push_back((fs::path(dir) / ("H1to" + std::to_string(k))).string());
+  files.camera = (fs::path(dir) / "camera.yaml").string();
+  return files;
+}
+
+std::vector<std::string> allPaths(const UserSequenceFiles& files) {
+  std::vector<std::string> paths = files.images;
+  paths.insert(paths.end(), files.homographies.begin(), files.homographies.end());
+  paths.push_back(files.camera);
+  return paths;
+}
+
 namespace {
 
 // Writes images, the bearing homographies image 1 -> image k and the camera into dir (created
 // if missing), each file through a temporary name and a rename.
 UserSequenceFiles writeUserSequence(const std::string& dir, const std::vector<cv::Mat>& images,
                                     const std::vector<cv::Matx33d>& homographies, const Camera& camera) {
-  namespace fs = std::filesystem;
-  fs::create_directories(dir);
-  UserSequenceFiles files;
-  for (size_t k = 0; k < images.size(); ++k) {
-    files.images.push_back((fs::path(dir) / ("img" + std::to_string(k + 1) + ".png")).string());
-    writeImageAtomically(files.images.back(), images[k]);
-  }
-  for (size_t k = 0; k < homographies.size(); ++k) {
-    files.homographies.push_back((fs::path(dir) / ("H1to" + std::to_string(k + 2))).string());
-    writeHomography(files.homographies.back(), homographies[k]);
-  }
-  files.camera = (fs::path(dir) / "camera.yaml").string();
+  std::filesystem::create_directories(dir);
+  const UserSequenceFiles files = userSequenceFiles(dir, static_cast<int>(images.size()));
+  for (size_t k = 0; k < images.size(); ++k) writeImageAtomically(files.images[k], images[k]);
+  for (size_t k = 0; k < homographies.size(); ++k) writeHomography(files.homographies[k], homographies[k]);
   saveCamera(camera, files.camera);  // atomic itself
   return files;
 }

@@ -91,6 +91,10 @@ struct UserSequenceFiles {
 };
 UserSequenceFiles exportUserSequence(const std::string& dir, const cv::Mat& texture, const CameraPtr& camera,
                                      int poses);
+// The paths of a user sequence of `images` images in dir, as the exports write them.
+UserSequenceFiles userSequenceFiles(const std::string& dir, int images);
+// Every path of files, for the check that no output is an input.
+std::vector<std::string> allPaths(const UserSequenceFiles& files);
 
 // A real photo of `camera` (its calibration size) and the same lens turned: view k (k = 2..views)
 // is the photo as a camera turned by cameraRotation(8 (k-1), -4 (k-1), 12 (k-1)) degrees sees it,

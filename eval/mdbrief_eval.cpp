@@ -4,9 +4,11 @@
 #include <iostream>
 
 #include "eval_cli.hpp"
+#include "toolkit/file_size_signal.hpp"
 #include "toolkit/opencv_log.hpp"
 
 int main(int argc, char** argv) {
   mdbrief::silenceOpenCvLogUnlessAsked();
+  mdbrief::ignoreFileSizeSignal();
   return mdbrief::eval::runEvalCli(std::vector<std::string>(argv + 1, argv + argc), std::cout, std::cerr);
 }

@@ -86,6 +86,9 @@ void addRetrievalCommand(CLI::App& app) {
 
     const bool named = !a->datasets.empty();
     std::vector<EvalGroup> groups;
+    std::vector<std::string> inputs(training.begin(), training.end());
+    inputs.insert(inputs.end(), distractors.begin(), distractors.end());
+    inputs.insert(inputs.end(), a->paths.fisheyeCameras.begin(), a->paths.fisheyeCameras.end());
     for (const auto& name : named ? a->datasets : kRetrievalDatasets) {
       std::vector<std::string> read;
       try {
@@ -94,8 +97,10 @@ void addRetrievalCommand(CLI::App& app) {
         if (named) throw InputError(name + ": " + e.what());
         std::fprintf(stderr, "retrieval: skipping %s: %s\n", name.c_str(), e.what());
       }
+      inputs.insert(inputs.end(), read.begin(), read.end());
     }
     if (groups.empty()) throw InputError("no data set could be read (see the messages above)");
+    checkOutputsApart(inputs, retrievalOutputs(a->options));
     asInputErrors([&] { runRetrieval(groups, training, distractors, a->options); });
   });
 }

@@ -31,6 +31,12 @@ const Method kMethods[] = {{"mdbrief-masked", vocab::FeatureKind::MdBrief, true}
                            {"mdbrief-blind", vocab::FeatureKind::MdBrief, false},
                            {"orb", vocab::FeatureKind::Orb, false}};
 
+std::string binaryPath(const RetrievalOptions& o, const Method& m) { return o.outDir + "/" + m.name + ".mdbvoc"; }
+// Plain vocabularies only: DBoW2's text has no masks.
+std::string textPath(const RetrievalOptions& o, const Method& m) { return o.outDir + "/" + m.name + ".dbow2.txt"; }
+std::string recallPath(const RetrievalOptions& o) { return o.outDir + "/retrieval.csv"; }
+std::string speedPath(const RetrievalOptions& o) { return o.outDir + "/retrieval_speed.csv"; }
+
 // An image to describe: its pixels, the camera mdBRIEF uses (null: the photo camera) and where
 // keypoints may be (empty: anywhere).
 struct ImageToDescribe {
@@ -180,12 +186,12 @@ void runRetrieval(const std::vector<EvalGroup>& groups, const std::vector<std::s
         for (size_t k = 0; k < options.recallAt.size(); ++k) recall.add(static_cast<double>(right[g][k]) / counts[g]);
       }
 
-      const std::string binary = options.outDir + "/" + m.name + ".mdbvoc";
+      const std::string binary = binaryPath(options, m);
       v.save(binary);
       const double binaryMs = bestLoadMs([&] { Vocabulary::load(binary); }, 5);
       double textMs = -1, textBytes = -1;
       if (!v.masked()) {
-        const std::string text = options.outDir + "/" + m.name + ".dbow2.txt";
+        const std::string text = textPath(options, m);
         exportDbow2Text(v, text);
         textMs = bestLoadMs([&] { importDbow2Text(text); }, 1);
         textBytes = static_cast<double>(fs::file_size(text));
@@ -201,8 +207,17 @@ void runRetrieval(const std::vector<EvalGroup>& groups, const std::vector<std::s
                   counts[groups.size()]);
     }
   }
-  recall.write(options.outDir + "/retrieval.csv");
-  speed.write(options.outDir + "/retrieval_speed.csv");
+  recall.write(recallPath(options));
+  speed.write(speedPath(options));
+}
+
+std::vector<std::string> retrievalOutputs(const RetrievalOptions& options) {
+  std::vector<std::string> out{recallPath(options), speedPath(options)};
+  for (const Method& m : kMethods) {
+    out.push_back(binaryPath(options, m));
+    if (!m.masked) out.push_back(textPath(options, m));
+  }
+  return out;
 }
 
 }  // namespace mdbrief::eval

@@ -27,5 +27,8 @@ struct RetrievalOptions {
 // outDir/retrieval_speed.csv (timings), and prints a summary.
 void runRetrieval(const std::vector<EvalGroup>& groups, const std::vector<std::string>& trainingImages,
                   const std::vector<std::string>& distractors, const RetrievalOptions& options);
+// Every file runRetrieval writes: the tables and each method's vocabulary (binary, and DBoW2 text
+// for the plain ones).
+std::vector<std::string> retrievalOutputs(const RetrievalOptions& options);
 
 }  // namespace mdbrief::eval

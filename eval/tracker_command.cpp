@@ -9,6 +9,7 @@
 #include "command_helpers.hpp"
 #include "eval_commands.hpp"
 #include "held_out.hpp"
+#include "mdbrief/internal/input_file.hpp"
 #include "poster_dev.hpp"
 #include "tracker_experiment.hpp"
 #include "toolkit/photo_camera.hpp"
@@ -31,6 +32,9 @@ std::vector<TrackerPipeline> libraryPipelines(const std::vector<std::string>& sp
     const auto eq = s.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == s.size()) throw InputError("--library " + s + ": expected name=file");
     const std::string path = s.substr(eq + 1);
+    // A regular file of a few options: a FIFO or /dev/zero blocked or ran without end (issue 29).
+    if (const std::string problem = internal::inputFileProblem(path); !problem.empty())
+      throw InputError(path + ": library options file: " + problem);
     cv::FileStorage fs;
     try {
       fs.open(path, cv::FileStorage::READ);
@@ -135,6 +139,10 @@ void addTrackerCommand(CLI::App& app) {
       images.insert(images.end(), read.begin(), read.end());
     }
     if (groups.empty()) throw InputError("no data set could be read (see the messages above)");
+    std::vector<std::string> inputs = images;
+    inputs.insert(inputs.end(), a->paths.fisheyeCameras.begin(), a->paths.fisheyeCameras.end());
+    for (const auto& spec : a->library) inputs.push_back(spec.substr(spec.find('=') + 1));
+    checkOutputsApart(inputs, {a->options.outDir + "/tracker_pairs.csv", a->options.outDir + "/tracker_summary.csv"});
     std::vector<MethodSpec> methods;
     for (const auto& p : pipelines)
       if (p.kind == TrackerPipeline::Kind::Library) methods.push_back({p.name, MethodFamily::Library, p.options.descriptor});

@@ -13,7 +13,9 @@
 #include "mdbrief/internal/framed_file.hpp"
 #include "mdbrief/patterns.hpp"
 #include "mdbrief/vocabulary_text.hpp"
+#include "patchextract/image_digest.hpp"
 #include "patchextract/patch_set.hpp"
+#include "toolkit/homography_file.hpp"
 #include "trainer/train_cli.hpp"
 
 namespace mdbrief::fuzz {
@@ -87,6 +89,13 @@ void database(const uint8_t* d, size_t n) {
   });
 }
 
+void heldOutList(const uint8_t* d, size_t n) {
+  expectingErrors([&] { train::readHeldOutImages(asFile(d, n, ".txt")); });
+}
+void homography(const uint8_t* d, size_t n) {
+  expectingErrors([&] { readHomography(asFile(d, n, "")); });
+}
+
 void trainConfig(const uint8_t* d, size_t n) {
   // A missing output folder stops the tool right after parsing, before any training.
   std::ostringstream out, err;
@@ -124,7 +133,9 @@ const std::vector<Target>& targets() {
                                        {"train_config", trainConfig},
                                        {"vocabulary", vocabulary},
                                        {"vocabulary_text", vocabularyText},
-                                       {"database", database}};
+                                       {"database", database},
+                                       {"held_out_list", heldOutList},
+                                       {"homography", homography}};
   return all;
 }
 

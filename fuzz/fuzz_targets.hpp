@@ -20,7 +20,9 @@ struct Target {
 // camera (loadCamera: project YAML, OCamCalib text, calib-adapter YAML), pattern_json
 // (loadTestSetJson), keypoints (mdbrief extract --keypoints), patch_set (HDF5 readPatchSet),
 // train_config (mdbrief-train --config TOML), vocabulary (Vocabulary::load), vocabulary_text
-// (importDbow2Text), database (Database::load with databaseVocabulary()). A vocabulary or
+// (importDbow2Text), database (Database::load with databaseVocabulary()), held_out_list
+// (readHeldOutImages: --held-out of the trainers), homography (readHomography: draw
+// --homography, eval --user-homographies). A vocabulary or
 // database that loads is then used (descriptors quantised, entries queried).
 const std::vector<Target>& targets();
 

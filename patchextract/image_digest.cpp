@@ -1,10 +1,10 @@
 #include "patchextract/image_digest.hpp"
 
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
+#include "mdbrief/internal/input_file.hpp"
 #include "toolkit/image_file.hpp"
 
 namespace mdbrief::train {
@@ -54,11 +54,8 @@ HeldOutImages parseHeldOutImages(const std::string& text, const std::string& sou
 }
 
 HeldOutImages readHeldOutImages(const std::filesystem::path& path) {
-  std::ifstream f(path);
-  if (!f) throw std::runtime_error(path.string() + ": cannot read the held-out list");
-  std::ostringstream text;
-  text << f.rdbuf();
-  return parseHeldOutImages(text.str(), path.string());
+  // 64 MiB hold about two million lines; /dev/zero or a FIFO is refused, not read without end.
+  return parseHeldOutImages(internal::readInputFile(path, std::uintmax_t{64} << 20, "held-out list"), path.string());
 }
 
 const HeldOutImages& shippedHeldOutImages() {

@@ -8,12 +8,14 @@
 #include <unistd.h>
 
 #include "patchextract/patch_extraction.hpp"
+#include "toolkit/file_size_signal.hpp"
 #include "toolkit/opencv_log.hpp"
 #include "toolkit/option_flags.hpp"
 #include "toolkit/progress_reporter.hpp"
 
 int main(int argc, char** argv) {
   mdbrief::silenceOpenCvLogUnlessAsked();
+  mdbrief::ignoreFileSizeSignal();
   using namespace mdbrief::train;
   std::string out;
   std::vector<std::string> heldOut;
@@ -32,7 +34,7 @@ int main(int argc, char** argv) {
   }
   mdbrief::ProgressReporter progress(std::cout, isatty(fileno(stdout)) != 0);
   try {
-    checkPatchSetOutput(out);  // before the extraction, not after it
+    checkPatchSetOutput(out, {heldOut.begin(), heldOut.end()});  // before the extraction, not after it
     ExtractionOptions o = flags.apply(defaults, [](const ExtractionOptions& e) { validate(e); });
     for (const auto& file : heldOut) o.heldOut.merge(readHeldOutImages(file));
     ExtractionReport report;

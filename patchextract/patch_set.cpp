@@ -220,7 +220,10 @@ void writePatchSet(const PatchSet& s, const fs::path& path) {
   internal::writeFileAtomically(path, std::string_view(image.data(), image.size()));
 }
 
-void checkPatchSetOutput(const fs::path& path) { internal::checkOutputPath(path); }
+void checkPatchSetOutput(const fs::path& path, const std::vector<fs::path>& inputs) {
+  internal::checkOutputPath(path);
+  internal::checkOutputsApart(inputs, {path});
+}
 
 PatchSet readPatchSet(const fs::path& path) {
   static const QuietHdf5 quiet;

@@ -50,8 +50,9 @@ struct PatchSet {
 // file. Throws std::runtime_error naming the path on failure (missing folder, write error).
 void writePatchSet(const PatchSet& set, const std::filesystem::path& path);
 // Throws std::runtime_error naming the path when writePatchSet could not write there (no such
-// folder, not writable, not a regular file): for tools to check before extracting.
-void checkPatchSetOutput(const std::filesystem::path& path);
+// folder, not writable, not a regular file) or path is one of inputs under any name
+// (internal::checkOutputsApart): for tools to check before extracting.
+void checkPatchSetOutput(const std::filesystem::path& path, const std::vector<std::filesystem::path>& inputs = {});
 // Throws std::runtime_error naming the path and the problem (not HDF5, missing dataset,
 // inconsistent sizes, index out of range).
 PatchSet readPatchSet(const std::filesystem::path& path);

@@ -233,3 +233,52 @@ TEST(AtomicFiles, ReplaceTheWholeSetOrNothing) {
   EXPECT_EQ(readFile(a) + readFile(b) + readFile(c), "new anew bnew c");
   EXPECT_EQ(fileNames(dir.path), (std::vector<std::string>{"registry.hpp", "set.hpp", "set.json"}));
 }
+
+// Issue 29: `match a.yml b.yml -o a.yml` replaced its input. An output is refused when it is an
+// input under any name (itself, a symbolic link, a hard link, a path through a linked folder),
+// and two outputs that are one file, existing or still to be made, are refused.
+TEST(OutputsApart, AnOutputThatIsAnInputOrAnotherOutputIsRefused) {
+  TempDir dir("outputs_apart");
+  const fs::path input = dir.path / "a.yml", other = dir.path / "b.yml";
+  std::ofstream(input) << "input";
+  std::ofstream(other) << "other";
+  fs::create_symlink(input, dir.path / "link.yml");
+  fs::create_hard_link(input, dir.path / "hard.yml");
+  fs::create_directory_symlink(dir.path, dir.path / "same_dir");
+  using mdbrief::internal::checkOutputsApart;
+  for (const fs::path& alias : {input, dir.path / "link.yml", dir.path / "hard.yml", dir.path / "same_dir" / "a.yml",
+                                dir.path / "." / "a.yml"}) {
+    const std::string message = errorOf([&] { checkOutputsApart({other, input}, {alias}); });
+    EXPECT_NE(message.find(alias.string() + ": the output is the same file as the input " + input.string()),
+              std::string::npos)
+        << message;
+  }
+  const fs::path fresh = dir.path / "new.yml";
+  const std::string message = errorOf([&] { checkOutputsApart({input}, {fresh, dir.path / "same_dir" / "new.yml"}); });
+  EXPECT_NE(message.find("the same file as the output " + fresh.string()), std::string::npos) << message;
+  EXPECT_NE(errorOf([&] { checkOutputsApart({}, {other, dir.path / "." / "b.yml"}); }).find("one would overwrite"),
+            std::string::npos);
+  // Distinct files, missing inputs and left-out (empty) paths pass; nothing was written.
+  EXPECT_NO_THROW(checkOutputsApart({input, dir.path / "missing.yml", ""}, {fresh, other, ""}));
+  EXPECT_EQ(readFile(input), "input");
+  EXPECT_EQ(readFile(other), "other");
+  EXPECT_FALSE(fs::exists(fresh));
+}
+
+// Issue 29: `-o link.yml` replaced the link with a file and left its target stale. Writes go
+// through a symbolic link, one file or a set: the link stays, its target gets the content.
+TEST(AtomicFile, ASymbolicLinkIsWrittenThrough) {
+  TempDir dir("atomic_link");
+  fs::create_directory(dir.path / "real");
+  const fs::path target = dir.path / "real" / "out.yml", link = dir.path / "link.yml";
+  std::ofstream(target) << "old";
+  fs::create_symlink(target, link);
+  writeFileAtomically(link, "new");
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_EQ(readFile(target), "new");
+  writeFilesAtomically({{link, "set"}, {dir.path / "other.yml", "other"}});
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_EQ(readFile(target), "set");
+  EXPECT_EQ(fileNames(dir.path / "real"), std::vector<std::string>{"out.yml"});
+  EXPECT_EQ(fileNames(dir.path), (std::vector<std::string>{"link.yml", "other.yml", "real"}));
+}

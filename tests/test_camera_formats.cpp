@@ -212,6 +212,53 @@ TEST_F(CameraFileErrors, MultiCameraFilesNeedAChoiceAndOneCameraFilesRefuseIt) {
   EXPECT_NE(errorOf(project, {CameraFormat::Auto, "cam0"}).find("holds one camera"), std::string::npos);
 }
 
+// Issue 29: of two equal keys the first won without a word, in every format (an appended
+// `valid_radius: -5` was ignored, a second `cam0` or COLMAP camera 1 never read). A duplicate is
+// refused, naming the key and both lines.
+TEST_F(CameraFileErrors, DuplicateKeysAreRefusedNamingTheKeyAndBothLines) {
+  const auto text = [](const fs::path& file) { return mdbrief::testing::readFile(file); };
+  const fs::path cameras = mdbrief::testing::sourceDir() / "configs" / "cameras";
+  const auto inserted = [](std::string s, const std::string& after, const std::string& line) {
+    const size_t at = s.find('\n', s.find(after)) + 1;
+    return s.insert(at, line);
+  };
+  const std::string kalibr = text(formatsDir() / "kalibr_camchain.yaml");
+  std::string basalt = text(formatsDir() / "basalt_calib.json");
+  basalt.replace(basalt.find("\"fx\":"), 5, "\"fx\": 1, \"fx\":");
+  expectError("project.yaml", text(cameras / "pinhole_example.yaml") + "fx: 400\n",
+              "key 'fx' appears twice, on lines 6 and");
+  expectError("ocam.yaml", text(cameras / "lafida_fisheye0.yaml") + "valid_radius: -5\n",
+              "key 'valid_radius' appears twice, on lines 16 and");
+  expectError("basalt.json", basalt, "key 'fx' appears twice, on lines 14 and 14");
+  expectError("opencv.yaml", inserted(text(formatsDir() / "opencv_standard.yaml"), "image_width", "image_width: 320\n"),
+              "key 'image_width' appears twice, on lines 5 and 6");
+  expectError("kalibr.yaml", inserted(kalibr, "camera_model", "  camera_model: omni\n"),
+              "key 'camera_model' appears twice, on lines 8 and 9");
+  expectError("kalibr_cam0.yaml", kalibr + kalibr.substr(0, kalibr.find("cam1:")),
+              "key 'cam0' appears twice, on lines 1 and");
+  const std::string colmap = text(formatsDir() / "colmap_cameras.txt");
+  const size_t first = colmap.find("\n1 ") + 1;
+  expectError("cameras.txt", colmap + colmap.substr(first, colmap.find('\n', first) - first + 1),
+              "CAMERA_ID 1 appears twice, on lines");
+}
+
+// Issue 29: COLMAP files with a lower-case model or a negative CAMERA_ID were taken for OCamCalib
+// files, one with a byte order mark was unrecognised, and so was a Kalibr file with a merge key.
+TEST_F(CameraFileErrors, ColmapLookAlikesAndMergeKeysGetTheirOwnMessages) {
+  const std::string colmap = mdbrief::testing::readFile(formatsDir() / "colmap_cameras.txt");
+  std::string lower = colmap, negative = colmap;
+  lower.replace(lower.find("PINHOLE 1024 768"), 7, "pinhole");
+  negative.replace(negative.find("\n1 OPENCV_FISHEYE"), 2, "\n-1");
+  expectError("lower.txt", lower, "model pinhole has no camera model here", {CameraFormat::Auto, "5"});
+  expectError("lower.txt", lower, "COLMAP's model names are upper case: PINHOLE", {CameraFormat::Auto, "5"});
+  expectError("negative.txt", negative, ": CAMERA_ID -1 must be a non-negative integer");
+  const fs::path bom = dir_ / "bom.txt";
+  std::ofstream(bom) << "\xEF\xBB\xBF" + colmap;
+  EXPECT_EQ(readCameraFile(bom.string(), {CameraFormat::Auto, "5"}).format, CameraFormat::Colmap);
+  expectError("merge.yaml", "base: &base\n  camera_model: pinhole\ncam0:\n  <<: *base\n  resolution: [752, 480]\n",
+              "line 4: YAML merge keys ('<<') are not supported");
+}
+
 TEST_F(CameraFileErrors, AnExplicitFormatReadsOnlyThatFormat) {
   const fs::path kalibr = formatsDir() / "kalibr_camchain.yaml";
   EXPECT_NE(errorOf(kalibr, {CameraFormat::Basalt, ""}).find("key 'value0' is missing"), std::string::npos);

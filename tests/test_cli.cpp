@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -504,7 +505,7 @@ TEST_F(CliTest, MatchInliersWithoutCameraFitsPixelsAndNeedsKeypoints) {
   cli::Features far;
   for (int i = 0; i < 8; ++i) far.keypoints.emplace_back(cv::Point2f(1e30f * static_cast<float>(i + 1), 3e9f), 7.f);
   far.descriptors = descriptors.rowRange(0, 8).clone();
-  cli::writeFeatureFile(path("far.yml"), far);
+  cli::writeFeatureFiles({path("far.yml")}, {far});
   const Result f = run({"match", path("far.yml"), path("far.yml"), "--inliers", "-o", path("f.yml")});
   ASSERT_EQ(f.code, 0) << f.err;
   EXPECT_GE(countBefore(f.out, "inliers"), 0) << f.out;
@@ -784,6 +785,182 @@ TEST_F(CliTest, MatchRefusesDescriptorsOfNoBytes) {
     storage << "descriptors" << cv::Mat();
   }
   EXPECT_EQ(run({"match", path("empty.yml"), path("empty.yml"), "-o", path("m.yml")}).code, 0);
+}
+
+// Issue 29: `match a.yml b.yml -o a.yml`, `draw pic.png -o pic.png`, `extract --camera kb.yaml
+// ... -o kb.yaml` and `camera convert chain.yaml -o chain.yaml` replaced their input with exit 0.
+// An output that is an input under any name (itself, a symbolic or a hard link) is refused with
+// exit 2, and the input keeps its bytes.
+TEST_F(CliTest, AnOutputThatIsAnInputIsRefusedAndTheInputKept) {
+  cv::Mat pixels(120, 160, CV_8UC1);
+  cv::randu(pixels, 0, 256);
+  ASSERT_TRUE(cv::imwrite(path("pic.png"), pixels));
+  cli::Features features;
+  features.descriptors = cv::Mat(3, 32, CV_8UC1, cv::Scalar(7));
+  cli::writeFeatureFiles({path("a.yml"), path("b.yml")}, {features, features});
+  fs::copy_file(kCamera, path("kb.yaml"));
+  fs::create_symlink(path("a.yml"), path("link.yml"));
+  fs::create_hard_link(path("kb.yaml"), path("hard.yaml"));
+  std::map<std::string, std::string> before;
+  for (const char* name : {"pic.png", "a.yml", "b.yml", "kb.yaml"}) before[name] = testing::readFile(path(name));
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"match", path("a.yml"), path("b.yml"), "-o", path("a.yml")}, path("a.yml")},
+      {{"match", path("a.yml"), path("b.yml"), "-o", path("link.yml")}, path("a.yml")},
+      {{"draw", "--descriptor", "brief", path("pic.png"), "-o", path("pic.png")}, path("pic.png")},
+      {{"extract", "--camera", path("kb.yaml"), "--allow-size-mismatch", path("pic.png"), "-o", path("hard.yaml")},
+       path("kb.yaml")},
+      {{"extract", "--descriptor", "brief", path("pic.png"), "--keypoints", path("a.yml"), "-o", path("a.yml")},
+       path("a.yml")},
+      {{"camera", "convert", path("kb.yaml"), "-o", path("kb.yaml")}, path("kb.yaml")},
+      {{"camera", "convert", path("hard.yaml"), "-o", path("kb.yaml")}, path("hard.yaml")},
+  };
+  for (const auto& [args, input] : cases) {
+    const Result r = run(args);
+    expectOneLineNaming(r, "the output is the same file as the input " + input);
+  }
+  for (const auto& [name, bytes] : before) EXPECT_EQ(testing::readFile(path(name)), bytes) << name;
+}
+
+// Issue 29: `extract m1.jpg m5.jpg text.png -o DIR` wrote two outputs, then failed on the third.
+// Every image is read before any output is written.
+TEST_F(CliTest, ExtractWritesNoOutputWhenAnyImageIsBad) {
+  cv::Mat pixels(120, 160, CV_8UC1);
+  cv::randu(pixels, 0, 256);
+  ASSERT_TRUE(cv::imwrite(path("a.png"), pixels));
+  ASSERT_TRUE(cv::imwrite(path("b.png"), pixels));
+  std::ofstream(path("text.png")) << "not an image";
+  fs::create_directories(path("out"));
+  const Result r = run({"extract", "--descriptor", "brief", path("a.png"), path("b.png"), path("text.png"), "-o",
+                        path("out")});
+  expectOneLineNaming(r, path("text.png"));
+  EXPECT_TRUE(fs::is_empty(path("out")));
+  ASSERT_EQ(run({"extract", "--descriptor", "brief", path("a.png"), path("b.png"), "-o", path("out")}).code, 0);
+  EXPECT_TRUE(fs::exists(path("out/a.yml")));
+  EXPECT_TRUE(fs::exists(path("out/b.yml")));
+}
+
+// Issue 29: --allow-size-mismatch stretched a calibration anisotropically (480x752 against
+// 752x480) without a word. Another aspect ratio is warned about, with both factors; a uniform
+// rescale is not.
+TEST_F(CliTest, AllowSizeMismatchWarnsAboutAnotherAspectRatio) {
+  const cv::Size size = loadCamera(kCamera)->imageSize();
+  cv::Mat rotated(size.width, size.height, CV_8UC1), half(size.height / 2, size.width / 2, CV_8UC1);
+  cv::randu(rotated, 0, 256);
+  cv::randu(half, 0, 256);
+  ASSERT_TRUE(cv::imwrite(path("rotated.png"), rotated));
+  ASSERT_TRUE(cv::imwrite(path("half.png"), half));
+  const Result r = run({"extract", "--camera", kCamera, "--allow-size-mismatch", path("rotated.png"), "-o",
+                        path("r.yml")});
+  EXPECT_EQ(r.code, 0) << r.err;
+  const double across = double(size.height) / size.width, down = double(size.width) / size.height;
+  std::ostringstream factors;
+  factors << "stretches it by " << across << " across and " << down << " down";
+  EXPECT_NE(r.err.find("warning: " + path("rotated.png") + ": image size " + std::to_string(size.height) + "x" +
+                       std::to_string(size.width) + " has another aspect ratio than the calibration"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find(factors.str()), std::string::npos) << r.err;
+  const Result ok = run({"extract", "--camera", kCamera, "--allow-size-mismatch", path("half.png"), "-o",
+                         path("h.yml")});
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  EXPECT_EQ(ok.err.find("aspect ratio"), std::string::npos) << ok.err;
+}
+
+const std::vector<uchar> kStartOfScan{0xFF, 0xDA};
+
+// A PNG chunk: length, type, data and the CRC-32 of type and data.
+std::string pngChunk(const std::string& type, const std::string& data) {
+  const auto bigEndian = [](uint32_t v) {
+    return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+  };
+  uint32_t crc = 0xFFFFFFFFu;
+  for (const char c : type + data) {
+    crc ^= static_cast<unsigned char>(c);
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+  }
+  return bigEndian(static_cast<uint32_t>(data.size())) + type + data + bigEndian(~crc);
+}
+
+// Issue 29: a 60000x60000 PNG was "unsupported format or truncated", and a PNG cut in half was
+// warned about as "describing the decodable part" before "cannot decode". One message each.
+TEST_F(CliTest, ImagesThatDoNotDecodeSayWhy) {
+  const std::string side = std::string{0, 0, char(0xEA), 0x60};  // 60000
+  const std::string header = side + side + std::string{8, 0, 0, 0, 0};
+  std::ofstream(path("huge.png"), std::ios::binary)
+      << "\x89PNG\r\n\x1a\n" + pngChunk("IHDR", header) + pngChunk("IDAT", "") + pngChunk("IEND", "");
+  expectOneLineNaming(run({"extract", "--descriptor", "brief", path("huge.png"), "-o", path("h.yml")}),
+                      path("huge.png") + ": cannot decode the image: 60000x60000 = 3600000000 pixels, over the "
+                                         "1073741824 OpenCV decodes (CV_IO_MAX_IMAGE_PIXELS)");
+  cv::Mat pixels(200, 200, CV_8UC1);
+  cv::randu(pixels, 0, 256);
+  std::vector<uchar> png;
+  ASSERT_TRUE(cv::imencode(".png", pixels, png));
+  std::ofstream(path("half.png"), std::ios::binary).write(reinterpret_cast<const char*>(png.data()), 60);
+  const Result r = run({"extract", "--descriptor", "brief", path("half.png"), "-o", path("h.yml")});
+  expectOneLineNaming(r, path("half.png") + ": cannot decode the image: truncated PNG (no IEND chunk)\n");
+  EXPECT_EQ(r.err.find("describing the decodable part"), std::string::npos) << r.err;
+}
+
+// Issue 29: match could not tell files of two test sets apart, nor that --inliers --camera named
+// another lens than the one that described them. Feature files record both; match refuses a
+// mismatch and still reads files without the record.
+TEST_F(CliTest, MatchRefusesFilesOfAnotherTestSetOrLens) {
+  REQUIRE_IMAGE(image, "view.png");
+  ASSERT_EQ(run({"extract", "--camera", kCamera, image, "-o", path("a.yml")}).code, 0);
+  ASSERT_EQ(run({"extract", "--camera", kCamera, "--pattern", "brief_random_512", image, "-o", path("r.yml")}).code,
+            0);
+  const FeatureFile a = readFeatures(path("a.yml"));
+  cv::FileStorage recorded(path("a.yml"), cv::FileStorage::READ);
+  EXPECT_EQ(recorded["test_set_digest"].string().size(), 16u);
+  EXPECT_EQ(recorded["camera_digest"].string(), cli::cameraDigest(*loadCamera(kCamera)));
+  expectOneLineNaming(run({"match", path("a.yml"), path("r.yml"), "-o", path("m.yml")}),
+                      "described with different test sets (");
+  const std::string pinhole = (testing::sourceDir() / "configs/cameras/pinhole_example.yaml").string();
+  expectOneLineNaming(run({"match", path("a.yml"), path("a.yml"), "--inliers", "--camera", pinhole, "-o", path("m.yml")}),
+                      "--camera " + pinhole + ": not the calibration " + path("a.yml") + " was described with");
+  EXPECT_FALSE(fs::exists(path("m.yml")));
+  const Result same = run({"match", path("a.yml"), path("a.yml"), "--inliers", "--camera", kCamera, "-o", path("m.yml")});
+  EXPECT_EQ(same.code, 0) << same.err;
+  // A file without the record (written before it) matches as before.
+  cli::Features old;
+  old.keypoints = a.keypoints;
+  old.descriptors = a.descriptors;
+  old.masks = a.masks;
+  cli::writeFeatureFiles({path("old.yml")}, {old});
+  const Result older = run({"match", path("old.yml"), path("r.yml"), "--inliers", "--camera", pinhole, "-o",
+                            path("m.yml")});
+  EXPECT_NE(older.err.find("not the calibration " + path("r.yml")), std::string::npos) << older.err;
+  EXPECT_EQ(run({"match", path("old.yml"), path("a.yml"), "--inliers", "--camera", kCamera, "-o", path("m.yml")}).code,
+            0);
+}
+
+// Issue 29: --strict passed a complete JPEG with flipped bits (half the keypoints, exit 0), with
+// only libjpeg's unnamed "Corrupt JPEG data" line. libjpeg's warnings name the file; --strict
+// refuses it.
+TEST_F(CliTest, AJpegWithDamagedDataIsNamedAndRefusedUnderStrict) {
+  cv::Mat pixels(240, 320, CV_8UC1);
+  cv::RNG(29).fill(pixels, cv::RNG::UNIFORM, 0, 256);
+  std::vector<uchar> jpeg;
+  ASSERT_TRUE(cv::imencode(".jpg", pixels, jpeg));
+  ASSERT_TRUE(cv::imwrite(path("intact.jpg"), pixels));
+  // Flipped bits in the middle of the entropy-coded data; no marker (0xFF and the byte after it)
+  // is made or changed.
+  const size_t scan = std::search(jpeg.begin(), jpeg.end(), kStartOfScan.begin(), kStartOfScan.end()) - jpeg.begin();
+  for (size_t i = scan + (jpeg.size() - scan) / 2, end = i + 64; i < end; i += 4)
+    if (jpeg[i] != 0xFF && jpeg[i - 1] != 0xFF && (jpeg[i] ^ 0x5A) != 0xFF) jpeg[i] ^= 0x5A;
+  std::ofstream(path("flipped.jpg"), std::ios::binary).write(reinterpret_cast<const char*>(jpeg.data()),
+                                                             static_cast<std::streamsize>(jpeg.size()));
+  expectOneLineNaming(run({"extract", "--descriptor", "brief", "--strict", path("flipped.jpg"), "-o", path("f.yml")}),
+                      path("flipped.jpg") + ": damaged JPEG: Corrupt JPEG data");
+  EXPECT_FALSE(fs::exists(path("f.yml")));
+  const Result lenient = run({"extract", "--descriptor", "brief", path("flipped.jpg"), "-o", path("f.yml")});
+  EXPECT_EQ(lenient.code, 0) << lenient.err;
+  EXPECT_NE(lenient.err.find("warning: " + path("flipped.jpg") + ": damaged JPEG: Corrupt JPEG data"),
+            std::string::npos)
+      << lenient.err;
+  const Result intact = run({"extract", "--descriptor", "brief", "--strict", path("intact.jpg"), "-o", path("i.yml")});
+  EXPECT_EQ(intact.code, 0) << intact.err;
+  EXPECT_EQ(intact.err, "");
 }
 
 }  // namespace

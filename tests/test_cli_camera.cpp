@@ -70,6 +70,15 @@ TEST_F(CameraCommand, ConvertWritesTheProjectYamlOfEachTool) {
   EXPECT_EQ(r.out, cameraToYaml(*loadCamera((kFormats / "expected/opencv_standard.yaml").string())));
 }
 
+// Issue 29: `-o out.json` wrote YAML into a .json file.
+TEST_F(CameraCommand, ConvertRefusesAnOutputThatIsNotYaml) {
+  for (const char* name : {"out.json", "out.xml", "out"}) {
+    expectOneLineNaming(runMdbrief({"camera", "convert", (kFormats / "opencv_fisheye.yaml").string(), "-o", path(name)}),
+                        path(name) + ": the output is the project's YAML and must end in .yaml or .yml");
+    EXPECT_FALSE(fs::exists(path(name)));
+  }
+}
+
 TEST_F(CameraCommand, BadCalibrationsExitTwoNamingTheFileAndTheProblem) {
   int seen = 0;
   for (const auto& entry : fs::directory_iterator(testing::sourceDir() / "fuzz/seeds/camera")) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 
 #include <opencv2/features2d.hpp>
@@ -244,6 +245,28 @@ TEST(MdBriefMask, EqualsTheAgreementOfTheThreeRotationsOnARamp) {
   }
   EXPECT_GT(checked, 200);
   EXPECT_GT(unstable, 5);  // the check would be vacuous if every test were stable
+}
+
+
+// Issue 29: with OrientationSource::Keypoint an infinite angle was dropped but a NaN one was
+// described (as unoriented). A NaN angle is no direction either: dropped, for every kind. -1,
+// OpenCV's "no angle", is still described unrotated.
+TEST(KeypointAngles, NaNAndInfiniteAnglesAreDroppedAndMinusOneDescribed) {
+  cv::Mat img(256, 256, CV_8U);
+  cv::randu(img, 0, 256);
+  CameraIntrinsics k;
+  k.width = k.height = 256, k.fx = k.fy = 300, k.cx = k.cy = 127.5;
+  const auto camera = std::make_shared<PinholeCamera>(k);
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  for (const DescriptorKind kind : {DescriptorKind::Brief, DescriptorKind::DBrief, DescriptorKind::MdBrief}) {
+    std::vector<cv::KeyPoint> kps{cv::KeyPoint(100.f, 100.f, 31.f, nan), cv::KeyPoint(120.f, 120.f, 31.f, inf),
+                                  cv::KeyPoint(140.f, 140.f, 31.f, -1.f), cv::KeyPoint(150.f, 110.f, 31.f, 30.f)};
+    const Described d = describe(img, camera, kind, DistortionForm::Affine, kps);
+    ASSERT_EQ(d.keypoints.size(), 2u) << toString(kind);
+    EXPECT_EQ(d.keypoints[0].pt, cv::Point2f(140.f, 140.f));
+    EXPECT_EQ(d.keypoints[1].pt, cv::Point2f(150.f, 110.f));
+    EXPECT_EQ(d.descriptors.rows, 2);
+  }
 }
 
 }  // namespace

@@ -5,11 +5,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <unistd.h>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "eval/eval_cli.hpp"
 #include "eval/eval_datasets.hpp"
 #include "mdbrief/camera_io.hpp"
 #include "mdbrief/detector.hpp"
@@ -259,6 +261,77 @@ TEST(KeypointSources, OneSpellingPerDetectorAndTheChoicesListed) {
   } catch (const std::invalid_argument& e) {
     EXPECT_STREQ(e.what(), "keypoint source 'harris' is not one of: modorb, hessian, orb, akaze, brisk, sift");
   }
+}
+
+}  // namespace
+}  // namespace mdbrief::eval
+
+namespace mdbrief::eval {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct EvalRun {
+  int code;
+  std::string err;
+};
+
+EvalRun runEval(const std::vector<std::string>& args) {
+  std::ostringstream out, err;
+  const int code = runEvalCli(args, out, err);
+  return {code, err.str()};
+}
+
+// Issue 29: `eval --oxford-dir /mistyped --no-fisheye` replaced eval_summary.csv with a header
+// and exited 0. An evaluation of nothing keeps the previous results and exits 2.
+TEST(EvalCli, AnEvaluationOfNothingKeepsThePreviousResults) {
+  testing::TempDir dir("eval_nothing");
+  const fs::path out = dir.path / "out";
+  fs::create_directories(out);
+  const std::string old = "group,sequence,method\nperspective,graf,old\n";
+  for (const char* name : {"eval_summary.csv", "pipelines_summary.csv"}) std::ofstream(out / name) << old;
+  const std::string missing = (dir.path / "mistyped").string();
+  for (const char* command : {"eval", "pipelines"}) {
+    const EvalRun r = runEval({command, "--oxford-dir", missing, "--no-fisheye", "--out", out.string()});
+    EXPECT_EQ(r.code, 2) << command << ": " << r.err;
+    EXPECT_NE(r.err.find("no sequence to evaluate"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(testing::readFile(out / "eval_summary.csv"), old);
+  EXPECT_EQ(testing::readFile(out / "pipelines_summary.csv"), old);
+}
+
+// Issue 29: an output that names an input is refused before the work, the input unchanged.
+TEST(EvalCli, AnOutputThatIsAnInputIsRefused) {
+  testing::TempDir dir("eval_same");
+  const fs::path out = dir.path / "out";
+  fs::create_directories(out);
+  const fs::path camera = out / "camera.yaml", photo = dir.path / "photo.png";
+  fs::copy_file(testing::sourceDir() / "configs/cameras/lafida_fisheye0.yaml", camera);
+  cv::Mat pixels(48, 64, CV_8UC1);
+  cv::randu(pixels, 0, 256);
+  ASSERT_TRUE(cv::imwrite(photo.string(), pixels));
+  const std::string cameraBytes = testing::readFile(camera), photoBytes = testing::readFile(photo);
+  const fs::path timingTexture = dir.path / "timing_table.csv";  // timing's own output given as its texture
+  fs::copy_file(photo, timingTexture);
+  const std::vector<std::vector<std::string>> cases = {
+      {"export-user-sample", "--camera", camera.string(), "--texture", photo.string(), "--out", out.string()},
+      {"export-rotated-views", "--camera", camera.string(), "--image", photo.string(), "--out", out.string()},
+      {"held-out-images", "--only", photo.string(), "--out", photo.string()},
+      {"timing", "--camera", camera.string(), "--texture", timingTexture.string(), "--out", dir.path.string()},
+      // A former output of sim as its texture.
+      {"sim", "--texture", (out / "sim_pinhole_views.png").string(), "--out", out.string()},
+  };
+  fs::copy_file(photo, out / "sim_pinhole_views.png");
+  for (const auto& args : cases) {
+    const EvalRun r = runEval(args);
+    EXPECT_EQ(r.code, 2) << args[0] << ": " << r.err;
+    EXPECT_NE(r.err.find("the output is the same file as the input"), std::string::npos) << args[0] << ": " << r.err;
+  }
+  EXPECT_EQ(testing::readFile(camera), cameraBytes);
+  EXPECT_EQ(testing::readFile(photo), photoBytes);
+  EXPECT_EQ(testing::readFile(dir.path / "timing_table.csv"), photoBytes);
+  EXPECT_EQ(testing::readFile(out / "sim_pinhole_views.png"), photoBytes);
+  EXPECT_FALSE(fs::exists(out / "img1.png"));
 }
 
 }  // namespace

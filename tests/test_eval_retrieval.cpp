@@ -181,5 +181,23 @@ TEST(RetrievalCli, BadInputExitsWith2NamingTheOptionOrFile) {
   }
 }
 
+// Issue 29: an output that is one of the inputs is refused before any image is described.
+TEST(RetrievalCli, AnOutputThatIsAnInputIsRefused) {
+  MDBRIEF_REQUIRE_SHARED_DATA(data);
+  testing::TempDir dir("retrieval_same");
+  const fs::path photos = dir.path / "photos";
+  fs::create_directories(photos);
+  writeTextures(photos, "p", 1, 3);
+  for (const char* name : {"retrieval.csv", "orb.dbow2.txt"}) {
+    const std::string output = (dir.path / name).string();
+    std::ofstream(output) << "previous results\n";
+    const EvalRun r = runRetrievalCli({"--photos", photos.string(), "--training-count", "2", "--data", data.string(),
+                                       "--datasets", "oxford", "--fisheye-camera", output, "--out", dir.path.string()});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("the output is the same file as the input " + output), std::string::npos) << r.err;
+    EXPECT_EQ(testing::readFile(output), "previous results\n");
+  }
+}
+
 }  // namespace
 }  // namespace mdbrief::eval

@@ -2,6 +2,7 @@
 // tracker keeps (tracker_metrics.hpp) and the poster-dev ground truth (poster_dev.hpp), on
 // constructed inputs whose answers are known.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <fstream>
@@ -333,6 +334,32 @@ TEST(TrackerCommand, ADamagedDataSetIsSkippedWithItsReasonOrRefusedWhenNamed) {
   EXPECT_EQ(runTrackerCommand(common), "no data set could be read (see the messages above)");
   err = ::testing::internal::GetCapturedStderr();
   EXPECT_NE(err.find("skipping poster-dev: " + json + ": not a JSON object"), std::string::npos) << err;
+}
+
+// Issue 29: --library naming a FIFO blocked for ever; /dev/zero read without end.
+TEST(TrackerCommand, ALibraryOptionsFileMustBeARegularFile) {
+  testing::TempDir dir("tracker_library");
+  const std::string fifo = (dir.path / "options.yml").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(runTrackerCommand({"--library", "mine=" + fifo, "--out", dir.path.string()}),
+            fifo + ": library options file: is a FIFO, not a regular file");
+  EXPECT_EQ(runTrackerCommand({"--library", "mine=/dev/zero", "--out", dir.path.string()}),
+            "/dev/zero: library options file: is a character device, not a regular file");
+}
+
+// Issue 29: an output that is one of the inputs is refused before the run, the input kept.
+TEST(TrackerCommand, AnOutputThatIsAnInputIsRefused) {
+  FakePosterDev fake;
+  testing::TempDir out("tracker_same"), noPhotos("tracker_same_no_photos");
+  const std::string summary = (out.path / "tracker_summary.csv").string();
+  std::ofstream(summary) << "previous results\n";
+  ::testing::internal::CaptureStderr();
+  const std::string message =
+      runTrackerCommand({"--data", fake.data.path.string(), "--opencv-doc-dir", noPhotos.path.string(), "--only",
+                         "AKAZE", "--fisheye-camera", summary, "--out", out.path.string()});
+  ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(message.find("the output is the same file as the input " + summary), std::string::npos) << message;
+  EXPECT_EQ(testing::readFile(summary), "previous results\n");
 }
 
 TEST(PosterDev, TheSharedFramesGiveFortyFivePairs) {

@@ -272,6 +272,28 @@ TEST(ImagePyramid, FirstLevelHoldsTheInputAndLowerLevelsEnlargeIt) {
   EXPECT_THROW(ImagePyramid(image, options), std::invalid_argument);
 }
 
+// Issue 29: --levels 32 --scale-factor 2 --first-level 10, all within the ranges, asked for
+// 378 GB. Level 0 enlarges the input at most 4 times per side.
+TEST(ImagePyramid, TheEnlargementOfTheFirstLevelIsBounded) {
+  PyramidOptions options;
+  options.levels = 32;
+  options.scaleFactor = 2.0;
+  options.firstLevel = 10;
+  try {
+    validate(options);
+    ADD_FAILURE() << "first level 10 of factor 2 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("[0, 2]"), std::string::npos) << e.what();
+  }
+  options.firstLevel = 2;  // 4 times per side
+  EXPECT_NO_THROW(validate(options));
+  options.scaleFactor = 1.2;
+  options.firstLevel = 7;  // 1.2^7 = 3.6
+  EXPECT_NO_THROW(validate(options));
+  options.firstLevel = 8;  // 4.3
+  EXPECT_THROW(validate(options), std::invalid_argument);
+}
+
 TEST(ToGrey, GreyInputIsReturnedWithoutCopy) {
   const cv::Mat grey = noiseImage({20, 10});
   const cv::Mat out = toGrey(grey);

@@ -399,3 +399,19 @@ TEST(Extraction, CounterpartsAreTheSameKeypointsInChangedViewsAndHeldOutImagesAr
   EXPECT_EQ(c.counterpartOf, a.counterpartOf);
   EXPECT_EQ(c.imageDigests, a.imageDigests);
 }
+
+// Issue 29: mdbrief-patchextract's output may not be one of its held-out lists (under any name).
+TEST(PatchSet, AnOutputThatIsAnInputIsRefused) {
+  TempDir dir("patchset_same");
+  const fs::path list = dir.path / "held_out.txt";
+  std::ofstream(list) << "0123456789abcdef img\n";
+  fs::create_symlink(list, dir.path / "link.h5");
+  try {
+    checkPatchSetOutput(dir.path / "link.h5", {dir.path / "other.txt", list});
+    ADD_FAILURE() << "expected a refusal";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("the same file as the input " + list.string()), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(mdbrief::testing::readFile(list), "0123456789abcdef img\n");
+  EXPECT_NO_THROW(checkPatchSetOutput(dir.path / "patches.h5", {list}));
+}

@@ -295,3 +295,18 @@ TEST(PatternWriter, OutputsThatCannotBeWrittenAreReportedBeforeTheWork) {
   EXPECT_THROW(checkPatternOutputs("fresh", dir.path / "missing"), std::runtime_error);
   EXPECT_THROW(checkPatternOutputs("Bad-Name", dir.path), std::invalid_argument);
 }
+
+// Issue 29: `--pattern /dev/zero` said the file did not exist. Whatever is at the path is named.
+TEST(ResolveTestSet, ADeviceOrAFolderIsNamedForWhatItIs) {
+  const auto messageOf = [](const std::string& path) {
+    try {
+      resolveTestSet(path);
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(messageOf("/dev/zero"), "/dev/zero: test set file: is a character device, not a regular file");
+  EXPECT_NE(messageOf("/tmp").find("/tmp: test set file: is a folder"), std::string::npos);
+  EXPECT_NE(messageOf("no_such_set").find("neither a built-in set"), std::string::npos);
+}

@@ -3,6 +3,7 @@
 // file and writes nothing; held-out images are refused by digest.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -13,6 +14,7 @@
 #include "test_data.hpp"
 #include "vocabulary/descriptor_npy.hpp"
 #include "vocabulary/train_vocabulary_cli.hpp"
+#include "write_limits.hpp"
 
 namespace fs = std::filesystem;
 using namespace mdbrief;
@@ -107,6 +109,8 @@ TEST(TrainVocabularyCli, BadInputExitsWith2NamingTheProblemAndWritesNothing) {
       {{"--descriptors", inputs[1], "--masks", inputs[5], inputs[6], "--out", out}, "--masks: 2 files for 1"},
       {{"--descriptors", (dir.path / "missing.npy").string(), "--out", out}, "no such file"},
       {{"--images", (dir.path / "missing").string(), "--out", out}, "no such image or folder"},
+      // Issue 29: a device was "no such image or folder".
+      {{"--images", "/dev/zero", "--out", out}, "/dev/zero: is a character device, not a regular file"},
       {{"--images", dir.path.string(), "--bits", "100", "--out", out}, "bits"},
       {{"--images", dir.path.string(), "--nfeatures", "0", "--out", out}, "--nfeatures"},
       {{"--images", dir.path.string(), "--features", "orb", "--nfeatures", "-1", "--out", out}, "--nfeatures"},
@@ -120,7 +124,10 @@ TEST(TrainVocabularyCli, BadInputExitsWith2NamingTheProblemAndWritesNothing) {
       {{"--images", image, "--camera", (dir.path / "none.yaml").string(), "--out", out},
        (dir.path / "none.yaml").string() + ": camera file: no such file"},
       {{"--images", image, "--held-out", (dir.path / "none.txt").string(), "--out", out},
-       (dir.path / "none.txt").string() + ": cannot read the held-out list"},
+       (dir.path / "none.txt").string() + ": held-out list: no such file"},
+      // Issue 29: read without bound until std::bad_alloc.
+      {{"--images", image, "--held-out", "/dev/zero", "--out", out},
+       "/dev/zero: held-out list: is a character device, not a regular file"},
   };
   for (const auto& [args, expected] : cases) {
     const CliRun r = run(args);
@@ -128,6 +135,55 @@ TEST(TrainVocabularyCli, BadInputExitsWith2NamingTheProblemAndWritesNothing) {
     EXPECT_NE(r.err.find(expected), std::string::npos) << "expected '" << expected << "' in: " << r.err;
     EXPECT_FALSE(fs::exists(out));
   }
+}
+
+// Issue 29: `--descriptors dd.npy --plain --out dd.npy` replaced its input, `--out same.bin
+// --dbow2-text same.bin` wrote the text over the binary.
+TEST(TrainVocabularyCli, AnOutputThatIsAnInputOrTheOtherOutputIsRefusedAndNothingChanges) {
+  TempDir dir("tv_same");
+  const auto inputs = npyFiles(dir, false);
+  const std::string input = inputs[1], before = readFile(input);
+  fs::create_symlink(input, dir.path / "link.npy");
+  const std::string out = (dir.path / "v.bin").string();
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {plus(inputs, {"--plain", "--out", input}), input + ": the output is the same file as the input " + input},
+      {plus(inputs, {"--plain", "--out", (dir.path / "link.npy").string()}), "the same file as the input " + input},
+      {plus(inputs, {"--plain", "--out", out, "--dbow2-text", input}), "the same file as the input " + input},
+      {plus(inputs, {"--plain", "--out", out, "--dbow2-text", out}), "the same file as the output " + out},
+  };
+  for (const auto& [args, expected] : cases) {
+    const CliRun r = run(args);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << "expected '" << expected << "' in: " << r.err;
+    EXPECT_EQ(readFile(input), before);
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
+// Issue 29: the binary was replaced before the text failed. Both are one set now: a text that
+// cannot be written leaves the previous binary as well.
+TEST(TrainVocabularyCli, TheBinaryAndTheTextAreReplacedTogether) {
+  TempDir dir("tv_set");
+  const auto inputs = npyFiles(dir, false);
+  const std::string out = (dir.path / "v.mdbvoc").string(), text = (dir.path / "v.txt").string();
+  const std::vector<std::string> args = plus(inputs, {"--plain", "--branching", "4", "--depth", "2", "--out", out,
+                                                      "--dbow2-text", text});
+  ASSERT_EQ(run(plus(args, {"--seed", "1"})).code, 0);
+  const std::string binary = readFile(out), oldText = readFile(text);
+  ASSERT_LT(binary.size() + 512, oldText.size());
+  CliRun r;
+  {
+    // Room for the binary, not for the text.
+    const mdbrief::testing::FileSizeLimit limit((binary.size() + oldText.size()) / 2);
+    r = run(plus(args, {"--seed", "2"}));
+  }
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find(text), std::string::npos) << r.err;
+  EXPECT_EQ(readFile(out), binary);
+  EXPECT_EQ(readFile(text), oldText);
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir.path)) names.push_back(entry.path().filename().string());
+  EXPECT_EQ(std::count_if(names.begin(), names.end(), [](const std::string& n) { return n[0] == '.'; }), 0);
 }
 
 TEST(TrainVocabularyCli, ImagesAreDescribedAtTheAskedLengthAndHeldOutOnesRefused) {

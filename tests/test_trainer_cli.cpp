@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "mdbrief/patterns.hpp"
@@ -63,6 +64,8 @@ TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
       {{"--camera", (dir.path / "empty").string(), "--out", o}, "empty: calibration file: is a folder"},
       {{"--patches-file", (dir.path / "empty").string(), "--out", o}, "empty: patch file: is a folder"},
       {{"--out", (dir.path / "missing_out").string()}, "missing_out"},
+      // Issue 29: a file was reported as a missing folder.
+      {{"--out", (dir.path / "textonly" / "a.txt").string()}, "a.txt: the output folder is a file, not a folder"},
       {{"--tests", "33", "--out", o}, "multiple of 32"},
       // Before: -1 became 18446744073709551615 patches and the run exited 0; -32 was reported as
       // "exceeds the candidates".
@@ -74,7 +77,7 @@ TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
       {{"--patches-file", (dir.path / "none.h5").string(), "--out", o}, "none.h5"},
       {{"--no-such-flag"}, ""},
       {{"--selection", "boosting", "--out", o}, "boosting not in {paper,stability,separation}"},
-      {{"--held-out", (dir.path / "nolist.txt").string(), "--out", o}, "nolist.txt: cannot read the held-out list"},
+      {{"--held-out", (dir.path / "nolist.txt").string(), "--out", o}, "nolist.txt: held-out list: no such file"},
       {{"--form", "warped", "--out", o}, "--form: warped not in {affine,paper}"},
       {{"--orientation", "north", "--out", o}, "--orientation: north not in {tangent-plane,keypoint}"},
       {{"--patches-file", (dir.path / "none.h5").string(), "--form", "paper", "--out", o},
@@ -113,6 +116,67 @@ TEST(TrainCli, UnwritableOutputsFailBeforeTheExtraction) {
     EXPECT_EQ(r.out, "") << "the extraction ran first";
   }
   EXPECT_EQ(mdbrief::testing::temporaryFiles(out), std::vector<std::string>{});
+}
+
+// Issue 29: an output that is an input (under any name) is refused before anything is read, and
+// the input keeps its bytes.
+TEST(TrainCli, AnOutputThatIsAnInputIsRefused) {
+  TempDir dir("same");
+  const fs::path out = dir.path / "out", images = dir.path / "images", list = dir.path / "list.txt";
+  fs::create_directories(out);
+  fs::create_directories(images);
+  std::ofstream(list) << "0123456789abcdef held\n";
+  std::ofstream(out / "registry.hpp") << "// registry\n";
+  fs::create_symlink(list, dir.path / "link.txt");
+  const std::vector<std::string> common{"--images", images.string(), "--out", out.string(), "--name", "t_64",
+                                        "--tests", "64"};
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--held-out", list.string(), "--save-patches", (dir.path / "link.txt").string()},
+       "the same file as the input " + list.string()},
+      {{"--camera", (out / "registry.hpp").string()}, "the same file as the input " + (out / "registry.hpp").string()},
+  };
+  for (const auto& [extra, message] : cases) {
+    auto args = common;
+    args.insert(args.end(), extra.begin(), extra.end());
+    const CliRun r = runTrain(args);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(readFile(list), "0123456789abcdef held\n");
+  EXPECT_EQ(readFile(out / "registry.hpp"), "// registry\n");
+}
+
+// Issue 29: --held-out /dev/zero read without bound, a FIFO blocked for ever, --config /dev/zero
+// hung; a misspelt key in --config (patchs = 300), an unknown key and a malformed line were
+// ignored. Each is an error naming the file, before any image is read.
+TEST(TrainCli, SpecialFilesAndUnknownConfigurationKeysAreRefused) {
+  TempDir dir("special");
+  const fs::path out = dir.path / "out", images = dir.path / "images", fifo = dir.path / "fifo.txt";
+  fs::create_directories(out);
+  fs::create_directories(images);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const auto config = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir.path / name) << text;
+    return (dir.path / name).string();
+  };
+  const std::vector<std::string> common{"--images", images.string(), "--out", out.string()};
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--held-out", "/dev/zero"}, "/dev/zero: held-out list: is a character device, not a regular file"},
+      {{"--held-out", fifo.string()}, fifo.string() + ": held-out list: is a FIFO, not a regular file"},
+      {{"--config", "/dev/zero"}, "/dev/zero: configuration file: is a character device"},
+      {{"--config=" + fifo.string()}, fifo.string() + ": configuration file: is a FIFO"},
+      {{"--config", config("misspelt.toml", "patchs = 300\n")}, "patchs"},
+      {{"--config", config("bogus.toml", "bogus_key = 3\n")}, "bogus_key"},
+      {{"--config", config("malformed.toml", "[x\nfoo=\n")}, "foo"},
+  };
+  for (const auto& [extra, message] : cases) {
+    auto args = common;
+    args.insert(args.end(), extra.begin(), extra.end());
+    const CliRun r = runTrain(args);
+    EXPECT_EQ(r.code, 2) << extra[0] << ": " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+  }
+  EXPECT_TRUE(fs::is_empty(out));
 }
 
 TEST(TrainCli, HelpNamesTheProgramAndListsTheChoices) {

@@ -1,17 +1,17 @@
 #include "toolkit/homography_file.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 #include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/internal/input_file.hpp"
 
 namespace mdbrief {
 
 cv::Matx33d readHomography(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path.string() + ": cannot open the homography file");
+  // Nine numbers; 1 MiB leaves room for any spacing and comment, and refuses /dev/zero or a FIFO.
+  std::istringstream in(internal::readInputFile(path, std::uintmax_t{1} << 20, "homography file"));
   cv::Matx33d h;
   for (int i = 0; i < 9; ++i)
     if (!(in >> h.val[i]) || !std::isfinite(h.val[i]))

@@ -57,11 +57,6 @@ bool isValidName(const std::string& name) {
   });
 }
 
-void requireValidName(const std::string& name) {
-  if (!isValidName(name))
-    throw std::invalid_argument("pattern name '" + name + "' must match [a-z][a-z0-9_]* and not be 'registry'");
-}
-
 bool isSingleLine(const std::string& s) { return s.find_first_of("\r\n") == std::string::npos; }
 
 // A C++ string literal: only '\' and '"' need escaping in single-line text.
@@ -89,8 +84,13 @@ std::string digestString(const std::vector<std::string>& digests) {
 
 }  // namespace
 
+void requirePatternName(const std::string& name) {
+  if (!isValidName(name))
+    throw std::invalid_argument("pattern name '" + name + "' must match [a-z][a-z0-9_]* and not be 'registry'");
+}
+
 void validate(const PatternDocument& d) {
-  requireValidName(d.name);
+  requirePatternName(d.name);
   if (d.tests.empty()) throw std::invalid_argument("pattern '" + d.name + "' has no tests");
   if (!d.testComments.empty() && d.testComments.size() != d.tests.size())
     throw std::invalid_argument("pattern '" + d.name + "': " +
@@ -244,7 +244,7 @@ std::string registryDefaultName(const fs::path& dir) {
 }
 
 void checkPatternOutputs(const std::string& name, const fs::path& dir, const PatternWriteOptions& options) {
-  requireValidName(name);
+  requirePatternName(name);
   if (options.writeJson) internal::checkOutputPath(dir / (name + ".json"));
   internal::checkOutputPath(dir / (name + ".hpp"));
   internal::checkOutputPath(dir / "registry.hpp");

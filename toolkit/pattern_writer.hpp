@@ -40,6 +40,10 @@ std::string patternJsonText(const PatternDocument& document);
 // names: the pattern headers to list (sorted here); defaultName must be one of them.
 std::string registryHeaderText(std::vector<std::string> names, const std::string& defaultName);
 
+// Throws std::invalid_argument naming it unless name can be a registry name and file stem
+// ([a-z][a-z0-9_]*, not "registry"): for the writers and for what checks names early.
+void requirePatternName(const std::string& name);
+
 // Names of the pattern headers in dir (every *.hpp except registry.hpp), sorted.
 std::vector<std::string> patternHeaderNames(const std::filesystem::path& dir);
 // kDefaultPattern of dir/registry.hpp, or "" when there is none.

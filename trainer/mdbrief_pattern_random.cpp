@@ -6,12 +6,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include "toolkit/file_size_signal.hpp"
 #include "toolkit/opencv_log.hpp"
 #include "toolkit/pattern_writer.hpp"
 #include "trainer/random_pattern.hpp"
 
 int main(int argc, char** argv) {
   mdbrief::silenceOpenCvLogUnlessAsked();
+  mdbrief::ignoreFileSizeSignal();
   mdbrief::train::RandomPatternOptions options;
   std::filesystem::path out = "patterns";
   bool makeDefault = false;

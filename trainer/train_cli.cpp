@@ -6,12 +6,27 @@
 
 #include <CLI/CLI.hpp>
 
+#include "mdbrief/internal/input_file.hpp"
 #include "toolkit/command_line.hpp"
 #include "toolkit/option_flags.hpp"
 #include "toolkit/progress_reporter.hpp"
 #include "trainer/training.hpp"
 
 namespace mdbrief::train {
+namespace {
+
+// The files named by --config in args (CLI11 reads them while parsing).
+std::vector<std::string> configFiles(const std::vector<std::string>& args) {
+  const std::string flag = "--config", prefix = flag + "=";
+  std::vector<std::string> files;
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == flag && i + 1 < args.size()) files.push_back(args[i + 1]);
+    if (args[i].rfind(prefix, 0) == 0) files.push_back(args[i].substr(prefix.size()));
+  }
+  return files;
+}
+
+}  // namespace
 
 int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err, bool progressTty) {
   CLI::App app{"Learn a binary test set (ORB's greedy scheme, paper \"Off-line Learning\", or a selection by "
@@ -24,7 +39,19 @@ int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::os
   app.get_option("--images")->description(app.get_option("--images")->get_description() + "; default " +
                                           kDefaultImageFolder);
   app.set_config("--config", "", "read these options from a TOML/INI file (configs/training/)");
+  // A misspelt key (patchs = 300) left the default in use without a word.
+  app.allow_config_extras(CLI::config_extras_mode::error);
 
+  // CLI11 reads a --config file without bound: /dev/zero or a FIFO hung the parse. 1 MiB is far
+  // more than every option takes.
+  for (const std::string& file : configFiles(args)) {
+    try {
+      internal::readInputFile(file, std::uintmax_t{1} << 20, "configuration file");
+    } catch (const std::runtime_error& e) {
+      err << "error: " << e.what() << "\n";
+      return 2;
+    }
+  }
   if (const std::optional<int> code = parseArguments(app, args, out, err)) return *code;
 
   ProgressReporter progress(out, progressTty);

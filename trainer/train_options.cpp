@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "mdbrief/internal/input_file.hpp"
+#include "toolkit/pattern_writer.hpp"
 #include "trainer/candidate_tests.hpp"
 
 namespace mdbrief::train {
@@ -87,7 +88,10 @@ void validate(const TrainOptions& options) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (!options.out.empty() && !fs::is_directory(options.out, ec))
-    throw std::invalid_argument(options.out + ": output folder does not exist");
+    throw std::invalid_argument(options.out + (fs::exists(options.out, ec) ? ": the output folder is a file, not a folder"
+                                                                           : ": output folder does not exist"));
+  // Before the work, also without out (Python's train returned a set its save() refused).
+  if (!options.name.empty()) requirePatternName(options.name);
   if (options.makeDefault && options.out.empty())
     throw std::invalid_argument("make_default needs out (a patterns folder whose registry it changes)");
   const ExtractionOptions& e = options.extraction;

@@ -8,6 +8,7 @@
 
 #include <sys/resource.h>
 
+#include "mdbrief/internal/atomic_file.hpp"
 #include "trainer/candidate_tests.hpp"
 
 namespace mdbrief::train {
@@ -105,6 +106,13 @@ TrainResult train(const TrainOptions& s, const TrainProgress& progress) {
   // Outputs that cannot be written fail now, not after minutes of extraction and selection.
   if (!s.out.empty()) checkPatternOutputs(name, s.out, {true, s.makeDefault});
   if (s.patchesFile.empty() && !s.savePatches.empty()) checkPatchSetOutput(s.savePatches);
+  std::vector<fs::path> inputs{camera, s.patchesFile};
+  inputs.insert(inputs.end(), s.heldOutFiles.begin(), s.heldOutFiles.end());
+  std::vector<fs::path> outputs{s.savePatches};
+  if (!s.out.empty())
+    for (const std::string& file : {name + ".hpp", name + ".json", std::string("registry.hpp")})
+      outputs.push_back(fs::path(s.out) / file);
+  internal::checkOutputsApart(inputs, outputs);
 
   TrainResult result;
   PatchSet patches;

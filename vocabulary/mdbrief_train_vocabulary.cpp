@@ -6,11 +6,13 @@
 
 #include <unistd.h>
 
+#include "toolkit/file_size_signal.hpp"
 #include "toolkit/opencv_log.hpp"
 #include "vocabulary/train_vocabulary_cli.hpp"
 
 int main(int argc, char** argv) {
   mdbrief::silenceOpenCvLogUnlessAsked();
+  mdbrief::ignoreFileSizeSignal();
   const std::vector<std::string> args(argv + 1, argv + argc);
   return mdbrief::vocab::runTrainVocabularyCli(args, std::cout, std::cerr, isatty(fileno(stdout)) != 0);
 }

@@ -35,8 +35,8 @@ struct Args {
 
 // The training images described (image input), in file order. Errors are reported for the
 // first image in that order, whatever the threads met first.
-std::vector<TrainingImage> describeImages(const Args& a, const FeatureOptions& features, ProgressReporter& progress) {
-  const std::vector<fs::path> files = imageFiles(a.images);
+std::vector<TrainingImage> describeImages(const Args& a, const std::vector<fs::path>& files,
+                                          const FeatureOptions& features, ProgressReporter& progress) {
   CameraPtr camera;
   if (!a.camera.empty()) camera = loadCamera(a.camera);
   train::HeldOutImages heldOut = train::shippedHeldOutImages();
@@ -100,17 +100,26 @@ void run(Args& a, std::ostream& out, bool progressTty) {
       throw std::invalid_argument("--dbow2-text: the DBoW2 text format has no masks; train a plain vocabulary (--plain)");
     internal::checkOutputPath(a.dbow2Text);
   }
+  const std::vector<fs::path> files = a.images.empty() ? std::vector<fs::path>{} : imageFiles(a.images);
+  std::vector<fs::path> inputs(files.begin(), files.end());
+  for (const auto* list : {&a.descriptors, &a.masks, &a.heldOut})
+    inputs.insert(inputs.end(), list->begin(), list->end());
+  inputs.push_back(a.camera);
+  internal::checkOutputsApart(inputs, {a.out, a.dbow2Text});
 
   ProgressReporter progress(out, progressTty);
-  const std::vector<TrainingImage> images = a.images.empty() ? readDescriptorFiles(a) : describeImages(a, features, progress);
+  const std::vector<TrainingImage> images =
+      a.images.empty() ? readDescriptorFiles(a) : describeImages(a, files, features, progress);
   size_t descriptors = 0;
   for (const auto& im : images) descriptors += static_cast<size_t>(im.descriptors.rows);
   const Vocabulary v = trainVocabulary(images, a.training, [&](const std::string& stage, size_t done, size_t total) {
     progress.update(stage, done, total);
   });
   progress.finish();
-  v.save(a.out);
-  if (!a.dbow2Text.empty()) exportDbow2Text(v, a.dbow2Text);
+  // Both files as one set: a failed text leaves the previous binary too.
+  std::vector<internal::FileContent> written{{a.out, v.fileBytes()}};
+  if (!a.dbow2Text.empty()) written.push_back({a.dbow2Text, dbow2Text(v)});
+  internal::writeFilesAtomically(written);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   char line[512];
   std::snprintf(line, sizeof line,

@@ -6,6 +6,7 @@
 #include <opencv2/features2d.hpp>
 
 #include "mdbrief/feature2d.hpp"
+#include "mdbrief/internal/input_file.hpp"
 #include "patchextract/patch_extraction.hpp"
 #include "toolkit/image_file.hpp"
 #include "toolkit/photo_camera.hpp"
@@ -44,6 +45,9 @@ std::vector<fs::path> imageFiles(const std::vector<std::string>& paths) {
       out.insert(out.end(), found.begin(), found.end());
     } else if (fs::is_regular_file(p, ec)) {
       out.emplace_back(p);
+    } else if (const std::string problem = internal::inputFileProblem(p); problem != "no such file") {
+      // A FIFO or a device is named for what it is, not as missing (issue 29).
+      throw std::invalid_argument(p + ": " + problem);
     } else {
       throw std::invalid_argument(p + ": no such image or folder");
     }

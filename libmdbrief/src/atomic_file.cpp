@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 #include <system_error>
+#include <utility>
 
 namespace mdbrief::internal {
 
@@ -79,6 +80,16 @@ std::string typeName(fs::file_type type) {
     case fs::file_type::socket: return "a socket";
     default: return "not a regular file";
   }
+}
+
+// Where the new content goes: a symbolic link is written through, as editors do, so the link
+// stays and its target gets the content (renaming over the link replaced it and left the target
+// stale, while a link to a device was followed and refused). A dangling link is replaced.
+fs::path resolvedTarget(const fs::path& target) {
+  std::error_code ec;
+  if (!fs::is_symlink(target, ec)) return target;
+  const fs::path resolved = fs::canonical(target, ec);
+  return ec ? target : resolved;
 }
 
 // The checks of checkOutputPath that need no file to be created.
@@ -167,7 +178,46 @@ void renameOrThrow(const fs::path& temp, const fs::path& target) {
   if (ec) throw std::runtime_error(target.string() + ": cannot replace: " + ec.message());
 }
 
+// Who a path is: an existing file by device and inode (after following links), a file still to
+// be made by its folder's device and inode and its name; none when even the folder cannot be
+// reached (the writer reports that).
+struct FileIdentity {
+  dev_t device = 0;
+  ino_t inode = 0;
+  std::string name;  // empty for an existing file
+  bool operator==(const FileIdentity& other) const {
+    return device == other.device && inode == other.inode && name == other.name;
+  }
+};
+
+std::optional<FileIdentity> identityOf(const fs::path& path) {
+  struct stat info {};
+  if (::stat(path.c_str(), &info) == 0) return FileIdentity{info.st_dev, info.st_ino, ""};
+  if (errno != ENOENT || ::stat(folderOf(path).c_str(), &info) != 0) return std::nullopt;
+  return FileIdentity{info.st_dev, info.st_ino, path.filename().string()};
+}
+
 }  // namespace
+
+void checkOutputsApart(const std::vector<fs::path>& inputs, const std::vector<fs::path>& outputs) {
+  std::vector<std::pair<FileIdentity, const fs::path*>> seen;  // the inputs, then the outputs so far
+  for (const fs::path& input : inputs)
+    if (const auto id = input.empty() ? std::nullopt : identityOf(input)) seen.emplace_back(*id, &input);
+  const size_t inputCount = seen.size();
+  for (const fs::path& output : outputs) {
+    const auto id = output.empty() ? std::nullopt : identityOf(output);
+    if (!id) continue;
+    for (size_t i = 0; i < seen.size(); ++i) {
+      if (!(seen[i].first == *id)) continue;
+      if (i < inputCount)
+        throw std::runtime_error(output.string() + ": the output is the same file as the input " +
+                                 seen[i].second->string() + "; refusing to overwrite an input");
+      throw std::runtime_error(output.string() + ": the output is the same file as the output " +
+                               seen[i].second->string() + "; one would overwrite the other");
+    }
+    seen.emplace_back(*id, &output);
+  }
+}
 
 void checkOutputPath(const fs::path& target) {
   requireReplaceable(target);
@@ -182,17 +232,18 @@ void checkOutputPath(const fs::path& target) {
 
 void writeAtomically(const fs::path& target, const std::function<void(const fs::path& temp)>& write) {
   requireReplaceable(target);
-  removeOrphanedTemporaries(target);
-  const fs::path temp = temporaryPath(target);
+  const fs::path real = resolvedTarget(target);
+  removeOrphanedTemporaries(real);
+  const fs::path temp = temporaryPath(real);
   try {
     write(temp);
     syncFile(target, temp);
-    renameOrThrow(temp, target);
+    renameOrThrow(temp, real);
   } catch (...) {
     removeQuietly(temp);
     throw;
   }
-  syncFolder(folderOf(target));
+  syncFolder(folderOf(real));
 }
 
 void writeFileAtomically(const fs::path& target, std::string_view content) {
@@ -202,6 +253,7 @@ void writeFileAtomically(const fs::path& target, std::string_view content) {
 void writeFilesAtomically(const std::vector<FileContent>& files) {
   struct Step {
     const FileContent* file;
+    fs::path real;  // where the content goes (resolvedTarget)
     fs::path temp;
     std::optional<fs::path> backup;  // a second name of the previous content, for the way back
     bool renamed = false;
@@ -209,8 +261,9 @@ void writeFilesAtomically(const std::vector<FileContent>& files) {
   std::vector<Step> steps;
   for (const FileContent& file : files) {
     requireReplaceable(file.target);
-    removeOrphanedTemporaries(file.target);
-    steps.push_back({&file, temporaryPath(file.target), std::nullopt});
+    const fs::path real = resolvedTarget(file.target);
+    removeOrphanedTemporaries(real);
+    steps.push_back({&file, real, temporaryPath(real), std::nullopt});
   }
   const auto removeLeftovers = [&] {
     for (const Step& step : steps) {
@@ -222,15 +275,15 @@ void writeFilesAtomically(const std::vector<FileContent>& files) {
     for (const Step& step : steps) writeDurably(step.file->target, step.temp, step.file->content);
     for (Step& step : steps) {
       std::error_code ec;
-      if (!fs::exists(step.file->target, ec)) continue;
-      step.backup = temporaryPath(step.file->target);
-      fs::create_hard_link(step.file->target, *step.backup, ec);
-      if (ec) fs::copy_file(step.file->target, *step.backup, ec);  // a file system without hard links
+      if (!fs::exists(step.real, ec)) continue;
+      step.backup = temporaryPath(step.real);
+      fs::create_hard_link(step.real, *step.backup, ec);
+      if (ec) fs::copy_file(step.real, *step.backup, ec);  // a file system without hard links
       if (ec)
         throw std::runtime_error(step.file->target.string() + ": cannot keep the previous content: " + ec.message());
     }
     for (Step& step : steps) {
-      renameOrThrow(step.temp, step.file->target);
+      renameOrThrow(step.temp, step.real);
       step.renamed = true;
     }
   } catch (...) {
@@ -238,10 +291,10 @@ void writeFilesAtomically(const std::vector<FileContent>& files) {
       if (!step.renamed) continue;
       std::error_code ec;
       if (!step.backup) {
-        fs::remove(step.file->target, ec);
+        fs::remove(step.real, ec);
         continue;
       }
-      fs::rename(*step.backup, step.file->target, ec);
+      fs::rename(*step.backup, step.real, ec);
       if (!ec) step.backup.reset();
     }
     removeLeftovers();
@@ -249,7 +302,7 @@ void writeFilesAtomically(const std::vector<FileContent>& files) {
   }
   removeLeftovers();
   std::vector<fs::path> folders;
-  for (const Step& step : steps) folders.push_back(folderOf(step.file->target));
+  for (const Step& step : steps) folders.push_back(folderOf(step.real));
   std::sort(folders.begin(), folders.end());
   folders.erase(std::unique(folders.begin(), folders.end()), folders.end());
   for (const fs::path& folder : folders) syncFolder(folder);

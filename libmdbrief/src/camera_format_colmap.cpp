@@ -28,7 +28,9 @@ struct Line {
 
 std::vector<Line> dataLines(const std::string& text) {
   std::vector<Line> lines;
-  std::istringstream in(text);
+  // A UTF-8 byte order mark, which the YAML formats accept, is no data.
+  const bool bom = text.rfind("\xEF\xBB\xBF", 0) == 0;
+  std::istringstream in(bom ? text.substr(3) : text);
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     const auto first = line.find_first_not_of(" \t\r");
@@ -41,17 +43,25 @@ std::vector<Line> dataLines(const std::string& text) {
   return lines;
 }
 
-bool isModelName(const std::string& token) {
-  if (token.empty() || !std::isupper(static_cast<unsigned char>(token[0]))) return false;
-  for (const unsigned char c : token)
-    if (!std::isupper(c) && !std::isdigit(c) && c != '_') return false;
-  return true;
-}
-
 bool isCameraId(const std::string& token) {
   if (token.empty() || token.size() > 10) return false;
   for (const unsigned char c : token)
     if (!std::isdigit(c)) return false;
+  return true;
+}
+
+// The shape of a COLMAP line's first two tokens, looser than what reads: a signed integer and a
+// word of any case, so that a negative CAMERA_ID or a lower-case model is reported as the COLMAP
+// error it is, not as a file of another format (issue 29).
+bool looksLikeCameraId(const std::string& token) {
+  const std::size_t sign = !token.empty() && (token[0] == '-' || token[0] == '+');
+  return token.size() > sign && isCameraId(token.substr(sign));
+}
+
+bool looksLikeModelName(const std::string& token) {
+  if (token.empty() || !std::isalpha(static_cast<unsigned char>(token[0]))) return false;
+  for (const unsigned char c : token)
+    if (!std::isalnum(c) && c != '_') return false;
   return true;
 }
 
@@ -76,18 +86,27 @@ const ColmapModel kModels[] = {
 
 bool isColmapCameras(const std::string& text) {
   const std::vector<Line> lines = dataLines(text);
-  return !lines.empty() && lines.front().tokens.size() >= 4 && isCameraId(lines.front().tokens[0]) &&
-         isModelName(lines.front().tokens[1]);
+  return !lines.empty() && lines.front().tokens.size() >= 4 && looksLikeCameraId(lines.front().tokens[0]) &&
+         looksLikeModelName(lines.front().tokens[1]);
 }
 
 std::shared_ptr<Camera> readColmapCameras(const std::string& path, const std::string& text, const std::string& camera) {
   const std::vector<Line> lines = dataLines(text);
   std::vector<std::string> ids;
   for (const Line& l : lines) {
-    if (l.tokens.size() < 4 || !isCameraId(l.tokens[0]) || !isModelName(l.tokens[1]))
+    if (l.tokens.size() < 4 || !looksLikeCameraId(l.tokens[0]) || !looksLikeModelName(l.tokens[1]))
       throw std::runtime_error(path + ": line " + std::to_string(l.number) +
                                " is not 'CAMERA_ID MODEL WIDTH HEIGHT PARAMS...'");
-    ids.push_back(std::to_string(std::strtoull(l.tokens[0].c_str(), nullptr, 10)));
+    if (!isCameraId(l.tokens[0]))
+      throw std::runtime_error(path + ": line " + std::to_string(l.number) + ": CAMERA_ID " + l.tokens[0] +
+                               " must be a non-negative integer");
+    const std::string id = std::to_string(std::strtoull(l.tokens[0].c_str(), nullptr, 10));
+    // Two cameras of one id: which is meant cannot be told (the first was taken silently).
+    if (const auto same = std::find(ids.begin(), ids.end(), id); same != ids.end())
+      throw std::runtime_error(path + ": CAMERA_ID " + id + " appears twice, on lines " +
+                               std::to_string(lines[static_cast<std::size_t>(same - ids.begin())].number) + " and " +
+                               std::to_string(l.number));
+    ids.push_back(id);
   }
   const std::string id = chooseCamera(path, "the COLMAP cameras file", ids, camera);
   const Line& line = lines[std::find(ids.begin(), ids.end(), id) - ids.begin()];
@@ -99,7 +118,12 @@ std::shared_ptr<Camera> readColmapCameras(const std::string& path, const std::st
   if (!model) {
     std::string known;
     for (const ColmapModel& m : kModels) known += (known.empty() ? "" : ", ") + std::string(m.name);
-    throw std::runtime_error(where + ": model " + name + " has no camera model here (supported: " + known + ")");
+    std::string upper = name;
+    for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    const bool caseOnly = upper != name && std::any_of(std::begin(kModels), std::end(kModels),
+                                                       [&](const ColmapModel& m) { return upper == m.name; });
+    throw std::runtime_error(where + ": model " + name + " has no camera model here (supported: " + known + ")" +
+                             (caseOnly ? "; COLMAP's model names are upper case: " + upper : ""));
   }
   std::vector<double> values;
   for (std::size_t i = 2; i < line.tokens.size(); ++i) {

@@ -5,6 +5,8 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <fstream>
+#include <stdexcept>
 #include <system_error>
 
 namespace mdbrief::internal {
@@ -29,6 +31,30 @@ std::string inputFileProblem(const std::filesystem::path& path) {
   if (fd < 0) return "cannot open: " + std::generic_category().message(errno);
   ::close(fd);
   return "";
+}
+
+std::string readInputFile(const std::filesystem::path& path, std::uintmax_t maxBytes, const std::string& kind) {
+  const auto fail = [&](const std::string& problem) {
+    return std::runtime_error(path.string() + ": " + kind + ": " + problem);
+  };
+  if (const std::string problem = inputFileProblem(path); !problem.empty()) throw fail(problem);
+  const auto tooLarge = [&](std::uintmax_t bytes) {
+    return fail(std::to_string(bytes) + " bytes, over the " + std::to_string(maxBytes >> 20) + " MiB a " + kind +
+                " may have");
+  };
+  std::error_code ec;
+  if (const std::uintmax_t bytes = std::filesystem::file_size(path, ec); !ec && bytes > maxBytes) throw tooLarge(bytes);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw fail("cannot open");
+  // Bounded again while reading: the file may have grown since its size was taken.
+  std::string bytes;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    bytes.append(chunk, static_cast<size_t>(in.gcount()));
+    if (bytes.size() > maxBytes) throw tooLarge(bytes.size());
+  }
+  if (in.bad()) throw fail("cannot read");
+  return bytes;
 }
 
 }  // namespace mdbrief::internal

@@ -1,6 +1,7 @@
 // The field tables of the runtime options (option_fields.hpp) and the validate() functions they
 // define. Ranges hold what the code supports; a bound that is a choice says why.
 #include <algorithm>
+#include <cmath>
 
 #include "mdbrief/descriptor.hpp"
 #include "mdbrief/detector.hpp"
@@ -22,10 +23,18 @@ const OptionTable<PyramidOptions>& pyramidOptionFields() {
       // At most 2 (an octave per level): beyond it a keypoint's scale falls far between levels.
       realField<O>("scaleFactor", "", "scale_factor", "--scale-factor", "scale ratio of neighbouring levels",
                    R::openLow(1, 2), [](auto& o) -> auto& { return o.scaleFactor; }),
+      // Level 0 enlarges the input scale_factor^first_level times per side, bounded so that it holds
+      // at most 16 times the input's pixels: --levels 32 --scale-factor 2 --first-level 10 asked
+      // for 378 GB (issue 29).
       integerField<O>("firstLevel", "", "first_level", "--first-level",
-                      "level holding the input image; the levels below it are enlarged",
-                      std::function<FieldRange(const O&)>(
-                          [](const O& o) { return R::closed(0, std::max(0, std::min(o.levels, 32) - 1)); }),
+                      "level holding the input image; the levels below it are enlarged, level 0 by "
+                      "scale_factor^first_level, at most 4 times per side",
+                      std::function<FieldRange(const O&)>([](const O& o) {
+                        const int byLevels = std::max(0, std::min(o.levels, 32) - 1);
+                        if (!(o.scaleFactor > 1)) return R::closed(0, byLevels);
+                        const double byEnlargement = std::floor(std::log(4.0) / std::log(o.scaleFactor) + 1e-9);
+                        return R::closed(0, std::min(byLevels, static_cast<int>(std::min(byEnlargement, 32.0))));
+                      }),
                       [](auto& o) -> auto& { return o.firstLevel; }),
       // At most the 31-pixel patch: a wider kernel averages pixels no test compares, and its cost
       // grows with its area (99999 ran for minutes).

@@ -57,8 +57,11 @@ TestSet builtinTestSet(const std::string& name) {
 
 TestSet resolveTestSet(const std::string& nameOrPath) {
   if (findBuiltin(nameOrPath)) return builtinTestSet(nameOrPath);
+  // Anything at the path is read as a file, so that a device or a folder is named as such (issue
+  // 29: /dev/zero was "neither a built-in set nor an existing JSON file").
   std::error_code ec;
-  if (std::filesystem::is_regular_file(nameOrPath, ec)) return loadTestSetJson(nameOrPath);
+  if (std::filesystem::symlink_status(nameOrPath, ec).type() != std::filesystem::file_type::not_found && !ec)
+    return loadTestSetJson(nameOrPath);
   throw std::invalid_argument("test set '" + nameOrPath +
                               "' is neither a built-in set (" + knownNames() +
                               ") nor an existing JSON file");

@@ -130,6 +130,10 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
                   std::array<Placement, 3>& out, float& imageAngle) {
   imageAngle = -1.f;
   if (!std::isfinite(kp.pt.x) || !std::isfinite(kp.pt.y)) return 0;
+  // A NaN angle is no direction, as an infinite one (whose rotation fails below); without this it
+  // failed `angle >= 0` and was described unrotated, as OpenCV's -1 ("none") is.
+  const bool remeasured = usesCamera(o.kind) && o.orientation == OrientationSource::TangentPlane && measure.image;
+  if (o.useOrientation && !remeasured && std::isnan(kp.angle)) return 0;
   const int count = hasMasks(o.kind) ? 3 : 1;
   const double deltas[3] = {0.0, o.maskRotationDeg, -o.maskRotationDeg};
   const cv::Point2d centre = grid.toLevel(cv::Point2d(kp.pt.x, kp.pt.y));

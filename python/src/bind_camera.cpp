@@ -2,6 +2,7 @@
 // numpy arrays of points; built from parameters named as the project's YAML keys or from
 // OpenCV's K / D, and pickled as those parameters.
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <limits>
 #include <variant>
@@ -98,6 +99,16 @@ py::object parameterObject(const CameraParameter& p) {
 
 cv::Size sizeFrom(int width, int height) { return {width, height}; }
 
+// An image side from Python: a value beyond a C int (2**40) is refused as out of range, in the
+// words of the library's check, instead of as an argument of the wrong type (issue 29).
+int sideFrom(const py::int_& value, const char* keyword) {
+  const int side = saturatedInt(value);
+  if (side == INT_MAX || side == INT_MIN)
+    throw py::value_error(std::string("Camera: keyword '") + keyword + "' must be a positive integer (got " +
+                          py::repr(value).cast<std::string>() + ")");
+  return side;
+}
+
 std::shared_ptr<Camera> cameraFromKeywords(const std::string& model, int width, int height, const py::dict& keywords) {
   CameraParameters parameters;
   for (const auto& [key, value] : keywords) {
@@ -138,7 +149,7 @@ std::shared_ptr<Camera> cameraFromOpenCvArrays(const py::handle& kObject, const 
 }  // namespace
 
 void bindCamera(py::module_& m) {
-  py::class_<Camera, std::shared_ptr<Camera>>(m, "Camera", R"doc(
+  py::class_<Camera, std::shared_ptr<Camera>>(m, "Camera", initialisedObjectsOnly(), R"doc(
 A calibrated camera model (pinhole, radial, OCamCalib, Kannala-Brandt, double sphere, UCM/EUCM,
 radial-tangential). Pixels follow OpenCV: u = column, v = row, origin at the centre of the
 top-left pixel. Bearings are unit vectors, x right, y down, z along the optical axis.
@@ -149,8 +160,9 @@ Create one with mdbrief.load_camera(path), from parameters named as the YAML's k
 
 or from cv2.fisheye.calibrate's K and D with Camera.from_opencv(K, D, (width, height)).
 Cameras pickle (as model, size and parameters).)doc")
-      .def(py::init([](const std::string& model, int width, int height, const py::kwargs& parameters) {
-             return cameraFromKeywords(model, width, height, parameters);
+      .def(py::init([](const std::string& model, const py::int_& width, const py::int_& height,
+                       const py::kwargs& parameters) {
+             return cameraFromKeywords(model, sideFrom(width, "width"), sideFrom(height, "height"), parameters);
            }),
            py::arg("model"), py::arg("width"), py::arg("height"),
            "Camera(model, width, height, **parameters): parameters are the model's keys of the project's\n"
@@ -204,10 +216,10 @@ Cameras pickle (as model, size and parameters).)doc")
       .def(
           "save", [](const Camera& c, const py::handle& path) { saveCamera(c, pathFrom(path, "path")); },
           py::arg("path"), "Writes to_yaml() to path (str, bytes or os.PathLike) atomically.")
-      .def("__repr__", [](const Camera& c) {
+      .def("__repr__", onInitialised<Camera>([](const Camera& c) {
         return "<mdbrief.Camera " + c.modelName() + " " + std::to_string(c.imageSize().width) + "x" +
                std::to_string(c.imageSize().height) + ">";
-      });
+      }));
 
   m.def(
       "load_camera",

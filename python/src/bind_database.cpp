@@ -30,7 +30,7 @@ py::list resultsToPython(const std::vector<QueryResult>& results) {
 }  // namespace
 
 void bindDatabase(py::module_& m) {
-  py::class_<Database>(m, "Database", R"doc(
+  py::class_<Database>(m, "Database", initialisedObjectsOnly(), R"doc(
 Images of a place-recognition database as bags of words of one Vocabulary, with an inverted
 index; query returns the entries of highest L1 score. Entry ids are the order of adding, from 0.)doc")
       .def(py::init<Vocabulary>(), py::arg("vocabulary"))
@@ -48,8 +48,8 @@ index; query returns the entries of highest L1 score. Entry ids are the order of
           "ValueError for a word outside the vocabulary or a value that is not finite and > 0.")
       .def(
           "query",
-          [](const Database& db, const py::handle& descriptors, const py::handle& masks, int maxResults) {
-            return resultsToPython(db.query(bowOf(db, descriptors, masks), maxResults));
+          [](const Database& db, const py::handle& descriptors, const py::handle& masks, const py::int_& maxResults) {
+            return resultsToPython(db.query(bowOf(db, descriptors, masks), saturatedInt(maxResults)));
           },
           py::arg("descriptors"), py::arg("masks") = py::none(), py::kw_only(), py::arg("max_results") = 5, R"doc(
 The at most max_results entries most similar to the image of these descriptors and masks, as a
@@ -57,8 +57,8 @@ list of (entry, score) tuples, best first (equal scores: lower entry first); ent
 word in common are not returned. score is the L1 score in (0, 1].)doc")
       .def(
           "query_bow",
-          [](const Database& db, const py::handle& bow, int maxResults) {
-            return resultsToPython(db.query(bowFromPython(bow, "bow"), maxResults));
+          [](const Database& db, const py::handle& bow, const py::int_& maxResults) {
+            return resultsToPython(db.query(bowFromPython(bow, "bow"), saturatedInt(maxResults)));
           },
           py::arg("bow"), py::kw_only(), py::arg("max_results") = 5, "query from a bag of words {word: value}.")
       .def(
@@ -69,7 +69,7 @@ word in common are not returned. score is the L1 score in (0, 1].)doc")
             return bowToPython(db.entry(static_cast<uint32_t>(id)));
           },
           py::arg("id"), "The bag of words of an entry.")
-      .def("__len__", &Database::size)
+      .def("__len__", onInitialised<Database>(&Database::size))
       .def_property_readonly("vocabulary", &Database::vocabulary)
       .def(
           "save", [](const Database& db, const py::handle& path) { db.save(pathFrom(path, "path")); }, py::arg("path"),
@@ -89,10 +89,10 @@ word in common are not returned. score is the L1 score in (0, 1].)doc")
 Reads a database file saved with this vocabulary. Raises FileNotFoundError for a missing file and
 ValueError naming the file and the problem for a bad one, among them a file saved with another
 vocabulary.)doc")
-      .def("__repr__", [](const Database& db) {
+      .def("__repr__", onInitialised<Database>([](const Database& db) {
         return "<mdbrief.Database " + std::to_string(db.size()) + " entries, " +
                std::to_string(db.vocabulary().wordCount()) + " words>";
-      });
+      }));
 }
 
 }  // namespace mdbrief::python

@@ -3,6 +3,7 @@
 // outputs and determinism.
 #include <filesystem>
 #include <sstream>
+#include <thread>
 
 #include "bindings.hpp"
 #include "conversions.hpp"
@@ -52,6 +53,12 @@ py::tuple testSetState(const TestSet& set) {
 
 // A set from Python: tests as (N, 4) rows (x1, y1, x2, y2) of offsets in [-16, 15].
 TestSet makeTestSet(const std::string& name, const py::handle& rows, const std::vector<std::string>& trainingImages) {
+  // Refused here, not first at save() (issue 29: TestSet('A B', ...) was accepted).
+  try {
+    requirePatternName(name);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(std::string("TestSet: ") + e.what());
+  }
   TestSet set;
   set.name = name;
   set.trainingImages = trainingImages;
@@ -105,6 +112,23 @@ struct TemporaryFolder {
   }
 };
 
+// Thrown by signalCheckingProgress when a Python signal handler raised (KeyboardInterrupt); the
+// Python error stays set for the caller to raise.
+struct PythonSignalRaised : std::exception {
+  const char* what() const noexcept override { return "a Python signal handler raised"; }
+};
+
+// Progress that runs Python's signal handlers between the training's batches, so that Ctrl-C
+// stops a long training at once (issue 29: KeyboardInterrupt came 32 s after SIGINT). Only the
+// calling thread can run them; it takes part in TBB's work, so its calls come batch by batch.
+train::TrainProgress signalCheckingProgress() {
+  return [caller = std::this_thread::get_id()](const char*, size_t, size_t) {
+    if (std::this_thread::get_id() != caller) return;
+    const py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) throw PythonSignalRaised();
+  };
+}
+
 // mdbrief.train(**options): TrainOptions from the keywords of its field table, plus `verbose`;
 // camera may also be an mdbrief.Camera (saved to a temporary calibration file).
 TestSet train(const py::kwargs& kwargs) {
@@ -142,7 +166,9 @@ TestSet train(const py::kwargs& kwargs) {
   try {
     try {
       py::gil_scoped_release release;
-      result = train::train(o);
+      result = train::train(o, signalCheckingProgress());
+    } catch (const PythonSignalRaised&) {
+      throw py::error_already_set();
     } catch (const OptionError& e) {
       raiseForKeyword(train::trainOptionFields(), e);
     }
@@ -171,7 +197,8 @@ std::string trainDoc() {
 }  // namespace
 
 void bindPatterns(py::module_& m) {
-  py::class_<TestSet>(m, "TestSet", "A binary test set: (x1, y1, x2, y2) offsets in the 32x32 patch, in [-16, 15].")
+  py::class_<TestSet>(m, "TestSet", initialisedObjectsOnly(),
+                      "A binary test set: (x1, y1, x2, y2) offsets in the 32x32 patch, in [-16, 15].")
       .def(py::init(&makeTestSet), py::arg("name"), py::arg("tests"),
            py::arg("training_images") = std::vector<std::string>{},
            "TestSet(name, tests, training_images=()): tests as (N, 4) rows (x1, y1, x2, y2), e.g. an\n"
@@ -180,7 +207,7 @@ void bindPatterns(py::module_& m) {
       .def_property_readonly("tests", &testsArray, "(N, 4) int8 array, the first rows form the shortest descriptor.")
       .def_readonly("training_images", &TestSet::trainingImages,
                     "Digests of the images the set was learned from (empty for a random set).")
-      .def("__len__", [](const TestSet& s) { return s.tests.size(); })
+      .def("__len__", onInitialised<TestSet>([](const TestSet& s) { return s.tests.size(); }))
       .def("save", &saveTestSet, py::arg("path"),
            "Writes the set as mdbrief-train's <name>.json (path: str, bytes or os.PathLike), atomically;\n"
            "load_pattern(path) and MdBrief(camera, pattern=path) read it back.")
@@ -195,9 +222,9 @@ void bindPatterns(py::module_& m) {
             }
           },
           py::arg("n"), "The first n tests (a multiple of 32).")
-      .def("__repr__", [](const TestSet& s) {
+      .def("__repr__", onInitialised<TestSet>([](const TestSet& s) {
         return "<mdbrief.TestSet " + s.name + ", " + std::to_string(s.tests.size()) + " tests>";
-      });
+      }));
 
   m.def("patterns", &builtinTestSetNames, "Names of the compiled-in test sets, sorted.");
   m.def("default_pattern", &defaultTestSetName, "The set MdBrief uses when pattern is ''.");

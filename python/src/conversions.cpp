@@ -2,7 +2,9 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <climits>
 
 #include "cv2_value_layout.hpp"
 #include "mdbrief/internal/input_file.hpp"
@@ -90,6 +92,14 @@ py::array_t<double, py::array::c_style> pointsFromArray(const py::handle& object
     throw py::value_error(std::string(argument) + " must have shape (N, " + std::to_string(k) + ") or (" +
                           std::to_string(k) + ",), got " + shapeText(a));
   return a;
+}
+
+int saturatedInt(const py::int_& value) {
+  int overflow = 0;
+  const long long v = PyLong_AsLongLongAndOverflow(value.ptr(), &overflow);
+  if (v == -1 && PyErr_Occurred()) throw py::error_already_set();
+  if (overflow != 0) return overflow > 0 ? INT_MAX : INT_MIN;
+  return static_cast<int>(std::clamp<long long>(v, INT_MIN, INT_MAX));
 }
 
 std::vector<cv::KeyPoint> keypointsFromPython(const py::handle& sequence, const char* argument) {

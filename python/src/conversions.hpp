@@ -33,6 +33,11 @@ py::array_t<double, py::array::c_style> pointsFromArray(const py::handle& object
 
 // cv2.KeyPoint objects (anything with pt, size, angle, response, octave, class_id) and back. An
 // octave or class_id outside the C int range raises ValueError naming the keypoint.
+// A Python int as a C int, saturated at INT_MIN and INT_MAX: a huge value reaches the caller's
+// range check (ValueError) or means "all", instead of pybind11's "incompatible function
+// arguments" (issue 29).
+int saturatedInt(const py::int_& value);
+
 std::vector<cv::KeyPoint> keypointsFromPython(const py::handle& sequence, const char* argument);
 py::list keypointsToPython(const std::vector<cv::KeyPoint>& keypoints);
 py::list matchesToPython(const std::vector<cv::DMatch>& matches);

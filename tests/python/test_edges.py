@@ -192,3 +192,91 @@ def test_descriptors_of_no_bytes_are_refused():
     with pytest.raises(ValueError, match="width"):
         mdbrief.match(np.zeros((5, 0), np.uint8), np.zeros((5, 0), np.uint8))
     assert mdbrief.match(np.zeros((0, 0), np.uint8), np.zeros((5, 32), np.uint8)) == []
+
+
+UNINITIALISED = [
+    ("Camera.width", lambda: mdbrief.Camera.__new__(mdbrief.Camera).width),
+    ("Camera.pixel_to_bearing", lambda: mdbrief.Camera.__new__(mdbrief.Camera).pixel_to_bearing(np.zeros(2))),
+    ("repr(Camera)", lambda: repr(mdbrief.Camera.__new__(mdbrief.Camera))),
+    ("MdBrief.detect_and_compute",
+     lambda: mdbrief.MdBrief.__new__(mdbrief.MdBrief).detect_and_compute(np.zeros((64, 64), np.uint8))),
+    ("MdBrief.descriptor_size", lambda: mdbrief.MdBrief.__new__(mdbrief.MdBrief).descriptor_size),
+    ("Vocabulary.word_count", lambda: mdbrief.Vocabulary.__new__(mdbrief.Vocabulary).word_count),
+    ("Database.query", lambda: mdbrief.Database.__new__(mdbrief.Database).query(np.zeros((1, 32), np.uint8))),
+    ("len(Database)", lambda: len(mdbrief.Database.__new__(mdbrief.Database))),
+    ("TestSet.name", lambda: mdbrief.TestSet.__new__(mdbrief.TestSet).name),
+    ("len(TestSet)", lambda: len(mdbrief.TestSet.__new__(mdbrief.TestSet))),
+]
+
+
+@pytest.mark.parametrize("case", [c for _, c in UNINITIALISED], ids=[name for name, _ in UNINITIALISED])
+def test_an_object_made_with_new_alone_raises_instead_of_crashing(case):
+    """Issue 29: Camera.__new__(Camera).width crashed (exit 139), Database.__new__(Database).query
+    read garbage and TestSet.__new__(TestSet).name raised MemoryError. Run in a child process, so
+    that a crash fails this test instead of ending the session."""
+    import multiprocessing
+    context = multiprocessing.get_context("fork")
+    queue = context.Queue()
+
+    def child():
+        try:
+            case()
+            queue.put("no exception")
+        except TypeError as e:
+            queue.put("TypeError: " + str(e))
+        except BaseException as e:  # noqa: BLE001 (any other exception is a failure, reported)
+            queue.put(type(e).__name__ + ": " + str(e))
+
+    process = context.Process(target=child)
+    process.start()
+    process.join(60)
+    assert process.exitcode == 0, f"the child died (exit {process.exitcode})"
+    message = queue.get(timeout=5)
+    assert message.startswith("TypeError: ") and "never initialised" in message, message
+
+
+def test_unpickling_still_initialises_the_objects():
+    """Unpickling makes the object with __new__ and initialises it with __setstate__."""
+    import pickle
+    camera = mdbrief.load_camera(str(FISHEYE_CAMERA))
+    again = pickle.loads(pickle.dumps(camera))
+    assert again.width == camera.width and again.parameters == camera.parameters
+    tests = mdbrief.load_pattern(mdbrief.default_pattern())
+    assert len(pickle.loads(pickle.dumps(tests))) == len(tests)
+
+
+def test_setstate_on_a_live_object_raises():
+    """Issue 29: Camera.__setstate__(other) on a live object was silently ignored."""
+    camera = mdbrief.load_camera(str(FISHEYE_CAMERA))
+    other = mdbrief.load_camera(str(PINHOLE_CAMERA))
+    with pytest.raises(TypeError, match="already"):
+        camera.__setstate__(other.__getstate__())
+    assert camera.model == "ocam"
+
+
+def test_integers_beyond_a_c_int_get_the_range_error():
+    """Issue 29: Camera('pinhole', 2**40, ...) and query(..., max_results=2**31) raised pybind11's
+    "incompatible function arguments"; a width is refused by its range, a huge max_results means all."""
+    with pytest.raises(ValueError, match="'width' must be a positive integer \\(got 1099511627776\\)"):
+        mdbrief.Camera("pinhole", 2**40, 480, fx=400, fy=400, cx=320, cy=240)
+    with pytest.raises(ValueError, match="'height' must be a positive integer"):
+        mdbrief.Camera("pinhole", 640, -2**70, fx=400, fy=400, cx=320, cy=240)
+    vocabulary = mdbrief.Vocabulary.load(str(pathlib.Path(__file__).resolve().parents[2] / "vocabularies" /
+                                             "tracking_k10_L4.mdbvoc"))
+    database = mdbrief.Database(vocabulary)
+    rng = np.random.default_rng(5)
+    descriptors = rng.integers(0, 256, (50, vocabulary.bits // 8), dtype=np.uint8)
+    database.add(descriptors, np.full_like(descriptors, 255) if vocabulary.masked else None)
+    assert len(database.query(descriptors, np.full_like(descriptors, 255) if vocabulary.masked else None,
+                              max_results=2**31)) == 1
+    with pytest.raises(ValueError, match="maxResults must be >= 1"):
+        database.query(descriptors, np.full_like(descriptors, 255) if vocabulary.masked else None, max_results=-2**40)
+
+
+def test_a_set_name_the_registry_refuses_is_refused_at_once(tmp_path):
+    """Issue 29: TestSet('A B', ...) and train(name='A B') were accepted, then refused at save()."""
+    with pytest.raises(ValueError, match="pattern name 'A B' must match"):
+        mdbrief.TestSet("A B", [[0, 0, 1, 1]] * 32)
+    with pytest.raises(ValueError, match="pattern name 'A B' must match"):
+        mdbrief.train(images=str(tmp_path), name="A B")
+    assert mdbrief.TestSet("a_b", [[0, 0, 1, 1]] * 32).name == "a_b"

@@ -10,7 +10,9 @@
 // hidden and unique per call ("." + first part of the name + ".tmp<pid>-<n>" + the rest, e.g.
 // ".img1.tmp42-0.png"): they keep target's extensions, from which writers such as cv::imwrite
 // pick the format. A process killed while writing cannot remove its temporary; the next write
-// of the same target removes those of processes that no longer run.
+// of the same target removes those of processes that no longer run. A target that is a symbolic
+// link is written through, as editors do: the link stays and the file it points to is replaced
+// (in that file's folder).
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -24,6 +26,14 @@ namespace mdbrief::internal {
 // temporary), or target exists and is not a regular file (a folder, a device such as /dev/null,
 // a FIFO), which the rename would replace. For tools that check their outputs before the work.
 void checkOutputPath(const std::filesystem::path& target);
+
+// Throws std::runtime_error naming both paths when an output is the same file as an input (the
+// write would destroy the input) or two outputs are one file (the second would replace the
+// first). Files are compared by device and inode, so a symbolic or hard link to an input counts
+// as the input; an output that does not exist yet compares by its folder's identity and its name.
+// Empty paths (an optional flag left out) are skipped. For tools, before the work.
+void checkOutputsApart(const std::vector<std::filesystem::path>& inputs,
+                       const std::vector<std::filesystem::path>& outputs);
 
 // Calls write(temp) with a fresh temporary path, then makes it durable and renames it over
 // target. write must report its own failures by throwing. If write throws or anything after it
