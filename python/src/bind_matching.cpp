@@ -8,25 +8,38 @@
 #include "presets.hpp"
 
 namespace mdbrief::python {
+namespace {
+
+// The two descriptor arrays of a match call, and their masks (both or neither), as cv::Mat views
+// that keep the arrays they read alive.
+struct DescriptorArrays {
+  DescriptorArrays(const py::handle& d1, const py::handle& d2, const py::handle& masks1, const py::handle& masks2) {
+    if (masks1.is_none() != masks2.is_none())
+      throw py::value_error("masks1 and masks2 must both be given (masked matching) or both be None");
+    query = descriptorsFromArray(d1, "d1", keep[0]);
+    train = descriptorsFromArray(d2, "d2", keep[1]);
+    if (!masks1.is_none()) {
+      queryMasks = descriptorsFromArray(masks1, "masks1", keep[2]);
+      trainMasks = descriptorsFromArray(masks2, "masks2", keep[3]);
+    }
+  }
+  py::object keep[4];
+  cv::Mat query, train, queryMasks, trainMasks;
+};
+
+}  // namespace
 
 void bindMatching(py::module_& m) {
   m.def(
       "match",
       [](const py::handle& d1, const py::handle& d2, const py::handle& masks1, const py::handle& masks2,
          const std::string& preset, bool asArray, const py::kwargs& kwargs) -> py::object {
-        if (masks1.is_none() != masks2.is_none())
-          throw py::value_error("masks1 and masks2 must both be given (masked matching) or both be None");
         const MatchOptions options = optionsFromKeywords(matchOptionFields(), kwargs, "match",
                                                          [](const MatchOptions& o) { validate(o); }, {},
                                                          presetSettings(presetFrom(preset)).matching);
-        py::object keep1, keep2, keepM1, keepM2;
-        const cv::Mat query = descriptorsFromArray(d1, "d1", keep1);
-        const cv::Mat train = descriptorsFromArray(d2, "d2", keep2);
-        cv::Mat queryMasks, trainMasks;
-        if (!masks1.is_none()) {
-          queryMasks = descriptorsFromArray(masks1, "masks1", keepM1);
-          trainMasks = descriptorsFromArray(masks2, "masks2", keepM2);
-        }
+        const DescriptorArrays arrays(d1, d2, masks1, masks2);
+        const cv::Mat &query = arrays.query, &train = arrays.train;
+        const cv::Mat &queryMasks = arrays.queryMasks, &trainMasks = arrays.trainMasks;
         std::vector<cv::DMatch> matches;
         try {
           py::gil_scoped_release release;
@@ -62,21 +75,14 @@ as_array=True, a numpy structured array with fields query_idx, train_idx (int32)
          std::pair<int, int> imageSize, const py::handle& masks1, const py::handle& masks2,
          const py::handle& keypoints1, const std::string& preset, bool asArray,
          const py::kwargs& kwargs) -> py::object {
-        if (masks1.is_none() != masks2.is_none())
-          throw py::value_error("masks1 and masks2 must both be given (masked matching) or both be None");
         GuidedMatchOptions defaults;
         defaults.matching = presetSettings(presetFrom(preset)).matching;
         const GuidedMatchOptions options = optionsFromKeywords(
             guidedMatchOptionFields(), kwargs, "match_guided", [](const GuidedMatchOptions& o) { validate(o); }, {},
             defaults);
-        py::object keep1, keep2, keepM1, keepM2;
-        const cv::Mat query = descriptorsFromArray(d1, "d1", keep1);
-        const cv::Mat train = descriptorsFromArray(d2, "d2", keep2);
-        cv::Mat queryMasks, trainMasks;
-        if (!masks1.is_none()) {
-          queryMasks = descriptorsFromArray(masks1, "masks1", keepM1);
-          trainMasks = descriptorsFromArray(masks2, "masks2", keepM2);
-        }
+        const DescriptorArrays arrays(d1, d2, masks1, masks2);
+        const cv::Mat &query = arrays.query, &train = arrays.train;
+        const cv::Mat &queryMasks = arrays.queryMasks, &trainMasks = arrays.trainMasks;
         bool single = false;
         const auto points = pointsFromArray(predicted, 2, "predicted", single);
         std::vector<cv::Point2f> positions(single ? 1 : points.shape(0));
