@@ -15,7 +15,6 @@
 #include "matcher_kernels.hpp"
 #include "mdbrief/hamming.hpp"
 #include "mdbrief/masked_hamming.hpp"
-#include "mdbrief/internal/popcount.hpp"
 #include "query_row.hpp"
 
 namespace mdbrief {
