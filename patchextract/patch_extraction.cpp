@@ -76,6 +76,7 @@ struct ImageKeypoints {
   size_t beforeViewCheck = 0;
   std::string digest;
   bool heldOut = false;
+  bool otherSize = false;  // no camera for its size
   std::string skipReason;
 };
 
@@ -163,6 +164,7 @@ ImageKeypoints usableKeypoints(const fs::path& path, size_t index, const Extract
     grey = out.rendered = renderThrough(*camera, grey, o.renderHalfFovDeg);
     out.camera = camera;
   } else if (camera && !(out.camera = cameraFor(camera, grey.size(), out.skipReason))) {
+    out.otherSize = true;
     return out;
   }
   std::vector<cv::KeyPoint> usable = detectUsable(grey, o, out.camera);
@@ -302,7 +304,8 @@ PatchSet extractPatches(const ExtractionOptions& o, ExtractionReport& report,
     report.usableKeypoints += available[i];
     report.detectedInViews += pools[i].beforeViewCheck;
     report.heldOut += pools[i].heldOut;
-    if (!pools[i].skipReason.empty()) report.skipped.push_back({images[i].string(), pools[i].skipReason});
+    if (!pools[i].skipReason.empty())
+      report.skipped.push_back({images[i].string(), pools[i].skipReason, pools[i].heldOut, pools[i].otherSize});
   }
   const std::vector<size_t> take = allocatePatches(available, o.patches);
 

@@ -66,6 +66,8 @@ void validate(const ExtractionOptions& options);
 struct SkippedImage {
   std::string path;
   std::string reason;
+  bool heldOut = false;     // an evaluation uses it
+  bool otherSize = false;   // its size does not match the camera's (nor its aspect ratio)
 };
 
 struct ExtractionReport {

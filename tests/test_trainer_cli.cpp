@@ -13,6 +13,7 @@
 #include "patchextract/patch_set.hpp"
 #include "patchextract/image_digest.hpp"
 #include "test_data.hpp"
+#include "toolkit/image_file.hpp"
 #include "trainer/train_cli.hpp"
 #include "write_limits.hpp"
 
@@ -260,6 +261,41 @@ TEST(TrainCli, FewerPatchesThanTestsExitsWith2) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("fewer than the 128 requested tests"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir.path / "orb_perspective_128.hpp"));
+}
+
+// Too few patches says why and what to do: the budget, every image held out, a calibration of
+// another size than the photos, each named.
+TEST(TrainCli, TooFewPatchesSaysWhyAndWhatToDo) {
+  TempDir dir("why");
+  const fs::path images = smallImageFolder(dir);
+  if (fs::is_empty(images)) GTEST_SKIP() << "opencv-doc not installed";
+  const fs::path list = dir.path / "held_out.txt";
+  int count = 0;
+  {
+    std::ofstream out(list);
+    for (const auto& image : fs::directory_iterator(images)) {
+      out << mdbrief::train::imageDigest(mdbrief::decodeGreyImage(image.path())) << " "
+          << image.path().filename().string() << "\n";
+      ++count;
+    }
+  }
+  const struct {
+    std::vector<std::string> args;
+    std::string why;
+  } cases[] = {
+      {{"--patches", "100", "--tests", "128"}, "the --patches budget (100) is below --tests"},
+      {{"--held-out", list.string()}, "every one of the " + std::to_string(count) + " images is held out"},
+      {{"--camera", MDBRIEF_SOURCE_DIR "/configs/cameras/lafida_fisheye0.yaml"},
+       "does not match the camera's 754x480; give --camera the calibration of these images"},
+  };
+  for (const auto& c : cases) {
+    std::vector<std::string> args{"--images", images.string(), "--out", dir.path.string()};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const CliRun r = runTrain(args);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("requested tests"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.why), std::string::npos) << r.err;
+  }
 }
 
 TEST(TrainCli, SameInputsAndSeedGiveByteIdenticalHeaders) {

@@ -91,6 +91,34 @@ std::string schemeName(SelectionCriterion criterion) {
   return "";
 }
 
+// "only N patches, fewer than the T requested tests", why (from the extraction's report: the
+// budget, every image held out, images of another size than the camera's, nothing detected)
+// and what to do about it.
+std::string shortfall(const TrainOptions& s, const TrainResult& r, size_t count) {
+  const std::string few =
+      "only " + std::to_string(count) + " patches, fewer than the " + std::to_string(s.tests) + " requested tests";
+  if (!r.extracted) return few + " in " + s.patchesFile + ": extract more patches, or ask for fewer --tests";
+  if (s.extraction.patches < static_cast<size_t>(s.tests))
+    return few + ": the --patches budget (" + std::to_string(s.extraction.patches) + ") is below --tests";
+  const ExtractionReport& e = r.extraction;
+  const std::string images = std::to_string(e.imagesFound) + " image" + (e.imagesFound == 1 ? "" : "s");
+  if (e.imagesFound > 0 && e.heldOut == e.imagesFound)
+    return few + ": every one of the " + images + " is held out (an evaluation uses it; --held-out lists " +
+           "them): train on other images";
+  std::vector<const SkippedImage*> skipped;  // for another reason than being held out
+  for (const SkippedImage& k : e.skipped)
+    if (!k.heldOut) skipped.push_back(&k);
+  std::string why = few + ": " + std::to_string(e.imagesUsed) + " of " + images + " gave patches (" +
+                    std::to_string(e.heldOut) + " held out, " + std::to_string(skipped.size()) + " skipped)";
+  if (!skipped.empty()) {
+    why += "; " + skipped.front()->path + ": " + skipped.front()->reason;
+    if (skipped.front()->otherSize)
+      why += "; give --camera the calibration of these images";
+  }
+  return why + (e.imagesUsed == 0 && skipped.empty() ? "; nothing was detected: images with more texture"
+                                                      : "; more images, or fewer --tests");
+}
+
 }  // namespace
 
 TrainResult train(const TrainOptions& s, const TrainProgress& progress) {
@@ -132,9 +160,7 @@ TrainResult train(const TrainOptions& s, const TrainProgress& progress) {
     result.extracted = true;
     if (!s.savePatches.empty()) writePatchSet(patches, s.savePatches);
   }
-  if (patches.count() < s.tests)
-    throw std::invalid_argument("only " + std::to_string(patches.count()) + " patches, fewer than the " +
-                                std::to_string(s.tests) + " requested tests");
+  if (patches.count() < s.tests) throw std::invalid_argument(shortfall(s, result, patches.count()));
   result.patches = patches.count();
   result.counterparts = patches.counterpartCount();
 
