@@ -1,7 +1,7 @@
-// Benchmarks run at the level named by MDBRIEF_SIMD_LEVEL (portable, sse4, neon, avx2, avx512;
-// default: the highest the CPU supports; the library reads it), so one build measures every
-// level. The benchmark context names the CPU, the level and its Highway target, so that every
-// figure says where it was measured.
+// The benchmarks' context: the CPU, the SIMD level and its Highway target, so that every figure
+// says where it was measured. The level is the one MDBRIEF_SIMD_LEVEL names (portable, sse4,
+// neon, avx2, avx512; the library reads it; default: the highest the CPU supports), so one build
+// measures every level.
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
