@@ -37,6 +37,12 @@ CliRun runTrain(const std::vector<std::string>& args) {
   return {code, out.str(), err.str()};
 }
 
+// The arguments every case of a test shares, then the case's own.
+CliRun runTrain(std::vector<std::string> common, const std::vector<std::string>& extra) {
+  common.insert(common.end(), extra.begin(), extra.end());
+  return runTrain(common);
+}
+
 // A small image folder copied from opencv-doc.
 fs::path smallImageFolder(const TempDir& dir) {
   const auto doc = mdbrief::testing::opencvDocDataDir();
@@ -109,9 +115,7 @@ TEST(TrainCli, UnwritableOutputsFailBeforeTheExtraction) {
       {{"--name", "blocked_64"}, (out / "blocked_64.hpp").string() + ": the output exists and is a folder"},
   };
   for (const auto& [extra, message] : cases) {
-    auto args = common;
-    args.insert(args.end(), extra.begin(), extra.end());
-    const CliRun r = runTrain(args);
+    const CliRun r = runTrain(common, extra);
     EXPECT_EQ(r.code, 2) << r.err;
     EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
     EXPECT_EQ(r.out, "") << "the extraction ran first";
@@ -137,9 +141,7 @@ TEST(TrainCli, AnOutputThatIsAnInputIsRefused) {
       {{"--camera", (out / "registry.hpp").string()}, "the same file as the input " + (out / "registry.hpp").string()},
   };
   for (const auto& [extra, message] : cases) {
-    auto args = common;
-    args.insert(args.end(), extra.begin(), extra.end());
-    const CliRun r = runTrain(args);
+    const CliRun r = runTrain(common, extra);
     EXPECT_EQ(r.code, 2) << r.err;
     EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
   }
@@ -171,9 +173,7 @@ TEST(TrainCli, SpecialFilesAndUnknownConfigurationKeysAreRefused) {
       {{"--config", config("malformed.toml", "[x\nfoo=\n")}, "foo"},
   };
   for (const auto& [extra, message] : cases) {
-    auto args = common;
-    args.insert(args.end(), extra.begin(), extra.end());
-    const CliRun r = runTrain(args);
+    const CliRun r = runTrain(common, extra);
     EXPECT_EQ(r.code, 2) << extra[0] << ": " << r.err;
     EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
   }
