@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "mdbrief/camera_io.hpp"
-#include "mdbrief/camera_radtan.hpp"
-#include "mdbrief/camera_unified.hpp"
+#include "mdbrief/camera/io.hpp"
+#include "mdbrief/camera/radtan.hpp"
+#include "mdbrief/camera/unified.hpp"
 
 namespace {
 

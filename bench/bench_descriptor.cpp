@@ -11,7 +11,7 @@
 #include <tbb/global_control.h>
 
 #include "bench_scene.hpp"
-#include "mdbrief/descriptor.hpp"
+#include "mdbrief/describe/descriptor.hpp"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "mdbrief/detector.hpp"
+#include "mdbrief/detect/detector.hpp"
 #include "toolkit/data_folders.hpp"
 #include "toolkit/image_file.hpp"
 

@@ -18,7 +18,7 @@
 
 #include "bench_scene.hpp"
 #include "mdbrief/feature2d.hpp"
-#include "mdbrief/matcher.hpp"
+#include "mdbrief/match/matcher.hpp"
 #include "mdbrief/presets.hpp"
 
 namespace {

@@ -18,8 +18,8 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
-#include "mdbrief/guided_matcher.hpp"
-#include "mdbrief/matcher.hpp"
+#include "mdbrief/match/guided_matcher.hpp"
+#include "mdbrief/match/matcher.hpp"
 
 namespace {
 

@@ -3,7 +3,7 @@
 // OCamCalib camera (configs/cameras/lafida_fisheye0.yaml), 754x480.
 #include <benchmark/benchmark.h>
 
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 #include "toolkit/data_folders.hpp"
 #include "toolkit/image_file.hpp"
 #include "toolkit/plane_renderer.hpp"

@@ -14,8 +14,8 @@
 #include <opencv2/core.hpp>
 #include <unistd.h>
 
-#include "mdbrief/vocabulary.hpp"
-#include "mdbrief/vocabulary_text.hpp"
+#include "mdbrief/recognition/vocabulary.hpp"
+#include "mdbrief/recognition/vocabulary_text.hpp"
 
 namespace {
 

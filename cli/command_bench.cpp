@@ -15,9 +15,9 @@
 #include <tbb/global_control.h>
 
 #include "cli/commands.hpp"
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 #include "mdbrief/feature2d.hpp"
-#include "mdbrief/matcher.hpp"
+#include "mdbrief/match/matcher.hpp"
 #include "mdbrief/presets.hpp"
 #include "mdbrief/simd_level.hpp"
 #include "toolkit/cpu_model.hpp"

@@ -7,7 +7,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/extraction_flags.hpp"
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 #include "mdbrief/internal/atomic_file.hpp"
 
 namespace mdbrief::cli {

@@ -12,7 +12,7 @@
 #include "cli/extraction_flags.hpp"
 #include "cli/match_consistency.hpp"
 #include "cli/storage_io.hpp"
-#include "mdbrief/image_pyramid.hpp"
+#include "mdbrief/detect/image_pyramid.hpp"
 #include "toolkit/homography_file.hpp"
 
 namespace mdbrief::cli {

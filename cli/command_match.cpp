@@ -10,7 +10,7 @@
 #include "cli/extraction_flags.hpp"
 #include "cli/match_consistency.hpp"
 #include "cli/storage_io.hpp"
-#include "mdbrief/matcher.hpp"
+#include "mdbrief/match/matcher.hpp"
 #include "mdbrief/presets.hpp"
 #include "toolkit/option_flags.hpp"
 

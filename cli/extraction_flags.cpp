@@ -13,12 +13,12 @@
 
 #include "cli/commands.hpp"
 #include "cli/storage_io.hpp"
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 #include "mdbrief/internal/framed_file.hpp"
 #include "mdbrief/internal/input_file.hpp"
 #include "mdbrief/internal/size_text.hpp"
 #include "mdbrief/presets.hpp"
-#include "mdbrief/tangent_plane.hpp"
+#include "mdbrief/camera/tangent_plane.hpp"
 #include "toolkit/image_file.hpp"
 
 namespace mdbrief::cli {

@@ -8,14 +8,14 @@
 #include <CLI/CLI.hpp>
 #include <opencv2/core.hpp>
 
-#include "mdbrief/camera.hpp"
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/camera.hpp"
+#include "mdbrief/camera/io.hpp"
 #include "mdbrief/feature2d.hpp"
 #include "toolkit/option_flags.hpp"
 
 namespace mdbrief::cli {
 
-// A calibration file, its format and the camera of a multi-camera file (camera_io.hpp).
+// A calibration file, its format and the camera of a multi-camera file (camera/io.hpp).
 struct CameraFileFlags {
   std::string path;
   std::string format = toString(CameraFormat::Auto);

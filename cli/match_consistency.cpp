@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "mdbrief/camera_pinhole.hpp"
+#include "mdbrief/camera/pinhole.hpp"
 #include "toolkit/bearing_homography.hpp"
 
 namespace mdbrief::cli {

@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 #include "poster_dev.hpp"
 
 namespace mdbrief::eval {

@@ -3,7 +3,7 @@
 #include <cstdlib>
 
 #include "eval_datasets.hpp"
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 #include "mdbrief/internal/atomic_file.hpp"
 #include "toolkit/data_folders.hpp"
 

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "mdbrief/matcher.hpp"
-#include "mdbrief/masked_hamming.hpp"
-#include "mdbrief/hamming.hpp"
+#include "mdbrief/match/matcher.hpp"
+#include "mdbrief/match/masked_hamming.hpp"
+#include "mdbrief/match/hamming.hpp"
 
 namespace mdbrief::eval {
 namespace {

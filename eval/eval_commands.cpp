@@ -9,7 +9,7 @@
 #include "command_helpers.hpp"
 #include "eval_datasets.hpp"
 #include "held_out.hpp"
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 #include "mdbrief/internal/atomic_file.hpp"
 #include "pipeline_experiment.hpp"
 #include "pr_experiment.hpp"

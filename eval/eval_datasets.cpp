@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 #include "mdbrief/internal/input_file.hpp"
 #include "mdbrief/internal/size_text.hpp"
 #include "patchextract/view_change.hpp"

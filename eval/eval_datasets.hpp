@@ -11,7 +11,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "mdbrief/camera.hpp"
+#include "mdbrief/camera/camera.hpp"
 #include "precision_recall.hpp"
 #include "toolkit/data_folders.hpp"
 #include "toolkit/homography_file.hpp"

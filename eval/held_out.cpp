@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "eval_datasets.hpp"
-#include "mdbrief/patterns.hpp"
+#include "mdbrief/describe/patterns.hpp"
 #include "patchextract/image_digest.hpp"
 
 namespace mdbrief::eval {

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "csv_table.hpp"
-#include "mdbrief/detector.hpp"
+#include "mdbrief/detect/detector.hpp"
 
 namespace mdbrief::eval {
 namespace {

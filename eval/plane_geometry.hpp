@@ -5,7 +5,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "mdbrief/camera.hpp"
+#include "mdbrief/camera/camera.hpp"
 #include "toolkit/plane_renderer.hpp"
 
 namespace mdbrief::eval {

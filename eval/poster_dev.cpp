@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 #include "mdbrief/internal/size_text.hpp"
 
 namespace mdbrief::eval {

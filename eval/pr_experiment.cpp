@@ -8,8 +8,8 @@
 #include "csv_table.hpp"
 #include <opencv2/features2d.hpp>
 
-#include "mdbrief/detector.hpp"
-#include "mdbrief/patterns.hpp"
+#include "mdbrief/detect/detector.hpp"
+#include "mdbrief/describe/patterns.hpp"
 
 namespace mdbrief::eval {
 

@@ -8,7 +8,7 @@
 
 #include "descriptor_method.hpp"
 #include "eval_datasets.hpp"
-#include "mdbrief/detector.hpp"
+#include "mdbrief/detect/detector.hpp"
 #include "mdbrief/presets.hpp"
 #include "patchextract/keypoint_detectors.hpp"
 

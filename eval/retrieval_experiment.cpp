@@ -9,8 +9,8 @@
 
 #include "csv_table.hpp"
 #include "eval_commands.hpp"
-#include "mdbrief/database.hpp"
-#include "mdbrief/vocabulary_text.hpp"
+#include "mdbrief/recognition/database.hpp"
+#include "mdbrief/recognition/vocabulary_text.hpp"
 
 namespace mdbrief::eval {
 namespace {

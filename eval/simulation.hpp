@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "mdbrief/camera.hpp"
-#include "mdbrief/descriptor.hpp"
+#include "mdbrief/camera/camera.hpp"
+#include "mdbrief/describe/descriptor.hpp"
 #include "toolkit/plane_renderer.hpp"
 
 namespace mdbrief::eval {

@@ -7,9 +7,9 @@
 #include <opencv2/features2d.hpp>
 
 #include "csv_table.hpp"
-#include "mdbrief/descriptor.hpp"
-#include "mdbrief/detector.hpp"
-#include "mdbrief/matcher.hpp"
+#include "mdbrief/describe/descriptor.hpp"
+#include "mdbrief/detect/detector.hpp"
+#include "mdbrief/match/matcher.hpp"
 #include "mdbrief/presets.hpp"
 
 namespace mdbrief::eval {

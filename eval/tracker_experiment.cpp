@@ -9,7 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "csv_table.hpp"
-#include "mdbrief/detector.hpp"
+#include "mdbrief/detect/detector.hpp"
 #include "mdbrief/presets.hpp"
 
 namespace mdbrief::eval {

@@ -8,11 +8,11 @@
 #include <unistd.h>
 
 #include "cli/extraction_flags.hpp"
-#include "mdbrief/camera_io.hpp"
-#include "mdbrief/database.hpp"
+#include "mdbrief/camera/io.hpp"
+#include "mdbrief/recognition/database.hpp"
 #include "mdbrief/internal/framed_file.hpp"
-#include "mdbrief/patterns.hpp"
-#include "mdbrief/vocabulary_text.hpp"
+#include "mdbrief/describe/patterns.hpp"
+#include "mdbrief/recognition/vocabulary_text.hpp"
 #include "patchextract/image_digest.hpp"
 #include "patchextract/patch_set.hpp"
 #include "toolkit/homography_file.hpp"

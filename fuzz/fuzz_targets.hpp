@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "mdbrief/vocabulary.hpp"
+#include "mdbrief/recognition/vocabulary.hpp"
 
 namespace mdbrief::fuzz {
 

@@ -10,12 +10,12 @@
 
 #include <tbb/parallel_for.h>
 
-#include "mdbrief/camera_io.hpp"
-#include "mdbrief/detector.hpp"
-#include "mdbrief/image_pyramid.hpp"
+#include "mdbrief/camera/io.hpp"
+#include "mdbrief/detect/detector.hpp"
+#include "mdbrief/detect/image_pyramid.hpp"
 #include "mdbrief/internal/patch_sampling.hpp"
 #include "mdbrief/internal/size_text.hpp"
-#include "mdbrief/test_set.hpp"
+#include "mdbrief/describe/test_set.hpp"
 #include "patchextract/patch_sampler.hpp"
 #include "toolkit/image_file.hpp"
 #include "toolkit/plane_renderer.hpp"

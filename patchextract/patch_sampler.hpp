@@ -9,9 +9,9 @@
 
 #include <opencv2/core.hpp>
 
-#include "mdbrief/camera.hpp"
-#include "mdbrief/descriptor.hpp"
-#include "mdbrief/image_pyramid.hpp"
+#include "mdbrief/camera/camera.hpp"
+#include "mdbrief/describe/descriptor.hpp"
+#include "mdbrief/detect/image_pyramid.hpp"
 
 namespace mdbrief::train {
 

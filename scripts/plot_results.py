@@ -236,7 +236,7 @@ def simulation_section(results, cams, keys, detected):
     if ("radial", "max_displacement_px") in keys:
         s.append("")
         s.append("Radial camera: configs/cameras/radial_example.yaml, xi = -2^-6 with m in units of 100 px "
-                 "(camera_radial.hpp). Maximum displacement against the pinhole camera with the same intrinsics: "
+                 "(camera/radial.hpp). Maximum displacement against the pinhole camera with the same intrinsics: "
                  "**%.1f px** (at the image corner)." % keys[("radial", "max_displacement_px")])
     s += ["", "![distance evolution](figures/sim_hamming_evolution.png)", "",
           "![recognition](figures/sim_recognition.png)", ""]

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Checks that includes between the project's folders point one way (README, "Where things
 are"): a file may include from its own folder and from folders below it, never from above.
-bench/ and tests/ are included by nothing outside them. Exit 1 with the offending lines."""
+Inside the runtime library the parts do the same (PART below). bench/ and tests/ are included by
+nothing outside them. Exit 1 with the offending lines."""
 import pathlib
 import re
 import sys
@@ -30,11 +31,64 @@ FOLDER = {
 }
 # Consumers above every library: they may include any of them, but not bench/ or tests/.
 TOP = ("python", "fuzz", "examples", "bench", "tests")
+# The runtime library's parts, lowest first; a part includes only its own and lower parts.
+PART_LAYER = {"base": 0, "camera": 1, "detect": 2, "describe": 3, "match": 3, "recognition": 4, "api": 5, "compat": 6}
+# Files at the top of include/mdbrief and src/ (and internal/) that are not in a part's folder.
+BASE_FILES = {"enum_names", "option_fields", "file_format_error", "simd_level", "version", "atomic_file",
+              "bit_count-inl", "framed_file", "input_file", "popcount", "simd_dispatch", "size_text"}
+PART_OF_FILE = {"patch_sampling": "describe", "feature2d": "api", "presets": "api", "option_tables": "api",
+                "mdbrief": "api"}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 SOURCES = ("*.cpp", "*.hpp", "*.h", "*.in")
 
 
+def library_part(relative: str) -> str:
+    """The part of libmdbrief a file (libmdbrief/src/..., libmdbrief/include/mdbrief/...) or an
+    include ("mdbrief/...", or a path under src/) belongs to; None for one it does not place.
+    compat/ holds the 0.1 include paths, which forward to every part."""
+    if relative.startswith("libmdbrief/compat/"):
+        return "compat"
+    for prefix in ("libmdbrief/include/mdbrief/", "libmdbrief/internal/mdbrief/internal/", "libmdbrief/src/",
+                   "mdbrief/internal/", "mdbrief/"):
+        if relative.startswith(prefix):
+            relative = relative[len(prefix):]
+            break
+    folder, _, rest = relative.partition("/")
+    if rest:
+        folder = "base" if folder == "io" else folder
+        return folder if folder in PART_LAYER else None
+    stem = folder.split(".")[0]
+    if stem in PART_OF_FILE:
+        return PART_OF_FILE[stem]
+    return "base" if stem in BASE_FILES else None
+
+
+def library_problems(root: pathlib.Path):
+    lib = root / "libmdbrief"
+    for pattern in SOURCES:
+        for path in sorted(lib.rglob(pattern)):
+            relative = str(path.relative_to(root))
+            own = library_part(relative)
+            if own is None:
+                yield f"{relative}: in no part of the library; place it in PART_LAYER, BASE_FILES or PART_OF_FILE"
+                continue
+            text = path.read_text(errors="replace")
+            for m in INCLUDE.finditer(text):
+                target = m.group(1)
+                if target.startswith("patterns/"):
+                    continue
+                if not target.startswith("mdbrief/") and not (lib / "src" / target).exists():
+                    continue
+                part = library_part(target)
+                line = text.count("\n", 0, m.start()) + 1
+                if part is None:
+                    yield f"{relative}:{line}: includes \"{target}\", in no part of the library"
+                elif part != own and PART_LAYER[part] >= PART_LAYER[own]:
+                    yield f"{relative}:{line}: includes \"{target}\": {part} is not below {own}"
+
+
 def problems(root: pathlib.Path):
+    yield from library_problems(root)
     for top in list(FOLDER) + list(TOP):
         for pattern in SOURCES:
             for path in sorted((root / top).rglob(pattern)):

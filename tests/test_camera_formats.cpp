@@ -1,4 +1,4 @@
-// Other tools' calibration files (camera_io.hpp): each sample of tests/data/camera_formats is the
+// Other tools' calibration files (camera/io.hpp): each sample of tests/data/camera_formats is the
 // same camera as its project YAML in expected/ (the same parameters bit for bit, projections
 // within 1e-6 px over the image, byte-identical descriptors); the format is recognised from the
 // content or chosen; multi-camera files need a choice; look-alikes, truncated files and the
@@ -18,9 +18,9 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "mdbrief/camera_io.hpp"
-#include "mdbrief/camera_kannala_brandt.hpp"
-#include "mdbrief/camera_radtan.hpp"
+#include "mdbrief/camera/io.hpp"
+#include "mdbrief/camera/kannala_brandt.hpp"
+#include "mdbrief/camera/radtan.hpp"
 #include "mdbrief/feature2d.hpp"
 #include "test_data.hpp"
 

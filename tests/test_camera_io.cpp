@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "mdbrief/camera_io.hpp"
-#include "mdbrief/camera_kannala_brandt.hpp"
-#include "mdbrief/camera_ocam.hpp"
+#include "mdbrief/camera/io.hpp"
+#include "mdbrief/camera/kannala_brandt.hpp"
+#include "mdbrief/camera/ocam.hpp"
 #include "test_camera_utils.hpp"
 #include "test_data.hpp"
 

@@ -8,14 +8,14 @@
 #include <string>
 #include <vector>
 
-#include "mdbrief/camera_double_sphere.hpp"
-#include "mdbrief/camera_kannala_brandt.hpp"
-#include "mdbrief/camera_ocam.hpp"
-#include "mdbrief/camera_omni.hpp"
-#include "mdbrief/camera_pinhole.hpp"
-#include "mdbrief/camera_radial.hpp"
-#include "mdbrief/camera_radtan.hpp"
-#include "mdbrief/camera_unified.hpp"
+#include "mdbrief/camera/double_sphere.hpp"
+#include "mdbrief/camera/kannala_brandt.hpp"
+#include "mdbrief/camera/ocam.hpp"
+#include "mdbrief/camera/omni.hpp"
+#include "mdbrief/camera/pinhole.hpp"
+#include "mdbrief/camera/radial.hpp"
+#include "mdbrief/camera/radtan.hpp"
+#include "mdbrief/camera/unified.hpp"
 #include "test_camera_utils.hpp"
 
 namespace {
@@ -221,7 +221,7 @@ TEST(CameraModels, RadialWithZeroXiIsExactlyThePinhole) {
     }
 }
 
-// The paper's xi = -2^-6 in units of 100 px: the numbers quoted in camera_radial.hpp, computed
+// The paper's xi = -2^-6 in units of 100 px: the numbers quoted in camera/radial.hpp, computed
 // here from the division model m = m_d / (1 + xi |m_d|^2) by hand.
 TEST(CameraModels, RadialPaperDistortionMagnitude) {
   const double xi = -1.0 / 64;

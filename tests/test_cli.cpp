@@ -23,7 +23,7 @@
 #include "cli/commands.hpp"
 #include "cli/storage_io.hpp"
 #include "cli_runner.hpp"
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 #include "mdbrief/feature2d.hpp"
 #include "toolkit/plane_renderer.hpp"
 #include "test_data.hpp"

@@ -14,7 +14,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli_runner.hpp"
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 #include "test_data.hpp"
 
 namespace mdbrief {

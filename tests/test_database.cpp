@@ -6,7 +6,7 @@
 #include <cstring>
 #include <fstream>
 
-#include "mdbrief/database.hpp"
+#include "mdbrief/recognition/database.hpp"
 #include "mdbrief/file_format_error.hpp"
 #include "mdbrief/internal/framed_file.hpp"
 #include "test_data.hpp"

@@ -6,7 +6,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "mdbrief/descriptor.hpp"
+#include "mdbrief/describe/descriptor.hpp"
 
 namespace mdbrief {
 namespace {

@@ -11,10 +11,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "mdbrief/camera_pinhole.hpp"
-#include "mdbrief/camera_radial.hpp"
-#include "mdbrief/descriptor.hpp"
-#include "mdbrief/patterns.hpp"
+#include "mdbrief/camera/pinhole.hpp"
+#include "mdbrief/camera/radial.hpp"
+#include "mdbrief/describe/descriptor.hpp"
+#include "mdbrief/describe/patterns.hpp"
 #include "test_data.hpp"
 
 namespace mdbrief {

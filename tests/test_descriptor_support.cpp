@@ -10,9 +10,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "mdbrief/camera_io.hpp"
-#include "mdbrief/descriptor.hpp"
-#include "mdbrief/detector.hpp"
+#include "mdbrief/camera/io.hpp"
+#include "mdbrief/describe/descriptor.hpp"
+#include "mdbrief/detect/detector.hpp"
 #include "test_data.hpp"
 
 using namespace mdbrief;

@@ -13,8 +13,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "mdbrief/descriptor.hpp"
-#include "mdbrief/detector.hpp"
+#include "mdbrief/describe/descriptor.hpp"
+#include "mdbrief/detect/detector.hpp"
 #include "test_data.hpp"
 #include "toolkit/homography_file.hpp"
 #include "toolkit/image_file.hpp"

@@ -9,9 +9,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "mdbrief/camera_io.hpp"
-#include "mdbrief/camera_pinhole.hpp"
-#include "mdbrief/detector.hpp"
+#include "mdbrief/camera/io.hpp"
+#include "mdbrief/camera/pinhole.hpp"
+#include "mdbrief/detect/detector.hpp"
 #include "mdbrief/feature2d.hpp"
 #include "test_data.hpp"
 

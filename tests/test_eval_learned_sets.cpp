@@ -11,7 +11,7 @@
 
 #include "eval/eval_datasets.hpp"
 #include "eval/held_out.hpp"
-#include "mdbrief/patterns.hpp"
+#include "mdbrief/describe/patterns.hpp"
 #include "patchextract/image_digest.hpp"
 #include "eval/pr_experiment.hpp"
 #include "test_data.hpp"

@@ -13,8 +13,8 @@
 
 #include "eval/eval_cli.hpp"
 #include "eval/eval_datasets.hpp"
-#include "mdbrief/camera_io.hpp"
-#include "mdbrief/detector.hpp"
+#include "mdbrief/camera/io.hpp"
+#include "mdbrief/detect/detector.hpp"
 #include "toolkit/plane_renderer.hpp"
 #include "eval/pipeline_experiment.hpp"
 #include "eval/plane_geometry.hpp"

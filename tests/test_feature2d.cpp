@@ -11,9 +11,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 #include "mdbrief/feature2d.hpp"
-#include "mdbrief/patterns.hpp"
+#include "mdbrief/describe/patterns.hpp"
 #include "toolkit/photo_camera.hpp"
 #include "toolkit/plane_renderer.hpp"
 #include "test_data.hpp"

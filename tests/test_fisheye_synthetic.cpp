@@ -11,9 +11,9 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "mdbrief/camera_io.hpp"
-#include "mdbrief/descriptor.hpp"
-#include "mdbrief/masked_hamming.hpp"
+#include "mdbrief/camera/io.hpp"
+#include "mdbrief/describe/descriptor.hpp"
+#include "mdbrief/match/masked_hamming.hpp"
 #include "toolkit/plane_renderer.hpp"
 #include "test_data.hpp"
 

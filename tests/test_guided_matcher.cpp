@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "mdbrief/guided_matcher.hpp"
-#include "mdbrief/hamming.hpp"
-#include "mdbrief/masked_hamming.hpp"
-#include "mdbrief/matcher.hpp"
+#include "mdbrief/match/guided_matcher.hpp"
+#include "mdbrief/match/hamming.hpp"
+#include "mdbrief/match/masked_hamming.hpp"
+#include "mdbrief/match/matcher.hpp"
 #include "mdbrief/simd_level.hpp"
 
 namespace {

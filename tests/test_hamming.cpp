@@ -6,8 +6,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "mdbrief/hamming.hpp"
-#include "mdbrief/masked_hamming.hpp"
+#include "mdbrief/match/hamming.hpp"
+#include "mdbrief/match/masked_hamming.hpp"
 #include "test_data.hpp"
 
 namespace {

@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
-#include "mdbrief/image_pyramid.hpp"
+#include "mdbrief/detect/image_pyramid.hpp"
 
 namespace {
 

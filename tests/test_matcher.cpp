@@ -12,9 +12,9 @@
 
 #include <opencv2/features2d.hpp>
 
-#include "mdbrief/hamming.hpp"
-#include "mdbrief/masked_hamming.hpp"
-#include "mdbrief/matcher.hpp"
+#include "mdbrief/match/hamming.hpp"
+#include "mdbrief/match/masked_hamming.hpp"
+#include "mdbrief/match/matcher.hpp"
 #include "test_data.hpp"
 
 namespace {

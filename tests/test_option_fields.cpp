@@ -14,7 +14,7 @@
 
 #include "cli/commands.hpp"
 #include "mdbrief/feature2d.hpp"
-#include "mdbrief/matcher.hpp"
+#include "mdbrief/match/matcher.hpp"
 #include "test_data.hpp"
 #include "trainer/train_cli.hpp"
 #include "trainer/training.hpp"

@@ -13,11 +13,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <unistd.h>
 
-#include "mdbrief/camera_io.hpp"
-#include "mdbrief/camera_pinhole.hpp"
-#include "mdbrief/descriptor.hpp"
+#include "mdbrief/camera/io.hpp"
+#include "mdbrief/camera/pinhole.hpp"
+#include "mdbrief/describe/descriptor.hpp"
 #include "mdbrief/internal/patch_sampling.hpp"
-#include "mdbrief/patterns.hpp"
+#include "mdbrief/describe/patterns.hpp"
 #include "toolkit/photo_camera.hpp"
 #include "toolkit/plane_renderer.hpp"
 #include "patchextract/patch_extraction.hpp"

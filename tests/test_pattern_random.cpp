@@ -9,7 +9,7 @@
 #include <unistd.h>
 
 #include "toolkit/pattern_writer.hpp"
-#include "mdbrief/patterns.hpp"
+#include "mdbrief/describe/patterns.hpp"
 #include "test_data.hpp"
 #include "trainer/random_pattern.hpp"
 

@@ -17,7 +17,7 @@
 #include <unistd.h>
 
 #include "mdbrief/internal/atomic_file.hpp"
-#include "mdbrief/patterns.hpp"
+#include "mdbrief/describe/patterns.hpp"
 #include "toolkit/pattern_writer.hpp"
 #include "test_data.hpp"
 #include "write_limits.hpp"

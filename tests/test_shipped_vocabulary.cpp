@@ -5,10 +5,10 @@
 
 #include <algorithm>
 
-#include "mdbrief/database.hpp"
+#include "mdbrief/recognition/database.hpp"
 #include "mdbrief/feature2d.hpp"
 #include "mdbrief/presets.hpp"
-#include "mdbrief/vocabulary.hpp"
+#include "mdbrief/recognition/vocabulary.hpp"
 #include "patchextract/image_digest.hpp"
 #include "test_data.hpp"
 #include "toolkit/image_file.hpp"

@@ -9,7 +9,7 @@
 #include <fstream>
 #include <unistd.h>
 
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 #include "eval/simulation.hpp"
 #include "test_data.hpp"
 

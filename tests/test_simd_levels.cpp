@@ -14,11 +14,11 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "mdbrief/camera_io.hpp"
-#include "mdbrief/descriptor.hpp"
-#include "mdbrief/detector.hpp"
-#include "mdbrief/image_pyramid.hpp"
-#include "mdbrief/matcher.hpp"
+#include "mdbrief/camera/io.hpp"
+#include "mdbrief/describe/descriptor.hpp"
+#include "mdbrief/detect/detector.hpp"
+#include "mdbrief/detect/image_pyramid.hpp"
+#include "mdbrief/match/matcher.hpp"
 #include "mdbrief/simd_level.hpp"
 #include "test_data.hpp"
 

@@ -1,4 +1,4 @@
-// The planes dBRIEF places its tests on (mdbrief/tangent_plane.hpp): the local plane, tangent at
+// The planes dBRIEF places its tests on (mdbrief/camera/tangent_plane.hpp): the local plane, tangent at
 // the keypoint's ray, turns with the camera, so a turned lens sees the same footprint on a
 // structure wherever the structure appears; the paper's plane z = lambda does not.
 #include <gtest/gtest.h>
@@ -7,10 +7,10 @@
 
 #include <opencv2/calib3d.hpp>
 
-#include "mdbrief/camera_io.hpp"
-#include "mdbrief/camera_kannala_brandt.hpp"
-#include "mdbrief/camera_pinhole.hpp"
-#include "mdbrief/tangent_plane.hpp"
+#include "mdbrief/camera/io.hpp"
+#include "mdbrief/camera/kannala_brandt.hpp"
+#include "mdbrief/camera/pinhole.hpp"
+#include "mdbrief/camera/tangent_plane.hpp"
 #include "test_data.hpp"
 
 namespace mdbrief {

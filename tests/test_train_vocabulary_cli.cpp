@@ -9,8 +9,8 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "mdbrief/vocabulary.hpp"
-#include "mdbrief/vocabulary_text.hpp"
+#include "mdbrief/recognition/vocabulary.hpp"
+#include "mdbrief/recognition/vocabulary_text.hpp"
 #include "test_data.hpp"
 #include "vocabulary/descriptor_npy.hpp"
 #include "vocabulary/train_vocabulary_cli.hpp"

@@ -8,7 +8,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "mdbrief/patterns.hpp"
+#include "mdbrief/describe/patterns.hpp"
 #include "patchextract/patch_extraction.hpp"
 #include "patchextract/patch_set.hpp"
 #include "patchextract/image_digest.hpp"

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstring>
 
-#include "mdbrief/masked_hamming.hpp"
+#include "mdbrief/match/masked_hamming.hpp"
 #include "mdbrief/simd_level.hpp"
-#include "mdbrief/vocabulary.hpp"
+#include "mdbrief/recognition/vocabulary.hpp"
 #include "vocabulary_trees.hpp"
 
 using namespace mdbrief;

@@ -10,7 +10,7 @@
 #include "mdbrief/file_format_error.hpp"
 #include "mdbrief/internal/framed_file.hpp"
 #include "mdbrief/simd_level.hpp"
-#include "mdbrief/vocabulary.hpp"
+#include "mdbrief/recognition/vocabulary.hpp"
 #include "test_data.hpp"
 #include "vocabulary_trees.hpp"
 

@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "mdbrief/file_format_error.hpp"
-#include "mdbrief/vocabulary_text.hpp"
+#include "mdbrief/recognition/vocabulary_text.hpp"
 #include "test_data.hpp"
 #include "vocabulary_trees.hpp"
 

@@ -7,8 +7,8 @@
 
 #include <opencv2/core.hpp>
 
-#include "mdbrief/masked_hamming.hpp"
-#include "mdbrief/vocabulary.hpp"
+#include "mdbrief/match/masked_hamming.hpp"
+#include "mdbrief/recognition/vocabulary.hpp"
 
 namespace mdbrief::testing {
 

@@ -5,12 +5,12 @@
 //
 // Outputs are deterministic (no timestamps) and written atomically
 // (mdbrief/internal/atomic_file.hpp), so an interrupted run leaves the previous files intact.
-// A tool module, not installed: the runtime only reads test sets (mdbrief/patterns.hpp).
+// A tool module, not installed: the runtime only reads test sets (mdbrief/describe/patterns.hpp).
 #include <filesystem>
 #include <string>
 #include <vector>
 
-#include "mdbrief/test_set.hpp"
+#include "mdbrief/describe/test_set.hpp"
 
 namespace mdbrief {
 

@@ -2,7 +2,7 @@
 
 #include <memory>
 
-#include "mdbrief/camera_pinhole.hpp"
+#include "mdbrief/camera/pinhole.hpp"
 
 namespace mdbrief {
 

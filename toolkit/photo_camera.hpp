@@ -4,7 +4,7 @@
 // the principal point in the middle. Only the descriptor's footprint depends on it.
 #include <opencv2/core.hpp>
 
-#include "mdbrief/camera.hpp"
+#include "mdbrief/camera/camera.hpp"
 
 namespace mdbrief {
 

@@ -6,7 +6,7 @@
 // the plane repeats it mirrored, so every ray that hits the plane sees texture.
 #include <opencv2/core.hpp>
 
-#include "mdbrief/camera.hpp"
+#include "mdbrief/camera/camera.hpp"
 
 namespace mdbrief {
 

@@ -6,7 +6,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "mdbrief/test_set.hpp"
+#include "mdbrief/describe/test_set.hpp"
 
 namespace mdbrief::train {
 

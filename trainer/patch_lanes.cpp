@@ -9,7 +9,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
-#include "mdbrief/test_set.hpp"
+#include "mdbrief/describe/test_set.hpp"
 #include "trainer/test_response_kernels.hpp"
 
 namespace mdbrief::train {

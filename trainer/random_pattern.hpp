@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "toolkit/pattern_writer.hpp"
-#include "mdbrief/test_set.hpp"
+#include "mdbrief/describe/test_set.hpp"
 
 namespace mdbrief::train {
 

@@ -31,7 +31,7 @@
 #include <functional>
 #include <vector>
 
-#include "mdbrief/test_set.hpp"
+#include "mdbrief/describe/test_set.hpp"
 #include "trainer/patch_lanes.hpp"
 #include "trainer/test_responses.hpp"
 

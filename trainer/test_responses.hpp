@@ -9,7 +9,7 @@
 #include <functional>
 #include <vector>
 
-#include "mdbrief/test_set.hpp"
+#include "mdbrief/describe/test_set.hpp"
 #include "trainer/patch_lanes.hpp"
 
 namespace mdbrief::train {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "toolkit/pattern_writer.hpp"
-#include "mdbrief/test_set.hpp"
+#include "mdbrief/describe/test_set.hpp"
 #include "trainer/greedy_selection.hpp"
 #include "trainer/separation_selection.hpp"
 #include "trainer/test_responses.hpp"

@@ -9,8 +9,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
-#include "mdbrief/hamming.hpp"
-#include "mdbrief/matcher.hpp"
+#include "mdbrief/match/hamming.hpp"
+#include "mdbrief/match/matcher.hpp"
 
 namespace mdbrief::vocab {
 

@@ -9,10 +9,10 @@
 #include <CLI/CLI.hpp>
 #include <tbb/parallel_for.h>
 
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 #include "mdbrief/internal/atomic_file.hpp"
 #include "mdbrief/internal/size_text.hpp"
-#include "mdbrief/vocabulary_text.hpp"
+#include "mdbrief/recognition/vocabulary_text.hpp"
 #include "toolkit/command_line.hpp"
 #include "toolkit/progress_reporter.hpp"
 #include "vocabulary/descriptor_npy.hpp"

@@ -1,7 +1,7 @@
 #pragma once
 // mdbrief-train-vocabulary: trains a vocabulary (vocabulary_training.hpp) from training images
 // described as the run time describes them (training_features.hpp) or from descriptor files
-// (descriptor_npy.hpp), and writes it (mdbrief/vocabulary.hpp's file; optionally also DBoW2's
+// (descriptor_npy.hpp), and writes it (mdbrief/recognition/vocabulary.hpp's file; optionally also DBoW2's
 // text). In a library so tests run the whole tool in-process.
 #include <iosfwd>
 #include <string>

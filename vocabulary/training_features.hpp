@@ -10,7 +10,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "mdbrief/camera.hpp"
+#include "mdbrief/camera/camera.hpp"
 #include "mdbrief/presets.hpp"
 #include "patchextract/image_digest.hpp"
 #include "vocabulary/vocabulary_training.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// Training a vocabulary (mdbrief/vocabulary.hpp) from the descriptors of training images:
+// Training a vocabulary (mdbrief/recognition/vocabulary.hpp) from the descriptors of training images:
 // hierarchical k-majority clustering (kmajority.hpp) from the root down, k children per node and
 // at most L levels, then the words' weights from the same images (idf = log(N / n_w), N images,
 // n_w of which reach word w through the trained tree, exactly as transform() quantises; 1 for tf
@@ -15,7 +15,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "mdbrief/vocabulary.hpp"
+#include "mdbrief/recognition/vocabulary.hpp"
 #include "vocabulary/kmajority.hpp"
 
 namespace mdbrief::vocab {

@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "mdbrief/image_pyramid.hpp"
+#include "mdbrief/detect/image_pyramid.hpp"
 #include "mdbrief/internal/size_text.hpp"
 
 namespace mdbrief {

@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "mdbrief/descriptor.hpp"
-#include "mdbrief/detector.hpp"
+#include "mdbrief/describe/descriptor.hpp"
+#include "mdbrief/detect/detector.hpp"
 #include "mdbrief/feature2d.hpp"
-#include "mdbrief/guided_matcher.hpp"
-#include "mdbrief/image_pyramid.hpp"
-#include "mdbrief/matcher.hpp"
+#include "mdbrief/match/guided_matcher.hpp"
+#include "mdbrief/detect/image_pyramid.hpp"
+#include "mdbrief/match/matcher.hpp"
 #include "mdbrief/option_fields.hpp"
 
 namespace mdbrief {

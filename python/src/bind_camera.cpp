@@ -9,7 +9,7 @@
 
 #include "bindings.hpp"
 #include "conversions.hpp"
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 
 namespace mdbrief::python {
 namespace {

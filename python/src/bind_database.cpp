@@ -3,7 +3,7 @@
 #include "bindings.hpp"
 #include "bow_conversions.hpp"
 #include "conversions.hpp"
-#include "mdbrief/database.hpp"
+#include "mdbrief/recognition/database.hpp"
 #include "mdbrief/file_format_error.hpp"
 
 namespace mdbrief::python {

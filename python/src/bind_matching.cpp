@@ -2,8 +2,8 @@
 // same within windows around predicted positions (guided_matcher.hpp).
 #include "bindings.hpp"
 #include "conversions.hpp"
-#include "mdbrief/guided_matcher.hpp"
-#include "mdbrief/matcher.hpp"
+#include "mdbrief/match/guided_matcher.hpp"
+#include "mdbrief/match/matcher.hpp"
 #include "option_keywords.hpp"
 #include "presets.hpp"
 

@@ -2,8 +2,8 @@
 // match()'s options, for introspection (and the tests that walk every option).
 #include "bindings.hpp"
 #include "mdbrief/feature2d.hpp"
-#include "mdbrief/guided_matcher.hpp"
-#include "mdbrief/matcher.hpp"
+#include "mdbrief/match/guided_matcher.hpp"
+#include "mdbrief/match/matcher.hpp"
 #include "option_keywords.hpp"
 #include "trainer/train_options.hpp"
 

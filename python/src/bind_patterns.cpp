@@ -7,8 +7,8 @@
 
 #include "bindings.hpp"
 #include "conversions.hpp"
-#include "mdbrief/camera_io.hpp"
-#include "mdbrief/patterns.hpp"
+#include "mdbrief/camera/io.hpp"
+#include "mdbrief/describe/patterns.hpp"
 #include "option_keywords.hpp"
 #include "mdbrief/internal/atomic_file.hpp"
 #include "toolkit/pattern_writer.hpp"

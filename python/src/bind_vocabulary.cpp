@@ -4,8 +4,8 @@
 #include "bow_conversions.hpp"
 #include "conversions.hpp"
 #include "mdbrief/file_format_error.hpp"
-#include "mdbrief/vocabulary.hpp"
-#include "mdbrief/vocabulary_text.hpp"
+#include "mdbrief/recognition/vocabulary.hpp"
+#include "mdbrief/recognition/vocabulary_text.hpp"
 
 namespace mdbrief::python {
 namespace {

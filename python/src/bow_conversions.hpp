@@ -1,7 +1,7 @@
 #pragma once
 // Bags of words (bow_vector.hpp) in Python: a dict {word: value}, in ascending word order.
 #include "bindings.hpp"
-#include "mdbrief/bow_vector.hpp"
+#include "mdbrief/recognition/bow_vector.hpp"
 
 namespace mdbrief::python {
 

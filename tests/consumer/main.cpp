@@ -1,15 +1,11 @@
 // Detect, describe (mdBRIEF with the default compiled-in pattern) and match a synthetic image
 // against a shifted copy; exit 0 when most keypoints find their shifted partner. With an
-// argument, also load that calibration file (an installed example camera).
+// argument, also load that calibration file (an installed example camera). One include, the
+// umbrella header, brings the whole public API.
 #include <cstdio>
 #include <memory>
 
-#include <mdbrief/camera_io.hpp>
-#include <mdbrief/camera_pinhole.hpp>
-#include <mdbrief/descriptor.hpp>
-#include <mdbrief/detector.hpp>
-#include <mdbrief/matcher.hpp>
-#include <mdbrief/patterns.hpp>
+#include <mdbrief/mdbrief.hpp>
 #include <opencv2/imgproc.hpp>
 
 int main(int argc, char** argv) {

@@ -11,12 +11,12 @@
 #include <utility>
 #include <vector>
 
-#include "descriptor_kernels.hpp"
-#include "hessian_kernels.hpp"
-#include "mask_weight_kernels.hpp"
-#include "matcher_kernels.hpp"
+#include "describe/descriptor_kernels.hpp"
+#include "detect/hessian_kernels.hpp"
+#include "describe/mask_weight_kernels.hpp"
+#include "match/matcher_kernels.hpp"
 #include "mdbrief/simd_level.hpp"
-#include "smoothing_kernels.hpp"
+#include "detect/smoothing_kernels.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-"""mdbrief.match_guided: guided matching (libmdbrief/include/mdbrief/guided_matcher.hpp) from
+"""mdbrief.match_guided: guided matching (libmdbrief/include/mdbrief/match/guided_matcher.hpp) from
 Python: the matches of mdbrief.match whose prediction is within the radius (synthetic and on a
 photo moved as a tracker sees it), predictions outside the image, the consistency checks, the
 keywords and bad arguments."""

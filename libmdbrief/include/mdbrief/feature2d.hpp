@@ -5,15 +5,15 @@
 // the extra call detectAndComputeWithMasks().
 //
 // The camera is not part of the serialized state (it is a calibration file of its own, see
-// camera_io.hpp): read() changes the options and keeps the camera.
+// camera/io.hpp): read() changes the options and keeps the camera.
 #include <string>
 #include <vector>
 
 #include <opencv2/features2d.hpp>
 
-#include "mdbrief/camera.hpp"
-#include "mdbrief/descriptor.hpp"
-#include "mdbrief/detector.hpp"
+#include "mdbrief/camera/camera.hpp"
+#include "mdbrief/describe/descriptor.hpp"
+#include "mdbrief/detect/detector.hpp"
 
 namespace mdbrief {
 

@@ -14,7 +14,7 @@
 
 #include "mdbrief/enum_names.hpp"
 #include "mdbrief/feature2d.hpp"
-#include "mdbrief/matcher.hpp"
+#include "mdbrief/match/matcher.hpp"
 
 namespace mdbrief {
 

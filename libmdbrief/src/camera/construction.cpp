@@ -1,9 +1,9 @@
-#include "camera_construction.hpp"
+#include "camera/construction.hpp"
 
 #include <cmath>
 #include <sstream>
 
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 
 namespace mdbrief::detail {
 namespace {

@@ -6,8 +6,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "mdbrief/camera.hpp"
-#include "mdbrief/camera_ocam.hpp"
+#include "mdbrief/camera/camera.hpp"
+#include "mdbrief/camera/ocam.hpp"
 
 namespace mdbrief::detail {
 

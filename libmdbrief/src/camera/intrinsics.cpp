@@ -1,6 +1,6 @@
-#include "mdbrief/camera_intrinsics.hpp"
+#include "mdbrief/camera/intrinsics.hpp"
 
-#include "camera_model_utils.hpp"
+#include "camera/model_utils.hpp"
 
 namespace mdbrief {
 

@@ -1,4 +1,4 @@
-#include "mdbrief/camera_io.hpp"
+#include "mdbrief/camera/io.hpp"
 
 #include <unistd.h>
 
@@ -15,11 +15,11 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "camera_construction.hpp"
-#include "camera_formats.hpp"
-#include "camera_model_formats.hpp"
-#include "camera_yaml_reader.hpp"
-#include "mdbrief/camera_ocam.hpp"
+#include "camera/construction.hpp"
+#include "camera/formats/readers.hpp"
+#include "camera/registry.hpp"
+#include "camera/formats/yaml_reader.hpp"
+#include "mdbrief/camera/ocam.hpp"
 #include "mdbrief/internal/atomic_file.hpp"
 #include "mdbrief/internal/input_file.hpp"
 

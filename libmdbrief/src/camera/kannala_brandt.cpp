@@ -1,8 +1,8 @@
-#include "mdbrief/camera_kannala_brandt.hpp"
+#include "mdbrief/camera/kannala_brandt.hpp"
 
-#include "camera_construction.hpp"
-#include "camera_model_formats.hpp"
-#include "camera_model_utils.hpp"
+#include "camera/construction.hpp"
+#include "camera/registry.hpp"
+#include "camera/model_utils.hpp"
 
 namespace mdbrief {
 
@@ -95,7 +95,7 @@ bool KannalaBrandtCamera::isValid(const cv::Point2d& pixel) const {
   return detail::hypotBelow(m[0], m[1], thetaDMax_);
 }
 
-// The model in the calibration files (camera_model_formats.hpp).
+// The model in the calibration files (camera/registry.hpp).
 namespace detail {
 
 ModelFormat kannalaBrandtModelFormat() {

@@ -1,4 +1,4 @@
-#include "mdbrief/camera_ocam.hpp"
+#include "mdbrief/camera/ocam.hpp"
 
 // GCC 12 reports false -Wmaybe-uninitialized inside Eigen's AVX-512 kernels (-march=native);
 // the warning is issued after inlining, so it can only be silenced for the whole file. Clang
@@ -8,9 +8,9 @@
 #endif
 #include <Eigen/Dense>
 
-#include "camera_construction.hpp"
-#include "camera_model_formats.hpp"
-#include "camera_model_utils.hpp"
+#include "camera/construction.hpp"
+#include "camera/registry.hpp"
+#include "camera/model_utils.hpp"
 
 namespace mdbrief {
 namespace {
@@ -206,7 +206,7 @@ std::shared_ptr<Camera> OcamCamera::resized(cv::Size newSize) const {
   return std::make_shared<OcamCamera>(r);
 }
 
-// The model in the calibration files (camera_model_formats.hpp).
+// The model in the calibration files (camera/registry.hpp).
 namespace detail {
 namespace {
 

@@ -1,9 +1,9 @@
-#include "mdbrief/camera_omni.hpp"
+#include "mdbrief/camera/omni.hpp"
 
-#include "camera_construction.hpp"
-#include "camera_model_formats.hpp"
-#include "camera_model_utils.hpp"
-#include "radtan_distortion.hpp"
+#include "camera/construction.hpp"
+#include "camera/registry.hpp"
+#include "camera/model_utils.hpp"
+#include "camera/radtan_distortion.hpp"
 
 namespace mdbrief {
 namespace {
@@ -70,7 +70,7 @@ bool OmniCamera::isValid(const cv::Point2d& pixel) const {
   return detail::insideImage(pixel, imageSize()) && pixelToBearing(pixel, bearing);
 }
 
-// The model in the calibration files (camera_model_formats.hpp).
+// The model in the calibration files (camera/registry.hpp).
 namespace detail {
 
 ModelFormat omniModelFormat() {

@@ -1,8 +1,8 @@
-#include "mdbrief/camera_pinhole.hpp"
+#include "mdbrief/camera/pinhole.hpp"
 
-#include "camera_construction.hpp"
-#include "camera_model_formats.hpp"
-#include "camera_model_utils.hpp"
+#include "camera/construction.hpp"
+#include "camera/registry.hpp"
+#include "camera/model_utils.hpp"
 
 namespace mdbrief {
 
@@ -30,7 +30,7 @@ bool PinholeCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixe
 
 bool PinholeCamera::isValid(const cv::Point2d& pixel) const { return detail::insideImage(pixel, imageSize()); }
 
-// The model in the calibration files (camera_model_formats.hpp).
+// The model in the calibration files (camera/registry.hpp).
 namespace detail {
 
 ModelFormat pinholeModelFormat() {

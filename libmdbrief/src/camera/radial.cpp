@@ -1,8 +1,8 @@
-#include "mdbrief/camera_radial.hpp"
+#include "mdbrief/camera/radial.hpp"
 
-#include "camera_construction.hpp"
-#include "camera_model_formats.hpp"
-#include "camera_model_utils.hpp"
+#include "camera/construction.hpp"
+#include "camera/registry.hpp"
+#include "camera/model_utils.hpp"
 
 namespace mdbrief {
 
@@ -67,7 +67,7 @@ std::shared_ptr<Camera> RadialCamera::resized(cv::Size newSize) const {
   return std::make_shared<RadialCamera>(r);
 }
 
-// The model in the calibration files (camera_model_formats.hpp).
+// The model in the calibration files (camera/registry.hpp).
 namespace detail {
 
 ModelFormat radialModelFormat() {

@@ -1,9 +1,9 @@
-#include "radtan_distortion.hpp"
+#include "camera/radtan_distortion.hpp"
 
 #include <cmath>
 #include <limits>
 
-#include "camera_model_utils.hpp"
+#include "camera/model_utils.hpp"
 
 namespace mdbrief::detail {
 

@@ -1,4 +1,4 @@
-#include "camera_model_formats.hpp"
+#include "camera/registry.hpp"
 
 namespace mdbrief::detail {
 

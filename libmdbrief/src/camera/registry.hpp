@@ -1,7 +1,7 @@
 #pragma once
 // The camera models of the project's YAML (configs/cameras/README.md): one registration per
-// model, defined next to the model (at the end of camera_<model>.cpp), and the one list of them
-// (camera_model_formats.cpp) that camera_io.cpp reads and writes by. Adding a model is writing
+// model, defined next to the model (at the end of camera/<model>.cpp), and the one list of them
+// (camera/registry.cpp) that camera/io.cpp reads and writes by. Adding a model is writing
 // its registration and adding it to that list.
 #include <initializer_list>
 #include <memory>
@@ -13,9 +13,9 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "camera_yaml_reader.hpp"
-#include "mdbrief/camera.hpp"
-#include "mdbrief/camera_intrinsics.hpp"
+#include "camera/formats/yaml_reader.hpp"
+#include "mdbrief/camera/camera.hpp"
+#include "mdbrief/camera/intrinsics.hpp"
 
 namespace mdbrief::detail {
 

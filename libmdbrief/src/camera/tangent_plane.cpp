@@ -1,4 +1,4 @@
-#include "mdbrief/tangent_plane.hpp"
+#include "mdbrief/camera/tangent_plane.hpp"
 
 #include <cmath>
 

@@ -1,8 +1,8 @@
-#include "mdbrief/camera_unified.hpp"
+#include "mdbrief/camera/unified.hpp"
 
-#include "camera_construction.hpp"
-#include "camera_model_formats.hpp"
-#include "camera_model_utils.hpp"
+#include "camera/construction.hpp"
+#include "camera/registry.hpp"
+#include "camera/model_utils.hpp"
 
 namespace mdbrief {
 
@@ -61,7 +61,7 @@ bool UnifiedCamera::isValid(const cv::Point2d& pixel) const {
   return unprojectable(m[0] * m[0] + m[1] * m[1]);
 }
 
-// The model in the calibration files (camera_model_formats.hpp).
+// The model in the calibration files (camera/registry.hpp).
 namespace detail {
 
 // UCM and EUCM are one class and two names: UCM has no beta key (it is 1).

@@ -1,4 +1,4 @@
-#include "mdbrief/descriptor.hpp"
+#include "mdbrief/describe/descriptor.hpp"
 
 #include <algorithm>
 #include <array>
@@ -7,9 +7,9 @@
 
 #include <tbb/parallel_for.h>
 
-#include "descriptor_kernels.hpp"
-#include "mdbrief/patterns.hpp"
-#include "test_placement.hpp"
+#include "describe/descriptor_kernels.hpp"
+#include "mdbrief/describe/patterns.hpp"
+#include "describe/test_placement.hpp"
 
 namespace mdbrief {
 namespace {

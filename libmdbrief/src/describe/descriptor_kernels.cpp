@@ -3,12 +3,12 @@
 // (simd_dispatch.hpp). Integer sampling and exactly rounded placement give every level the same
 // bits.
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "descriptor_kernels.cpp"
+#define HWY_TARGET_INCLUDE "describe/descriptor_kernels.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
 
 #include <hwy/highway.h>
 
-#include "descriptor_kernels.hpp"
+#include "describe/descriptor_kernels.hpp"
 #include "mdbrief/internal/simd_dispatch.hpp"
 
 HWY_BEFORE_NAMESPACE();

@@ -2,7 +2,7 @@
 // Highway target (hwy/foreach_target.h), so that the bit count is one instruction wherever the
 // target has it; the active level's copy is chosen at run time (simd_dispatch.hpp).
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "mask_weight_kernels.cpp"
+#define HWY_TARGET_INCLUDE "describe/mask_weight_kernels.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
 
 #include <hwy/highway.h>
@@ -11,7 +11,7 @@
 
 #include <cstring>
 
-#include "mask_weight_kernels.hpp"
+#include "describe/mask_weight_kernels.hpp"
 #include "mdbrief/internal/simd_dispatch.hpp"
 
 HWY_BEFORE_NAMESPACE();

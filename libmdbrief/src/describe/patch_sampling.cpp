@@ -4,8 +4,8 @@
 #include <utility>
 #include <vector>
 
-#include "mdbrief/test_set.hpp"
-#include "test_placement.hpp"
+#include "mdbrief/describe/test_set.hpp"
+#include "describe/test_placement.hpp"
 
 namespace mdbrief::internal {
 namespace {

@@ -1,4 +1,4 @@
-#include "mdbrief/patterns.hpp"
+#include "mdbrief/describe/patterns.hpp"
 
 #include <algorithm>
 #include <filesystem>

@@ -1,4 +1,4 @@
-#include "test_placement.hpp"
+#include "describe/test_placement.hpp"
 
 #include <algorithm>
 #include <array>
@@ -7,8 +7,8 @@
 #include <utility>
 
 #include "mdbrief/internal/patch_sampling.hpp"
-#include "mdbrief/tangent_plane.hpp"
-#include "mdbrief/test_set.hpp"
+#include "mdbrief/camera/tangent_plane.hpp"
+#include "mdbrief/describe/test_set.hpp"
 
 namespace mdbrief::placement {
 namespace {

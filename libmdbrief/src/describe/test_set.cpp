@@ -1,6 +1,6 @@
 #include <stdexcept>
 
-#include "mdbrief/test_set.hpp"
+#include "mdbrief/describe/test_set.hpp"
 
 namespace mdbrief {
 

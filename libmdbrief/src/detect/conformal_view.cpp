@@ -1,4 +1,4 @@
-#include "conformal_view.hpp"
+#include "detect/conformal_view.hpp"
 
 #include <algorithm>
 #include <cmath>

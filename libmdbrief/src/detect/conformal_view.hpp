@@ -7,7 +7,7 @@
 // pixel count, so detection costs about what it costs on the camera image.
 #include <opencv2/core.hpp>
 
-#include "mdbrief/camera.hpp"
+#include "mdbrief/camera/camera.hpp"
 
 namespace mdbrief::detail {
 

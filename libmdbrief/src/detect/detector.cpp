@@ -1,4 +1,4 @@
-#include "mdbrief/detector.hpp"
+#include "mdbrief/detect/detector.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,12 +11,12 @@
 #include <opencv2/imgproc.hpp>
 #include <tbb/parallel_for.h>
 
-#include "conformal_view.hpp"
-#include "detector_candidate.hpp"
-#include "detector_harris.hpp"
-#include "detector_hessian.hpp"
-#include "detector_orientation.hpp"
-#include "detector_quadtree.hpp"
+#include "detect/conformal_view.hpp"
+#include "detect/candidate.hpp"
+#include "detect/harris.hpp"
+#include "detect/hessian.hpp"
+#include "detect/orientation.hpp"
+#include "detect/quadtree.hpp"
 #include "mdbrief/internal/size_text.hpp"
 
 namespace mdbrief {

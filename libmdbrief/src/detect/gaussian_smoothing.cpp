@@ -1,4 +1,4 @@
-#include "gaussian_smoothing.hpp"
+#include "detect/gaussian_smoothing.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "smoothing_kernels.hpp"
+#include "detect/smoothing_kernels.hpp"
 
 namespace mdbrief {
 

@@ -1,4 +1,4 @@
-#include "detector_harris.hpp"
+#include "detect/harris.hpp"
 
 #include <stdexcept>
 

@@ -1,4 +1,4 @@
-#include "detector_hessian.hpp"
+#include "detect/hessian.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,8 +7,8 @@
 #include <opencv2/imgproc.hpp>
 #include <tbb/parallel_for.h>
 
-#include "gaussian_smoothing.hpp"
-#include "hessian_kernels.hpp"
+#include "detect/gaussian_smoothing.hpp"
+#include "detect/hessian_kernels.hpp"
 
 namespace mdbrief::detail {
 

@@ -9,7 +9,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "mdbrief/image_pyramid.hpp"
+#include "mdbrief/detect/image_pyramid.hpp"
 
 namespace mdbrief::detail {
 

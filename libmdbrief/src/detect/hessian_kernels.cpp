@@ -2,12 +2,12 @@
 // Highway target (hwy/foreach_target.h), the active level's copy chosen at run time
 // (simd_dispatch.hpp).
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "hessian_kernels.cpp"
+#define HWY_TARGET_INCLUDE "detect/hessian_kernels.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
 
 #include <hwy/highway.h>
 
-#include "hessian_kernels.hpp"
+#include "detect/hessian_kernels.hpp"
 #include "mdbrief/internal/simd_dispatch.hpp"
 
 HWY_BEFORE_NAMESPACE();

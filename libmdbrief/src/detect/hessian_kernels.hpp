@@ -1,5 +1,5 @@
 #pragma once
-// The Hessian detector's per-pixel loops (detector_hessian.cpp), written once with Highway in
+// The Hessian detector's per-pixel loops (detect/hessian.cpp), written once with Highway in
 // hessian_kernels.cpp and compiled for every SIMD level (simd_level.hpp). Each lane does the
 // scalar form's operations in the same order, rounded one at a time (no fused multiply-add), so
 // every level gives the same bits.

@@ -1,4 +1,4 @@
-#include "mdbrief/image_pyramid.hpp"
+#include "mdbrief/detect/image_pyramid.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <opencv2/imgproc.hpp>
 #include <tbb/parallel_for.h>
 
-#include "gaussian_smoothing.hpp"
+#include "detect/gaussian_smoothing.hpp"
 
 namespace mdbrief {
 

@@ -1,4 +1,4 @@
-#include "detector_orientation.hpp"
+#include "detect/orientation.hpp"
 
 #include <cmath>
 

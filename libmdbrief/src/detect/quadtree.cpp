@@ -1,4 +1,4 @@
-#include "detector_quadtree.hpp"
+#include "detect/quadtree.hpp"
 
 #include <algorithm>
 #include <cmath>

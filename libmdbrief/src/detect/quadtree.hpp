@@ -5,7 +5,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "detector_candidate.hpp"
+#include "detect/candidate.hpp"
 
 namespace mdbrief::detail {
 

@@ -3,7 +3,7 @@
 // at run time (simd_dispatch.hpp). Vectors cover whole chunks of a row; the last few columns
 // take the same integer arithmetic one at a time.
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "smoothing_kernels.cpp"
+#define HWY_TARGET_INCLUDE "detect/smoothing_kernels.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
 
 #include <hwy/highway.h>
@@ -11,7 +11,7 @@
 #include <utility>
 
 #include "mdbrief/internal/simd_dispatch.hpp"
-#include "smoothing_kernels.hpp"
+#include "detect/smoothing_kernels.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace mdbrief::smoothing_kernels::HWY_NAMESPACE {

@@ -1,4 +1,4 @@
-#include "mdbrief/guided_matcher.hpp"
+#include "mdbrief/match/guided_matcher.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,10 +11,10 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "match_inputs.hpp"
-#include "matcher_kernels.hpp"
-#include "mdbrief/masked_hamming.hpp"
-#include "query_row.hpp"
+#include "match/match_inputs.hpp"
+#include "match/matcher_kernels.hpp"
+#include "mdbrief/match/masked_hamming.hpp"
+#include "match/query_row.hpp"
 
 namespace mdbrief {
 

@@ -1,4 +1,4 @@
-#include "mdbrief/hamming.hpp"
+#include "mdbrief/match/hamming.hpp"
 
 #include <cstring>
 #include <stdexcept>

@@ -1,10 +1,10 @@
-#include "mdbrief/masked_hamming.hpp"
+#include "mdbrief/match/masked_hamming.hpp"
 
 #include <cstring>
 #include <stdexcept>
 #include <string>
 
-#include "mdbrief/hamming.hpp"
+#include "mdbrief/match/hamming.hpp"
 #include "mdbrief/internal/popcount.hpp"
 
 namespace mdbrief {

@@ -7,7 +7,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "mdbrief/hamming.hpp"
+#include "mdbrief/match/hamming.hpp"
 
 namespace mdbrief {
 namespace {

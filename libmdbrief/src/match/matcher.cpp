@@ -1,4 +1,4 @@
-#include "mdbrief/matcher.hpp"
+#include "mdbrief/match/matcher.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,11 +11,11 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "match_inputs.hpp"
-#include "matcher_kernels.hpp"
-#include "mdbrief/hamming.hpp"
-#include "mdbrief/masked_hamming.hpp"
-#include "query_row.hpp"
+#include "match/match_inputs.hpp"
+#include "match/matcher_kernels.hpp"
+#include "mdbrief/match/hamming.hpp"
+#include "mdbrief/match/masked_hamming.hpp"
+#include "match/query_row.hpp"
 
 namespace mdbrief {
 

@@ -1,7 +1,7 @@
 // The matcher's kernels (matcher_kernels.hpp) for every SIMD level: compiled once per Highway
 // target (hwy/foreach_target.h), the active level's copy chosen at run time (simd_dispatch.hpp).
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "matcher_kernels.cpp"
+#define HWY_TARGET_INCLUDE "match/matcher_kernels.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
 
 #include <hwy/highway.h>
@@ -10,7 +10,7 @@
 
 #include <cstring>
 
-#include "matcher_kernels.hpp"
+#include "match/matcher_kernels.hpp"
 #include "mdbrief/internal/simd_dispatch.hpp"
 
 HWY_BEFORE_NAMESPACE();

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cstring>
 
-#include "matcher_kernels.hpp"
-#include "mdbrief/masked_hamming.hpp"
+#include "match/matcher_kernels.hpp"
+#include "mdbrief/match/masked_hamming.hpp"
 #include "mdbrief/internal/popcount.hpp"
 
 namespace mdbrief::matcher_kernels {

@@ -1,4 +1,4 @@
-#include "mdbrief/bow_vector.hpp"
+#include "mdbrief/recognition/bow_vector.hpp"
 
 #include <algorithm>
 

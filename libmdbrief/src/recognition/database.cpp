@@ -1,4 +1,4 @@
-#include "mdbrief/database.hpp"
+#include "mdbrief/recognition/database.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,14 +1,14 @@
-#include "mdbrief/vocabulary.hpp"
+#include "mdbrief/recognition/vocabulary.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
 
-#include "matcher_kernels.hpp"
-#include "mdbrief/hamming.hpp"
-#include "query_row.hpp"
-#include "vocabulary_data.hpp"
+#include "match/matcher_kernels.hpp"
+#include "mdbrief/match/hamming.hpp"
+#include "match/query_row.hpp"
+#include "recognition/vocabulary_data.hpp"
 
 namespace mdbrief {
 

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "mdbrief/internal/framed_file.hpp"
-#include "mdbrief/vocabulary.hpp"
+#include "mdbrief/recognition/vocabulary.hpp"
 
 namespace mdbrief {
 

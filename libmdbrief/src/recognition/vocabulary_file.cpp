@@ -5,9 +5,9 @@
 
 #include "mdbrief/file_format_error.hpp"
 #include "mdbrief/internal/atomic_file.hpp"
-#include "mask_weight_kernels.hpp"
-#include "mdbrief/masked_hamming.hpp"
-#include "vocabulary_data.hpp"
+#include "describe/mask_weight_kernels.hpp"
+#include "mdbrief/match/masked_hamming.hpp"
+#include "recognition/vocabulary_data.hpp"
 
 namespace mdbrief {
 
@@ -244,7 +244,7 @@ Vocabulary Vocabulary::create(const VocabularyTree& tree) {
 Vocabulary Vocabulary::load(const std::string& path) {
   internal::FramedFile file = internal::readFramedFile(
       path, kVocabularyMagic, kVocabularyVersion, kMaxVocabularyFileBytes, "vocabulary",
-      "; a DBoW2/DBoW3 text vocabulary is read by importDbow2Text (mdbrief/vocabulary_text.hpp)");
+      "; a DBoW2/DBoW3 text vocabulary is read by importDbow2Text (mdbrief/recognition/vocabulary_text.hpp)");
   try {
     return Vocabulary(vocabularyData(std::move(file)));
   } catch (const VocabularyContentError& e) {

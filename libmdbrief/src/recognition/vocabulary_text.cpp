@@ -1,4 +1,4 @@
-#include "mdbrief/vocabulary_text.hpp"
+#include "mdbrief/recognition/vocabulary_text.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include "mdbrief/file_format_error.hpp"
 #include "mdbrief/internal/atomic_file.hpp"
 #include "mdbrief/internal/input_file.hpp"
-#include "vocabulary_data.hpp"
+#include "recognition/vocabulary_data.hpp"
 
 namespace mdbrief {
 

@@ -8,7 +8,7 @@
 // pixels with r^2 = mx^2 + my^2 < 1 / (2 alpha - 1) when alpha > 0.5 (mx = (u - cx) / fx, ...).
 // tangentPlaneScale() is (fx + fy) / 2. At the image centre the local scale is f / (1 + xi) for
 // this model; the focal length is kept so that all perspective-family models share one definition.
-#include "mdbrief/camera_with_intrinsics.hpp"
+#include "mdbrief/camera/with_intrinsics.hpp"
 
 namespace mdbrief {
 

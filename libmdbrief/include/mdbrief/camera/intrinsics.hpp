@@ -1,7 +1,7 @@
 #pragma once
 // Image size and the linear part (focal lengths, principal point) shared by every
 // perspective-family camera model (pinhole, radial, Kannala-Brandt, double sphere, UCM/EUCM,
-// radial-tangential, omni: camera_with_intrinsics.hpp). Pixel conventions as in camera.hpp
+// radial-tangential, omni: camera/with_intrinsics.hpp). Pixel conventions as in camera.hpp
 // (u = column, v = row).
 #include <string>
 

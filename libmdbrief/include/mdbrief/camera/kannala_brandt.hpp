@@ -5,7 +5,7 @@
 //   (u, v) = (fx theta_d x / r + cx, fy theta_d y / r + cy),  r = sqrt(x^2 + y^2).
 // The inverse solves theta_d(theta) by safeguarded Newton. Valid where theta_d is increasing:
 // theta < thetaMax, the first stationary point of theta_d in (0, pi) (pi if none).
-#include "mdbrief/camera_with_intrinsics.hpp"
+#include "mdbrief/camera/with_intrinsics.hpp"
 
 namespace mdbrief {
 

@@ -13,7 +13,7 @@
 // > 0, |(u - u0, v - v0)| <= validRadius (the image circle).
 #include <vector>
 
-#include "mdbrief/camera.hpp"
+#include "mdbrief/camera/camera.hpp"
 
 namespace mdbrief {
 

@@ -6,13 +6,13 @@
 // distorted as the radtan model's:
 //   (x, y, z) = X / |X|,  m = (x, y) / (z + xi),
 //   m_d = radtan(m; k1, k2, p1, p2),   (u, v) = (fx m_dx + cx, fy m_dy + cy).
-// The inverse undistorts m_d (as camera_radtan.hpp) and lifts m back onto the sphere in closed
+// The inverse undistorts m_d (as camera/radtan.hpp) and lifts m back onto the sphere in closed
 // form. Validity: rays with z > -w, w = min(xi, 1 / xi) (0 for xi = 0: the pinhole), where the
 // projection is one-to-one, and |m| below the distortion's monotonic limit (first stationary
 // point of the radial part in (0, 50]).
 #include <memory>
 
-#include "mdbrief/camera_with_intrinsics.hpp"
+#include "mdbrief/camera/with_intrinsics.hpp"
 
 namespace mdbrief::detail {
 class RadTanDistortion;

@@ -1,6 +1,6 @@
 #pragma once
 // Ideal perspective camera: u = fx x/z + cx, v = fy y/z + cy. Projects only rays with z > 0.
-#include "mdbrief/camera_with_intrinsics.hpp"
+#include "mdbrief/camera/with_intrinsics.hpp"
 
 namespace mdbrief {
 

@@ -13,7 +13,7 @@
 // Validity: xi < 0 (barrel) maps every ray with z > 0 inside radius |m_d| < 1/sqrt(-xi);
 // xi > 0 (pincushion) needs 1 - 4 xi |m|^2 > 0, i.e. |m_d| < 1/sqrt(xi). Pixels beyond these
 // radii have no inverse. xi = 0 is exactly the pinhole camera.
-#include "mdbrief/camera_with_intrinsics.hpp"
+#include "mdbrief/camera/with_intrinsics.hpp"
 
 namespace mdbrief {
 

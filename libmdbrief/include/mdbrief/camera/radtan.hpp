@@ -14,7 +14,7 @@
 // slightly).
 #include <memory>
 
-#include "mdbrief/camera_with_intrinsics.hpp"
+#include "mdbrief/camera/with_intrinsics.hpp"
 
 namespace mdbrief::detail {
 class RadTanDistortion;

@@ -15,7 +15,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "mdbrief/camera.hpp"
+#include "mdbrief/camera/camera.hpp"
 
 namespace mdbrief {
 

@@ -8,7 +8,7 @@
 // pixels with beta r^2 < 1 / (2 alpha - 1) when alpha > 0.5 (r^2 = mx^2 + my^2, mx = (u-cx)/fx).
 // alpha > 1 is accepted (fisheye-calib-adapter's UCM.yml has alpha = 1.017): w is then negative,
 // i.e. the field of view is below 180 degrees, and the conditions above still hold.
-#include "mdbrief/camera_with_intrinsics.hpp"
+#include "mdbrief/camera/with_intrinsics.hpp"
 
 namespace mdbrief {
 

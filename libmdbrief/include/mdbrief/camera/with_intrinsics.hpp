@@ -9,8 +9,8 @@
 #include <string>
 #include <type_traits>
 
-#include "mdbrief/camera.hpp"
-#include "mdbrief/camera_intrinsics.hpp"
+#include "mdbrief/camera/camera.hpp"
+#include "mdbrief/camera/intrinsics.hpp"
 
 namespace mdbrief {
 

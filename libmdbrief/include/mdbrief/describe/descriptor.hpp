@@ -13,11 +13,11 @@
 
 #include <opencv2/core.hpp>
 
-#include "mdbrief/camera.hpp"
+#include "mdbrief/camera/camera.hpp"
 #include "mdbrief/enum_names.hpp"
-#include "mdbrief/image_pyramid.hpp"
+#include "mdbrief/detect/image_pyramid.hpp"
 #include "mdbrief/option_fields.hpp"
-#include "mdbrief/test_set.hpp"
+#include "mdbrief/describe/test_set.hpp"
 
 namespace mdbrief {
 
@@ -62,7 +62,7 @@ inline OrientationSource parseOrientationSource(const std::string& name) {
   return parseName(name, kOrientationSourceNames, "orientation source");
 }
 
-// How dBRIEF maps the test set into the image (the planes: mdbrief/tangent_plane.hpp).
+// How dBRIEF maps the test set into the image (the planes: mdbrief/camera/tangent_plane.hpp).
 enum class DistortionForm {
   // The paper's eq. 8-11 literally: tests added on its plane Pi_lambda (z = lambda) at the
   // undistorted keypoint (scaled by the octave's scale), every test point projected through the

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "mdbrief/test_set.hpp"
+#include "mdbrief/describe/test_set.hpp"
 
 namespace mdbrief {
 

@@ -26,9 +26,9 @@
 
 #include <opencv2/core.hpp>
 
-#include "mdbrief/camera.hpp"
+#include "mdbrief/camera/camera.hpp"
 #include "mdbrief/enum_names.hpp"
-#include "mdbrief/image_pyramid.hpp"
+#include "mdbrief/detect/image_pyramid.hpp"
 #include "mdbrief/option_fields.hpp"
 
 namespace mdbrief {

@@ -20,7 +20,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/core/types.hpp>
 
-#include "mdbrief/matcher.hpp"
+#include "mdbrief/match/matcher.hpp"
 #include "mdbrief/option_fields.hpp"
 
 namespace mdbrief {

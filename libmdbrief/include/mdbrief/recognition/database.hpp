@@ -9,8 +9,8 @@
 
 #include <opencv2/core.hpp>
 
-#include "mdbrief/bow_vector.hpp"
-#include "mdbrief/vocabulary.hpp"
+#include "mdbrief/recognition/bow_vector.hpp"
+#include "mdbrief/recognition/vocabulary.hpp"
 
 namespace mdbrief {
 

@@ -22,7 +22,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "mdbrief/bow_vector.hpp"
+#include "mdbrief/recognition/bow_vector.hpp"
 #include "mdbrief/enum_names.hpp"
 
 namespace mdbrief {

@@ -10,7 +10,7 @@
 // scores L1): it is read and not kept, and written as 0 (L1).
 #include <string>
 
-#include "mdbrief/vocabulary.hpp"
+#include "mdbrief/recognition/vocabulary.hpp"
 
 namespace mdbrief {
 

@@ -1,17 +1,17 @@
 // basalt's calib.json (cereal's JSON, read as YAML): value0.intrinsics is a list of
 // {camera_type, intrinsics: {fx, fy, cx, cy, ...}} and value0.resolution the list of
 // [width, height], one entry per camera; a camera is chosen by its index ("0", "1", ...). The
-// camera types kb4, ds, eucm, ucm (basalt's alpha form, as camera_unified.hpp), pinhole-radtan8
+// camera types kb4, ds, eucm, ucm (basalt's alpha form, as camera/unified.hpp), pinhole-radtan8
 // (its rpmax, the radius of the one-to-one area on the z = 1 plane, 0 = none) and pinhole are
 // read; the IMU and extrinsic entries are not. Basalt's pixels are OpenCV's.
-#include "camera_construction.hpp"
-#include "camera_formats.hpp"
-#include "camera_yaml_reader.hpp"
-#include "mdbrief/camera_double_sphere.hpp"
-#include "mdbrief/camera_kannala_brandt.hpp"
-#include "mdbrief/camera_pinhole.hpp"
-#include "mdbrief/camera_radtan.hpp"
-#include "mdbrief/camera_unified.hpp"
+#include "camera/construction.hpp"
+#include "camera/formats/readers.hpp"
+#include "camera/formats/yaml_reader.hpp"
+#include "mdbrief/camera/double_sphere.hpp"
+#include "mdbrief/camera/kannala_brandt.hpp"
+#include "mdbrief/camera/pinhole.hpp"
+#include "mdbrief/camera/radtan.hpp"
+#include "mdbrief/camera/unified.hpp"
 
 namespace mdbrief::detail {
 

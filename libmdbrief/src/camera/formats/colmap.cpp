@@ -10,11 +10,11 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "camera_construction.hpp"
-#include "camera_formats.hpp"
-#include "mdbrief/camera_kannala_brandt.hpp"
-#include "mdbrief/camera_pinhole.hpp"
-#include "mdbrief/camera_radtan.hpp"
+#include "camera/construction.hpp"
+#include "camera/formats/readers.hpp"
+#include "mdbrief/camera/kannala_brandt.hpp"
+#include "mdbrief/camera/pinhole.hpp"
+#include "mdbrief/camera/radtan.hpp"
 
 namespace mdbrief::detail {
 namespace {

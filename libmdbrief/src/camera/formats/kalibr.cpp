@@ -6,15 +6,15 @@
 #include <algorithm>
 #include <cctype>
 
-#include "camera_construction.hpp"
-#include "camera_formats.hpp"
-#include "camera_yaml_reader.hpp"
-#include "mdbrief/camera_double_sphere.hpp"
-#include "mdbrief/camera_kannala_brandt.hpp"
-#include "mdbrief/camera_omni.hpp"
-#include "mdbrief/camera_pinhole.hpp"
-#include "mdbrief/camera_radtan.hpp"
-#include "mdbrief/camera_unified.hpp"
+#include "camera/construction.hpp"
+#include "camera/formats/readers.hpp"
+#include "camera/formats/yaml_reader.hpp"
+#include "mdbrief/camera/double_sphere.hpp"
+#include "mdbrief/camera/kannala_brandt.hpp"
+#include "mdbrief/camera/omni.hpp"
+#include "mdbrief/camera/pinhole.hpp"
+#include "mdbrief/camera/radtan.hpp"
+#include "mdbrief/camera/unified.hpp"
 
 namespace mdbrief::detail {
 namespace {

@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "camera_construction.hpp"
-#include "camera_formats.hpp"
-#include "camera_yaml_reader.hpp"
-#include "mdbrief/camera_io.hpp"
-#include "mdbrief/camera_kannala_brandt.hpp"
-#include "mdbrief/camera_radtan.hpp"
+#include "camera/construction.hpp"
+#include "camera/formats/readers.hpp"
+#include "camera/formats/yaml_reader.hpp"
+#include "mdbrief/camera/io.hpp"
+#include "mdbrief/camera/kannala_brandt.hpp"
+#include "mdbrief/camera/radtan.hpp"
 
 namespace mdbrief {
 namespace {

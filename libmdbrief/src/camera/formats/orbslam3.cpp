@@ -4,12 +4,12 @@
 // the old flat keys (Camera.fx, ...; the second camera of a stereo rig Camera2.fx, ...) or,
 // with File.version "1.0", the newer Camera1.fx and Camera2.fx. The cameras are "1" and "2".
 // ORB-SLAM3's pixels are OpenCV's.
-#include "camera_construction.hpp"
-#include "camera_formats.hpp"
-#include "camera_yaml_reader.hpp"
-#include "mdbrief/camera_kannala_brandt.hpp"
-#include "mdbrief/camera_pinhole.hpp"
-#include "mdbrief/camera_radtan.hpp"
+#include "camera/construction.hpp"
+#include "camera/formats/readers.hpp"
+#include "camera/formats/yaml_reader.hpp"
+#include "mdbrief/camera/kannala_brandt.hpp"
+#include "mdbrief/camera/pinhole.hpp"
+#include "mdbrief/camera/radtan.hpp"
 
 namespace mdbrief::detail {
 namespace {

@@ -1,6 +1,6 @@
 #pragma once
-// The readers of the calibration files other tools write (camera_io.hpp lists them), each in
-// its own file (camera_format_<tool>.cpp), and the helpers they share. camera_io.cpp recognises
+// The readers of the calibration files other tools write (camera/io.hpp lists them), each in
+// its own file (camera/formats/<tool>.cpp), and the helpers they share. camera/io.cpp recognises
 // the format and hands the file to its reader. Every error is a std::runtime_error that starts
 // with the file's path and names the key, line or value at fault.
 #include <memory>
@@ -9,7 +9,7 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "mdbrief/camera.hpp"
+#include "mdbrief/camera/camera.hpp"
 
 namespace mdbrief::detail {
 
