@@ -27,7 +27,7 @@ namespace fs = std::filesystem;
 struct Args {
   std::vector<std::string> images, descriptors, masks, heldOut;
   std::string camera, out, dbow2Text;
-  std::string features = "mdbrief", preset = "tracking", weighting = "tf-idf";
+  std::string extractor = "mdbrief", preset = "tracking", weighting = "tf-idf";
   int bits = 0, nfeatures = FeatureOptions{}.nfeatures;
   bool plain = false;
   VocabularyTrainingOptions training;
@@ -86,7 +86,7 @@ void run(Args& a, std::ostream& out, bool progressTty) {
   if (a.images.empty() == a.descriptors.empty())
     throw std::invalid_argument("give either --images (with --camera or photos) or --descriptors");
   FeatureOptions features;
-  features.kind = parseName(a.features, kFeatureKindNames, "--features");
+  features.kind = parseName(a.extractor, kFeatureKindNames, "--extractor");
   features.preset = parsePreset(a.preset);
   features.bits = a.bits;
   features.nfeatures = a.nfeatures;
@@ -142,13 +142,14 @@ int runTrainVocabularyCli(const std::vector<std::string>& args, std::ostream& ou
   app.add_option("--camera", a.camera,
                  "Calibration of every image (default: each photo as the pinhole of f = its width, "
                  "toolkit/photo_camera.hpp)");
-  app.add_option("--features", a.features, "Features: the library's (mdbrief) or cv::ORB's (orb; a plain vocabulary)")
+  app.add_option("--extractor", a.extractor, "Features: the library's (mdbrief) or cv::ORB's (orb; a plain vocabulary)")
       ->check(CLI::IsMember(namesOf(kFeatureKindNames)))
       ->capture_default_str();
   app.add_option("--preset", a.preset, "mdbrief: the preset whose detector and descriptor run")
       ->check(CLI::IsMember(namesOf(kPresetNames)))
       ->capture_default_str();
   app.add_option("--bits", a.bits, "mdbrief: descriptor length, 32..512 in steps of 32 (default: the preset's)");
+  addRenamedFlag(app, "--features", "--extractor", "--nfeatures is the number of keypoints");
   app.add_option("--nfeatures", a.nfeatures, "Keypoints per image at most")
       ->check(CLI::Range(1, 10000000))
       ->capture_default_str();

@@ -44,7 +44,7 @@ def main():
     parser.add_argument("image2", nargs="?")
     parser.add_argument("-o", "--output", required=True, help="PNG to draw the matches into")
     parser.add_argument("--turn", type=float, default=15.0, help="degrees the lens turns without IMAGE2")
-    parser.add_argument("--features", type=int, default=1000)
+    parser.add_argument("--nfeatures", type=int, default=1000)
     args = parser.parse_args()
 
     camera = mdbrief.load_camera(args.camera)
@@ -56,7 +56,7 @@ def main():
     if image2 is None:
         sys.exit(f"error: cannot read {args.image2}")
 
-    features = mdbrief.MdBrief(camera, nfeatures=args.features)
+    features = mdbrief.MdBrief(camera, nfeatures=args.nfeatures)
     kp1, d1, m1 = features.detect_and_compute(image1)
     kp2, d2, m2 = features.detect_and_compute(image2)
     matches = mdbrief.match(d1, d2, m1, m2, ratio=0.8, cross_check=True)

@@ -40,7 +40,7 @@ def same_keypoints(a, b):
 def test_detect_and_compute_gives_the_bytes_of_the_cpp_tool(tmp_path, camera, image_pair, cli, detector):
     image = image_pair[0]
     cv2.imwrite(str(tmp_path / "view.png"), image)
-    subprocess.run([cli, "extract", "--camera", str(FISHEYE_CAMERA), "--features", "500", "--detector",
+    subprocess.run([cli, "extract", "--camera", str(FISHEYE_CAMERA), "--nfeatures", "500", "--detector",
                     detector, str(tmp_path / "view.png"), "-o", str(tmp_path / "cpp.yml")], check=True,
                    capture_output=True)
     cpp_keypoints, cpp_descriptors, cpp_masks = read_feature_file(tmp_path / "cpp.yml")
