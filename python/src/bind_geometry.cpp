@@ -193,8 +193,8 @@ inlier and residuals is empty.)doc")
       (std::string(R"doc(
 Relative pose of a general scene from matched bearings (Nx3 rows, Camera.pixel_to_bearing of each
 image: any lens, beyond 90 degrees of incidence): RANSAC over the 5-point solver, the pose that
-puts the inliers in front of both cameras, refined on the inliers. Residual: the angle between a
-and the epipolar plane of b. The threshold is max_angle (radians), or max_pixels with
+puts the inliers in front of both cameras, refined on the inliers. Residual: the angle between b
+and the epipolar plane of a (at camera b, as pixels_per_radian at b's pixels expect). The threshold is max_angle (radians), or max_pixels with
 pixels_per_radian (N values at b's pixels, mdbrief.pixels_per_radian). Deterministic for a seed.
 Returns a TwoViewResult with rotation and translation (X_a = R X_b + t, |t| = 1).)doc") +
        kOptionsDoc)

@@ -48,9 +48,10 @@ double epipolarResiduals(const geometry::CheckedMatches& m, const std::vector<in
   double* v = out.ptr<double>();
   for (size_t i = 0; i < members.size(); ++i) {
     const int k = members[i];
-    const cv::Vec3d normal = t.cross(r * m.b[k]);
+    // The normal of a's epipolar plane, in a's frame; R b is b in a's frame.
+    const cv::Vec3d normal = m.a[k].cross(t);
     const double nn = cv::norm(normal);
-    v[i] = nn > 0 ? m.a[k].dot(normal) / nn : 0.0;
+    v[i] = nn > 0 ? (r * m.b[k]).dot(normal) / nn : 0.0;
     if (!m.scale.empty()) v[i] *= m.scale[k];
   }
   return out.dot(out);
@@ -122,7 +123,7 @@ EssentialResult fitEssential(const std::vector<cv::Vec3d>& a, const std::vector<
     fb.emplace_back(m.b[k][0], m.b[k][1], m.b[k][2]);
   }
   // The inlier test of RANSAC without a transcendental function per match and model:
-  // |a . n| <= sin(limit) |n| for the epipolar plane's normal n = E b.
+  // |b . n| <= sin(limit) |n| for the normal n = E^T a of a's epipolar plane.
   std::vector<double> sinLimit(n);
   for (int k = 0; k < n; ++k) {
     const double limit = m.scale.empty() ? m.maxAngle : m.maxPixels / m.scale[k];
@@ -131,8 +132,8 @@ EssentialResult fitEssential(const std::vector<cv::Vec3d>& a, const std::vector<
   const auto countInliers = [&](const Eigen::Matrix3d& e) {
     int count = 0;
     for (int k = 0; k < n; ++k) {
-      const Eigen::Vector3d normal = e * fb[k];
-      count += std::abs(fa[k].dot(normal)) <= sinLimit[k] * normal.norm();
+      const Eigen::Vector3d normal = e.transpose() * fa[k];
+      count += std::abs(fb[k].dot(normal)) <= sinLimit[k] * normal.norm();
     }
     return count;
   };
@@ -140,7 +141,12 @@ EssentialResult fitEssential(const std::vector<cv::Vec3d>& a, const std::vector<
   opengv::relative_pose::CentralRelativeAdapter adapter(fa, fb);
   std::mt19937_64 rng(options.seed);
   std::uniform_int_distribution<int> pick(0, n - 1);
-  Eigen::Matrix3d bestE;
+  // Every model within 10 % of the best count is kept for the choice of pose: a plane's matches
+  // fit two essential matrices equally well, and only one puts the plane in front of both
+  // cameras (the count of RANSAC cannot tell them apart).
+  constexpr double kNearBest = 0.9;
+  constexpr size_t kCandidates = 8;
+  std::vector<std::pair<int, Eigen::Matrix3d>> candidates;
   int bestCount = 0, needed = options.maxIterations;
   std::vector<int> sample(kSample);
   for (int it = 0; it < needed; ++it) {
@@ -152,11 +158,18 @@ EssentialResult fitEssential(const std::vector<cv::Vec3d>& a, const std::vector<
     for (const auto& e : opengv::relative_pose::fivept_nister(adapter, sample)) {
       if (!e.allFinite()) continue;
       const int count = countInliers(e);
+      if (count < kNearBest * bestCount) continue;
+      candidates.emplace_back(count, e);
       if (count > bestCount) {
         bestCount = count;
-        bestE = e;
         needed = ransacIterationsNeeded(static_cast<double>(count) / n, kSample, options.confidence,
                                         options.maxIterations);
+      }
+      if (candidates.size() > 4 * kCandidates) {
+        // Best first, earliest first among equals: the same order on every run.
+        std::stable_sort(candidates.begin(), candidates.end(),
+                         [](const auto& x, const auto& y) { return x.first > y.first; });
+        candidates.resize(kCandidates);
       }
     }
   }
@@ -164,28 +177,45 @@ EssentialResult fitEssential(const std::vector<cv::Vec3d>& a, const std::vector<
     geometry::fail(result, TwoViewFailure::NoModel, n, kSample);
     return result;
   }
+  std::stable_sort(candidates.begin(), candidates.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+  if (candidates.size() > kCandidates) candidates.resize(kCandidates);
 
-  // E = [t]x R factors into four poses; the one that puts most inliers in front of both cameras.
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(bestE, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d u = svd.matrixU(), v = svd.matrixV();
-  if (u.determinant() < 0) u = -u;
-  if (v.determinant() < 0) v = -v;
+  // E = [t]x R factors into four poses; of every candidate's, the one that puts most matches
+  // within the threshold in front of both cameras.
   Eigen::Matrix3d w;
   w << 0, -1, 0, 1, 0, 0, 0, 0, 1;
   std::vector<double> residuals;
   std::vector<unsigned char> inliers;
   RelativePose pose;
   int poseCount = -1;
-  for (const Eigen::Matrix3d& r :
-       {Eigen::Matrix3d(u * w * v.transpose()), Eigen::Matrix3d(u * w.transpose() * v.transpose())})
-    for (const Eigen::Vector3d& t : {Eigen::Vector3d(u.col(2)), Eigen::Vector3d(-u.col(2))}) {
-      const RelativePose candidate{toCv(r), cv::Vec3d(t[0], t[1], t[2])};
-      const int count = label(m, candidate, true, residuals, inliers);
-      if (count > poseCount) poseCount = count, pose = candidate;
+  const double parallel = m.typicalAngle();
+  std::vector<int> epipolar;
+  for (const auto& [epipolarCount, e] : candidates) {
+    if (epipolarCount < kNearBest * bestCount) continue;
+    epipolar.clear();
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector3d normal = e.transpose() * fa[k];
+      if (std::abs(fb[k].dot(normal)) <= sinLimit[k] * normal.norm()) epipolar.push_back(k);
     }
+    Eigen::JacobiSVD<Eigen::Matrix3d> svd(e, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d u = svd.matrixU(), v = svd.matrixV();
+    if (u.determinant() < 0) u = -u;
+    if (v.determinant() < 0) v = -v;
+    for (const Eigen::Matrix3d& r :
+         {Eigen::Matrix3d(u * w * v.transpose()), Eigen::Matrix3d(u * w.transpose() * v.transpose())})
+      for (const Eigen::Vector3d& t : {Eigen::Vector3d(u.col(2)), Eigen::Vector3d(-u.col(2))}) {
+        const RelativePose candidate{toCv(r), cv::Vec3d(t[0], t[1], t[2])};
+        int count = 0;
+        for (int k : epipolar)
+          count += geometry::inFront(candidate.rotation, candidate.translation, m.a[k], m.b[k], parallel);
+        if (count > poseCount) poseCount = count, pose = candidate;
+      }
+  }
   int count = label(m, pose, options.inFront, residuals, inliers);
 
-  if (options.refine && count >= kSample) {
+  // Refined on the inliers, relabelled, and again while that adds inliers (a minimal sample's
+  // model is noisy, so its inliers are only part of the refined model's).
+  for (int round = 0; options.refine && count >= kSample && round < 5; ++round) {
     std::vector<int> members;
     for (int k = 0; k < n; ++k)
       if (inliers[k]) members.push_back(k);
@@ -195,11 +225,12 @@ EssentialResult fitEssential(const std::vector<cv::Vec3d>& a, const std::vector<
     const int refinedCount = label(m, candidate, options.inFront, refinedResiduals, refinedInliers);
     // The refinement minimises the inliers' squared errors, not their count; keep it unless it
     // explains fewer matches.
-    if (refinedCount >= count) {
-      pose = candidate, count = refinedCount;
-      residuals.swap(refinedResiduals);
-      inliers.swap(refinedInliers);
-    }
+    if (refinedCount < count) break;
+    const bool grew = refinedCount > count;
+    pose = candidate, count = refinedCount;
+    residuals.swap(refinedResiduals);
+    inliers.swap(refinedInliers);
+    if (!grew) break;
   }
   if (count < kSample) {
     geometry::fail(result, TwoViewFailure::NoModel, n, kSample);

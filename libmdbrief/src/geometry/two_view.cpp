@@ -209,15 +209,15 @@ void fail(TwoViewResult& result, TwoViewFailure failure, int matches, int minima
 double angleBetween(const cv::Vec3d& u, const cv::Vec3d& v) { return std::atan2(cv::norm(u.cross(v)), u.dot(v)); }
 
 double epipolarResidual(const cv::Matx33d& e, const cv::Vec3d& a, const cv::Vec3d& b) {
-  const cv::Vec3d normal = e * b;
+  const cv::Vec3d normal = e.t() * a;
   const double nn = cv::norm(normal);
   if (!(nn > 0)) return CV_PI / 2;
-  return std::asin(std::min(1.0, std::abs(normal.dot(a)) / nn));
+  return std::asin(std::min(1.0, std::abs(normal.dot(b)) / nn));
 }
 
 bool inFront(const cv::Matx33d& r, const cv::Vec3d& t, const cv::Vec3d& a, const cv::Vec3d& b, double parallel) {
   const cv::Vec3d rb = r * b;
-  if (angleBetween(a, rb) <= parallel) return true;
+  if (a.dot(rb) >= std::cos(parallel)) return true;  // unit vectors: within `parallel` radians
   // Depths of the least-squares point: da a = db R b + t.
   const double c = a.dot(rb), det = 1.0 - c * c;
   if (!(det > 0)) return false;

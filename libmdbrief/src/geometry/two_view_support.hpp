@@ -40,8 +40,10 @@ void fail(TwoViewResult& result, TwoViewFailure failure, int matches, int minima
 
 double angleBetween(const cv::Vec3d& u, const cv::Vec3d& v);
 
-// The epipolar angle of unit a against unit b under E = [t]x R (the angle between a and the
-// plane through t and R b); pi/2 where the plane is undefined (R b parallel to t).
+// The epipolar angle of unit b against unit a under E = [t]x R: the angle between b and the
+// epipolar plane of a (through t and a, in b's frame E^T a is its normal), so that times the
+// pixels per radian at b it is the distance in pixels of image b. pi/2 where the plane is
+// undefined (a parallel to t).
 double epipolarResidual(const cv::Matx33d& e, const cv::Vec3d& a, const cv::Vec3d& b);
 
 // Whether the point seen along unit a and unit b lies in front of both cameras under (R, t),

@@ -96,7 +96,8 @@ struct TwoViewResult {
 };
 
 struct EssentialResult : TwoViewResult {
-  // Residual: the angle between bearing a and the epipolar plane of b (spanned by t and R b).
+  // Residual: the angle between bearing b and the epipolar plane of a (through the centres and
+  // a), measured at camera b as the pixels per radian of image b expect.
   RelativePose pose;     // |t| = 1
   cv::Matx33d essential;  // [t]x R, unit Frobenius norm up to the factor of t
 };
@@ -124,7 +125,7 @@ TwoViewResult checkKnownPose(const std::vector<cv::Vec3d>& a, const std::vector<
                              const RelativePose& pose, const TwoViewOptions& options = {},
                              const std::vector<double>& pixelsPerRadian = {});
 
-// The angle between bearing a and the epipolar plane of b under the pose, radians.
+// The angle between bearing b and the epipolar plane of a under the pose, radians.
 double epipolarAngle(const RelativePose& pose, const cv::Vec3d& a, const cv::Vec3d& b);
 
 // Pixels per radian of ray angle around `pixel` (the mean of both image axes): turns a pixel
