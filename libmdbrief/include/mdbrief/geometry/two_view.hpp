@@ -99,7 +99,7 @@ struct EssentialResult : TwoViewResult {
   // Residual: the angle between bearing b and the epipolar plane of a (through the centres and
   // a), measured at camera b as the pixels per radian of image b expect.
   RelativePose pose;     // |t| = 1
-  cv::Matx33d essential;  // [t]x R, unit Frobenius norm up to the factor of t
+  cv::Matx33d essential;  // pose.essential(): [t]x R with |t| = 1
 };
 
 struct HomographyResult : TwoViewResult {
