@@ -1,10 +1,21 @@
 #!/usr/bin/env bash
 # The README's main job on a fresh machine: install dependencies, build, train the default
 # pattern (configs/training/orb_perspective_512.toml), regenerate its header in patterns/,
-# rebuild the library with it, then run the evaluation (docs/RESULTS.md and docs/figures).
-# Usage: scripts/main.sh [build-dir]   (default: build)
+# rebuild the library with it, then run the evaluation (scripts/reproduce.sh: into BUILD_DIR/results
+# by default, --out DIR, or docs/ with --update-docs).
+# Usage: scripts/main.sh [--out DIR | --update-docs] [build-dir]   (default: build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/output_folder.sh
+parse_output_flags "$@"
+OUTPUT_FLAGS=()
+if [ "$UPDATE_DOCS" = 1 ]; then OUTPUT_FLAGS+=(--update-docs); fi
+if [ -n "$OUT_ROOT" ]; then OUTPUT_FLAGS+=(--out "$OUT_ROOT"); fi
+if [ "$DRY_RUN" = 1 ]; then
+  echo "main.sh: --dry-run is not supported (it installs and builds); try scripts/reproduce.sh --dry-run" >&2
+  exit 2
+fi
+set -- "${REST[@]+"${REST[@]}"}"
 BUILD_DIR=${1:-build}
 bash scripts/build.sh "$BUILD_DIR"
 # The shipped recipe of the default set: a rerun reproduces patterns/orb_perspective_512.hpp byte
@@ -16,4 +27,4 @@ else
   echo "main.sh: ../shared/data/natural/bsds500 not found: keeping the shipped patterns/orb_perspective_512.hpp"
 fi
 cmake --build "$BUILD_DIR" -j"$(nproc)"
-bash scripts/reproduce.sh "$BUILD_DIR"
+bash scripts/reproduce.sh "${OUTPUT_FLAGS[@]+"${OUTPUT_FLAGS[@]}"}" "$BUILD_DIR"

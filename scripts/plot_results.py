@@ -1,9 +1,11 @@
 #!/usr/bin/python3
-"""Plots the CSVs of `mdbrief-eval sim|eval|timing` (docs/results/) into docs/figures/*.png and
-regenerates the sections "## Simulation", "## Precision-recall" and "## Timing table" of
-docs/RESULTS.md (other sections are left untouched).
+"""Plots the CSVs of `mdbrief-eval sim|eval|timing` into FIGURES/*.png and regenerates the
+sections "## Simulation", "## Precision-recall", "## Learned vs random test sets", "## Real
+fisheye photos (turned lens)" and "## Timing table" of the markdown file MD (other sections are
+left untouched). Every folder is given: scripts/reproduce.sh passes a scratch folder, or docs/
+under --update-docs.
 
-Usage: scripts/plot_results.py [--results docs/results] [--figures docs/figures] [--md docs/RESULTS.md]
+Usage: scripts/plot_results.py --results DIR --figures DIR --md FILE
 Needs Debian's python3-matplotlib (/usr/bin/python3).
 """
 import argparse
@@ -556,11 +558,10 @@ def update_markdown(path, sections):
 
 
 def main():
-    root = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--results", default=os.path.join(root, "docs", "results"))
-    ap.add_argument("--figures", default=os.path.join(root, "docs", "figures"))
-    ap.add_argument("--md", default=os.path.join(root, "docs", "RESULTS.md"))
+    ap.add_argument("--results", required=True, help="the CSVs of mdbrief-eval sim|eval|timing")
+    ap.add_argument("--figures", required=True, help="folder the PNGs are written to")
+    ap.add_argument("--md", required=True, help="markdown file whose generated sections are rewritten")
     args = ap.parse_args()
     global FIGURES
     FIGURES = args.figures

@@ -1,6 +1,6 @@
-# Sourced by reproduce.sh and pipelines.sh: the real fisheye photos of ../shared with their
-# calibrations (eval/eval_datasets.hpp kTurnedLensPhotos lists the same three, for the tracker
-# benchmark and the held-out list). export_real_fisheye_views EVAL DATA DIR writes each one,
+# Sourced by reproduce.sh and pipelines.sh, after scripts/output_folder.sh (for `run`): the real
+# fisheye photos of ../shared with their calibrations (eval/eval_datasets.hpp kTurnedLensPhotos
+# lists the same three, for the tracker benchmark and the held-out list). export_real_fisheye_views EVAL DATA DIR writes each one,
 # seen again by the same lens turned (mdbrief-eval export-rotated-views: exact ground truth, the
 # rotations), into DIR/<name>/ (img1..6.png, camera.yaml, H1to2..6) and prints the names it wrote, one per line.
 export_real_fisheye_views() {
@@ -14,7 +14,7 @@ export_real_fisheye_views() {
       echo "skipping $name: $data/fisheye/$image not found" >&2
       continue
     fi
-    "$eval" export-rotated-views --image "$data/fisheye/$image" --camera "$data/fisheye/$camera" \
+    run "$eval" export-rotated-views --image "$data/fisheye/$image" --camera "$data/fisheye/$camera" \
       --out "$dir/$name" >&2
     echo "$name"
   done <<'EOF_PHOTOS'
