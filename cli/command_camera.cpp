@@ -20,7 +20,7 @@ struct ConvertArgs {
 
 void runConvert(const ConvertArgs& args) {
   if (!args.output.empty()) {
-    // The project's format is YAML: `-o out.json` wrote YAML into a .json file (issue 29).
+    // The project's format is YAML: `-o out.json` would write YAML into a .json file.
     const std::string extension = std::filesystem::path(args.output).extension().string();
     if (extension != ".yaml" && extension != ".yml")
       throw InputError(args.output + ": the output is the project's YAML and must end in .yaml or .yml");

@@ -147,13 +147,13 @@ cv::Mat loadImage(const std::string& path, bool strict) {
   requireReadableFile(path);
   const std::string truncation = truncationProblem(path);
   if (!truncation.empty() && strict) throw InputError(path + ": " + truncation + " (--strict)");
-  // Damage inside a complete JPEG, which OpenCV decodes with libjpeg's unnamed warning (issue 29):
+  // Damage inside a complete JPEG, which OpenCV decodes with only libjpeg's unnamed warning:
   // refused under --strict before OpenCV runs, else named once the image decoded.
   const std::string damage = truncation.empty() ? jpegDataProblem(path) : "";
   if (!damage.empty() && strict) throw InputError(path + ": damaged JPEG: " + damage + " (--strict)");
   const cv::Mat image = decodeGreyImage(path);
   // One message for a failure (a truncated file said "describing the decodable part", then
-  // "cannot decode"), naming an image too large to decode as such (issue 29).
+  // "cannot decode"), naming an image too large to decode as such.
   if (image.empty()) {
     if (!truncation.empty())  // "truncated PNG (no IEND chunk)", without the claim that a part decodes
       throw InputError(path + ": cannot decode the image: " + truncation.substr(0, truncation.find(':')));
@@ -191,7 +191,7 @@ cv::Ptr<MdBrief> makeFeature(const ExtractionFlags& flags, const CameraPtr& cali
                        flags.camera.path + " (" + sizeText(camera->imageSize()) +
                        "); pass --allow-size-mismatch to rescale the calibration");
     // Another aspect ratio (752x480 against 480x752, a rotated image) stretches the lens, which
-    // went unsaid (issue 29). Rounding the sides may differ by a pixel.
+    // must be said. Rounding the sides may differ by a pixel.
     const cv::Size from = camera->imageSize();
     const double sx = static_cast<double>(imageSize.width) / from.width;
     const double sy = static_cast<double>(imageSize.height) / from.height;

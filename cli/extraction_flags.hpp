@@ -64,7 +64,7 @@ cv::Mat loadImage(const std::string& path, bool strict);
 std::vector<cv::KeyPoint> loadKeypoints(const std::string& path);
 
 // What a feature file's descriptors were made with, so that match can refuse files it cannot
-// compare (issue 29: two test sets, or --inliers --camera naming another lens, went unnoticed).
+// compare: two test sets, or --inliers --camera naming another lens, would go unnoticed.
 // Empty in files written before it was recorded, which are still read.
 struct Provenance {
   std::string testSet;        // the test set's name

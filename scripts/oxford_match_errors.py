@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """How far the library's ratio-test matches on the Oxford pairs (1-k) land from the ground truth,
-by the scale of the keypoint (docs/RESULTS.md "Coarse blobs first (issue 17)").
+by the scale of the keypoint (docs/RESULTS.md "Coarse blobs first").
 
 Usage: PYTHONPATH=build/python /usr/bin/python3 scripts/oxford_match_errors.py
            [--data DIR] [--budget N] [--ratio R] [--exponent E ...]

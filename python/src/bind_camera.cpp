@@ -100,7 +100,7 @@ py::object parameterObject(const CameraParameter& p) {
 cv::Size sizeFrom(int width, int height) { return {width, height}; }
 
 // An image side from Python: a value beyond a C int (2**40) is refused as out of range, in the
-// words of the library's check, instead of as an argument of the wrong type (issue 29).
+// words of the library's check, instead of as an argument of the wrong type.
 int sideFrom(const py::int_& value, const char* keyword) {
   const int side = saturatedInt(value);
   if (side == INT_MAX || side == INT_MIN)

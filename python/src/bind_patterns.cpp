@@ -53,7 +53,7 @@ py::tuple testSetState(const TestSet& set) {
 
 // A set from Python: tests as (N, 4) rows (x1, y1, x2, y2) of offsets in [-16, 15].
 TestSet makeTestSet(const std::string& name, const py::handle& rows, const std::vector<std::string>& trainingImages) {
-  // Refused here, not first at save() (issue 29: TestSet('A B', ...) was accepted).
+  // Refused here, not first at save(): a set that cannot be saved is refused when it is made.
   try {
     requirePatternName(name);
   } catch (const std::invalid_argument& e) {
@@ -119,7 +119,7 @@ struct PythonSignalRaised : std::exception {
 };
 
 // Progress that runs Python's signal handlers between the training's batches, so that Ctrl-C
-// stops a long training at once (issue 29: KeyboardInterrupt came 32 s after SIGINT). Only the
+// stops a long training at once, not when it ends (a KeyboardInterrupt came 32 s late). Only the
 // calling thread can run them; it takes part in TBB's work, so its calls come batch by batch.
 train::TrainProgress signalCheckingProgress() {
   return [caller = std::this_thread::get_id()](const char*, size_t, size_t) {

@@ -20,7 +20,7 @@ void bindPresets(py::module_& m);
 void bindSimdLevel(py::module_& m);
 void bindVocabulary(py::module_& m);
 // For every py::class_: an object made with Cls.__new__(Cls) and never initialised holds no C++
-// object, and its methods and properties read garbage or crashed (issue 29). With this, such an
+// object, and its methods and properties would read garbage or crash. With this, such an
 // object raises TypeError for every attribute but __init__ and __setstate__ (construction and
 // unpickling, which initialise it); __setstate__ of an initialised object, which pybind11
 // ignored, raises TypeError too.

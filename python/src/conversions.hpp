@@ -35,7 +35,7 @@ py::array_t<double, py::array::c_style> pointsFromArray(const py::handle& object
 // octave or class_id outside the C int range raises ValueError naming the keypoint.
 // A Python int as a C int, saturated at INT_MIN and INT_MAX: a huge value reaches the caller's
 // range check (ValueError) or means "all", instead of pybind11's "incompatible function
-// arguments" (issue 29).
+// arguments".
 int saturatedInt(const py::int_& value);
 
 std::vector<cv::KeyPoint> keypointsFromPython(const py::handle& sequence, const char* argument);

@@ -46,7 +46,7 @@ template <typename T>
 PyTypeObject* probedType() {
   // A signal that arrived during the caller's native work (Ctrl-C during the first match) is
   // handled first, raising KeyboardInterrupt: cv2's constructor crashed when called with one
-  // pending (issue 29). The probe runs again on the next call.
+  // pending. The probe runs again on the next call.
   if (PyErr_CheckSignals() != 0) throw py::error_already_set();
   PyObject* object = cv2Type(cv2Name(static_cast<T*>(nullptr)));
   if (!PyType_Check(object)) return nullptr;

@@ -162,7 +162,7 @@ std::vector<Blob> hessianMaxima(const std::vector<cv::Mat>& responses, const std
   const int levels = static_cast<int>(responses.size());
   // Only the inner levels: a maximum on the first or last level may be one of a finer or
   // coarser structure, whose scale the pyramid cannot tell (measured: docs/RESULTS.md
-  // "Whole pipelines (issue 10)"). Levels in parallel, concatenated in level order.
+  // "Whole pipelines"). Levels in parallel, concatenated in level order.
   std::vector<std::vector<Blob>> perLevel(std::max(levels, 0));
   if (levels >= 3)
     tbb::parallel_for(1, levels - 1,

@@ -102,7 +102,7 @@ struct DescriptorOptions {
   // cv::ORB's 15). At most 15 so the disc stays inside the 32x32 footprint that is checked.
   int orientationRadius = 15;
   // Affine: higher recognition than Paper with detected keypoints and an order of magnitude
-  // faster (docs/RESULTS.md, sections "Description speed (issue 2)" and
+  // faster (docs/RESULTS.md, sections "Description speed" and
   // "Detected keypoints, tilted and rolled poses (decides the defaults)").
   DistortionForm form = DistortionForm::Affine;
   Sampling sampling = Sampling::Bilinear;

@@ -66,7 +66,7 @@ struct DetectorOptions {
   // wide), so detection and description share one blur per level.
   PyramidOptions pyramid{11, 1.25, 1, 13, 2.0};
   // FAST-9/16 or AGAST OAST-9/16. FAST by default: OpenCV 4.6's AGAST has no SIMD path and
-  // is the slower one here, unlike in the paper (docs/RESULTS.md "Detector (issue 3)").
+  // is the slower one here, unlike in the paper (docs/RESULTS.md "Detector").
   CornerDetector corners = CornerDetector::Fast;
   int threshold = 20;                 // FAST/AGAST intensity threshold (cv::ORB's default)
   // Used instead on a level where `threshold` finds fewer corners than the level's budget
@@ -77,17 +77,17 @@ struct DetectorOptions {
   // Spread each level's keypoints with a quadtree (one keypoint per cell, the cell with the
   // most candidates split first) instead of keeping the strongest. Off by default: it covers
   // more of the image but keeps weaker corners, and repeatability under a homography drops
-  // (tests/test_detector.cpp prints both; docs/RESULTS.md "Detector (issue 3)").
+  // (tests/test_detector.cpp prints both; docs/RESULTS.md "Detector").
   bool spread = false;
   // Hessian: Gaussian smoothing of the derivatives, in level pixels (chosen on the validation
-  // photos: docs/RESULTS.md "Whole pipelines (issue 10)"), and the smallest normalised
+  // photos: docs/RESULTS.md "Whole pipelines"), and the smallest normalised
   // determinant kept (intensities in [0, 1]).
   double hessianSigma = 2.0;
   double hessianThreshold = 1e-5;
   // Hessian: blobs compete for nfeatures by their normalised determinant times
   // scale^hessianScaleExponent (scale: input pixels per level pixel, refined), which is also
   // their response. 0 ranks by the determinant alone, which favours fine blobs; coarse blobs
-  // survive blur and zoom and match more often (docs/RESULTS.md "Coarse blobs first (issue 17)").
+  // survive blur and zoom and match more often (docs/RESULTS.md "Coarse blobs first").
   // The scale of a blob is still chosen by the determinant alone.
   double hessianScaleExponent = 1.0;
   int orientationRadius = 15;         // circular patch of the intensity centroid (cv::ORB: 15)
@@ -98,7 +98,7 @@ struct DetectorOptions {
   // Detect on the camera's view in the stereographic projection (conformal: a structure keeps
   // its shape wherever the lens sees it) and map the keypoints back through the camera model,
   // size included. Needs a camera (ignored without one). Off by default: docs/RESULTS.md
-  // "Whole pipelines (issue 10)" ("detection on a conformal image") has what it changes.
+  // "Whole pipelines" ("detection on a conformal image") has what it changes.
   bool conformal = false;
 };
 

@@ -19,7 +19,7 @@ struct MatchOptions {
   // train descriptor; with a single train descriptor the test passes). Must be in (0, 1];
   // unset = off. The default keeps matches as precise as AKAZE's and the most right two-view
   // fits with the default features (docs/RESULTS.md "Real images: what a tracker keeps" and
-  // "Coarse blobs first (issue 17)").
+  // "Coarse blobs first").
   std::optional<float> ratio = 0.55f;
   // Keep a match only if the query and its nearest train descriptor are mutual nearest
   // neighbours (the train's nearest query, ties to the lowest query index, is this query).

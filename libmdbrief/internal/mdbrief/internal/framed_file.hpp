@@ -33,7 +33,7 @@ struct FramedFile {
   // The whole file, 8-byte aligned (the body's sections rely on it): a read-only private
   // mapping of the file (readFramedFile), or a copy in memory. Mapped, not read: a read's
   // copy into fresh pages was the largest part of loading a large vocabulary (docs/RESULTS.md
-  // "Place recognition (issue 20)").
+  // "Place recognition").
   std::shared_ptr<const uint8_t> storage;
   size_t size = 0;  // bytes
   uint32_t version = 0;
