@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Every section of docs/RESULTS.md or docs/HISTORY.md that the code or the documents point to by
 name (docs/RESULTS.md "Heading", or a quoted heading on the comment lines that follow) exists, so
-a "why" never points at a section that was renamed or removed. The results page's own headings
+a "why" never points at a section that was renamed or removed. The guide and the README may
+write RESULTS "Heading" for the results page. The results page's own headings
 are stable names: none carries an issue number (the history keeps those), and the code and the
 installed headers point to the results, not to the history.
 
@@ -48,9 +49,14 @@ def document_references(path):
     results file points into that file."""
     text = open(path, encoding="utf-8").read()
     own = os.path.basename(path)
-    pattern = re.compile(r'(RESULTS\.md|HISTORY\.md)(?:\]\([^)]*\))?[)"]?[,;:]?\s+(?:sections?\s+)?"([^"]+)"')
+    # RESULTS alone is the results page too (the guide's and the README's short form); a heading
+    # list after it ("A", "B" and "C") names sections of the same page.
+    pattern = re.compile(r'\b(RESULTS(?:\.md)?|HISTORY\.md)(?:\]\([^)]*\))?[)"]?[,;:]?\s+(?:sections?\s+)?'
+                         r'("[^"]+"(?:(?:,|\s+and|\s+or)?\s+"[^"]+")*)')
     for m in pattern.finditer(text):
-        yield text.count("\n", 0, m.start()) + 1, m.group(1), " ".join(m.group(2).split())
+        target = "RESULTS.md" if m.group(1).startswith("RESULTS") else m.group(1)
+        for name in QUOTED.findall(m.group(2)):
+            yield text.count("\n", 0, m.start()) + 1, target, " ".join(name.split())
     if own in TARGETS:
         for m in re.finditer(r'"([^"]+)"', text):
             name = " ".join(m.group(1).split())
