@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The user guide's code is the examples' code, part for part, so it cannot rot: the examples in
 examples/guide are built and run by the tests, and every C++ or Python block of docs/guide/*.md
-follows a line <!-- example: examples/guide/FILE#PART --> and equals the lines of FILE between
+(and shell block) follows a line <!-- example: examples/guide/FILE#PART --> and equals the lines of FILE between
 "[guide:PART]" and "[guide]" (indentation removed). Every marked part of an example is shown
 somewhere in the guide, and every C++ or Python block of the guide is such a part.
 
@@ -16,7 +16,7 @@ MARKER = re.compile(r"<!--\s*example:\s*(\S+?)#(\S+)\s*-->")
 FENCE = re.compile(r"^```(\w*)\s*$")
 START = re.compile(r"^\s*(?://|#)\s*\[guide:([\w-]+)\]\s*$")
 END = re.compile(r"^\s*(?://|#)\s*\[guide\]\s*$")
-CODE_LANGUAGES = ("cpp", "c++", "python", "py")
+CODE_LANGUAGES = ("cpp", "c++", "python", "py", "sh", "bash")
 
 
 def parts(path):
@@ -89,7 +89,7 @@ def main():
     examples = os.path.join(root, "examples", "guide")
     errors, shown, known = [], set(), {}
     for name in sorted(os.listdir(examples)):
-        if name.endswith((".cpp", ".hpp", ".py")):
+        if name.endswith((".cpp", ".hpp", ".py", ".sh")):
             found, problems = parts(os.path.join(examples, name))
             errors += problems
             for part, text in found.items():
