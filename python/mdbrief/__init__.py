@@ -17,6 +17,9 @@
     database.add(d1, m1)
     best = database.query(d2, m2, max_results=5)        # [(entry, score), ...], best first
 
+The user guide (docs/guide/README.md in the source tree) walks through each task; the figures
+behind the defaults are in docs/RESULTS.md.
+
 Keypoints are cv2.KeyPoint and matches cv2.DMatch objects, so cv2.drawKeypoints,
 cv2.drawMatches and cv2.BFMatcher(cv2.NORM_HAMMING) take them unchanged. The C++ work runs
 without the GIL (but a Database's index, which adding changes, is used with it held).

@@ -68,7 +68,7 @@ std::string initDoc() {
          "tracking, the library's defaults; matching; paper). Every option of MdBriefOptions is a\n"
          "keyword that changes the preset's value; pattern may also be a TestSet (mdbrief.train()'s).\n"
          "MdBrief objects pickle (camera, options and the test set in use). The defaults\n"
-         "(docs/RESULTS.md says why):\n\n" +
+         "(docs/guide/README.md, options and presets; docs/RESULTS.md says why):\n\n" +
          keywordDoc(mdBriefOptionFields(), MdBriefOptions{}) +
          "\nA bad value raises ValueError naming the keyword, its range and the value; an unknown keyword,\n"
          "TypeError; an unknown preset, ValueError listing the presets.";
