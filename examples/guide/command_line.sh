@@ -6,17 +6,20 @@
 # Usage: command_line.sh MDBRIEF_TOOL CALIBRATION WORK_DIR
 set -euo pipefail
 [ $# -eq 3 ] || { echo "usage: $0 MDBRIEF_TOOL CALIBRATION WORK_DIR" >&2; exit 2; }
-tool=$1 calib=$2 work=$3
+tool=$(realpath "$1") calib=$(realpath "$2") work=$3
 mkdir -p "$work"
 cd "$work"
 mdbrief() { "$tool" "$@"; }
 # Two views at the calibration's size: a textured image and the same turned by 12 degrees.
 /usr/bin/python3 - "$calib" <<'PYTHON'
+import re
 import sys
+
 import cv2
 import numpy as np
-fs = cv2.FileStorage(sys.argv[1], cv2.FILE_STORAGE_READ)
-width, height = int(fs.getNode("width").real()), int(fs.getNode("height").real())
+
+text = open(sys.argv[1]).read()  # the project's YAML schema: width and height at the top level
+width, height = (int(re.search(rf"^{key}:\s*(\d+)", text, re.M).group(1)) for key in ("width", "height"))
 rng = np.random.default_rng(7)
 image = np.full((height, width), 128, np.uint8)
 for i in range(900):
