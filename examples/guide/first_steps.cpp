@@ -101,6 +101,25 @@ int main(int argc, char** argv) try {
   std::printf("%zu guided matches\n", tracked.size());
   if (tracked.size() < matches.size()) return fail("guided matching found fewer matches than brute force");
 
+  // [guide:geometry]
+  // The check on bearings, which holds for any lens and beyond 90 degrees of incidence. A turned
+  // camera (as here) or a plane: a homography between bearings. A camera that also moved, in a
+  // general scene: mdbrief::fitEssential(bearings1, bearings2), whose result.pose is view 2's pose
+  // in view 1 (X_1 = R X_2 + t, |t| = 1). A calibrated pair or odometry: mdbrief::checkKnownPose.
+  std::vector<cv::Vec3d> bearings1, bearings2;
+  for (const cv::DMatch& m : matches) {
+    cv::Vec3d a, b;  // detected keypoints lie where the lens has rays
+    camera->pixelToBearing(keypoints1[m.queryIdx].pt, a);
+    camera->pixelToBearing(keypoints2[m.trainIdx].pt, b);
+    bearings1.push_back(a), bearings2.push_back(b);
+  }
+  const mdbrief::HomographyResult turn = mdbrief::fitHomography(bearings1, bearings2);  // 0.005 rad
+  if (!turn.ok()) std::printf("no model: %s\n", turn.reason.c_str());  // e.g. "too few matches"
+  // turn.inliers[k]: match k agrees; turn.residuals[k]: its angle (radians); turn.homography
+  // [guide]
+  std::printf("homography on bearings: %d of %zu matches\n", turn.inlierCount, matches.size());
+  if (!turn.ok() || turn.inlierCount < 0.9 * correct) return fail("the bearing homography keeps fewer than 90 % of the correct matches");
+
   // [guide:presets]
   // Start from another preset and change single options; validate() names a bad value.
   mdbrief::PresetSettings wide = mdbrief::presetSettings(mdbrief::Preset::Matching);  // 512 bits

@@ -96,6 +96,21 @@ def main(calibration_path, vocabulary_path, work):
     # [guide]
     check(len(tracked) >= len(matches), "guided matching found fewer matches than brute force")
 
+    # [guide:geometry]
+    # The check on bearings: any lens, beyond 90 degrees of incidence. A turned camera (as here)
+    # or a plane: fit_homography; a camera that also moved: fit_essential (rotation, translation
+    # of view 2 in view 1); a calibrated pair or odometry: check_known_pose.
+    bearings1 = camera.pixel_to_bearing(points1)
+    bearings2 = camera.pixel_to_bearing(points2)
+    turn = mdbrief.fit_homography(bearings1, bearings2)  # max_angle=0.005 (radians)
+    if not turn.ok:
+        print("no model:", turn.reason)
+    # turn.inliers (bool per match), turn.residuals (radians), turn.model (3x3)
+    # [guide]
+    print(f"homography on bearings: {turn.inlier_count} of {len(matches)} matches")
+    check(turn.ok and turn.inliers[correct].mean() >= 0.9,
+          "the bearing homography keeps fewer than 90 % of the correct matches")
+
     # [guide:presets]
     wide = mdbrief.MdBrief(camera, preset="matching", nfeatures=1500)  # 512 bits
     # ... then mdbrief.match(d1, d2, m1, m2, preset="matching", ratio=0.7)
