@@ -22,10 +22,10 @@ without the GIL (but a Database's index, which adding changes, is used with it h
 import cv2 as _cv2  # noqa: F401
 
 from ._mdbrief import __version__  # noqa: F401
-from ._mdbrief import (Camera, Database, MdBrief, TestSet, Vocabulary, camera_models, default_pattern,
-                       limit_simd_level, load_camera, load_pattern, match, match_guided, option_fields, patterns,
+from ._mdbrief import (Camera, CameraRig, Database, MdBrief, TestSet, Vocabulary, camera_models, default_pattern,
+                       limit_simd_level, load_camera, load_pattern, load_rig, match, match_guided, option_fields, patterns,
                        presets, simd_level, supported_simd_level, supported_simd_levels, train)
 
-__all__ = ["Camera", "Database", "MdBrief", "TestSet", "Vocabulary", "camera_models", "default_pattern",
-           "limit_simd_level", "load_camera", "load_pattern", "match", "match_guided", "option_fields", "patterns",
+__all__ = ["Camera", "CameraRig", "Database", "MdBrief", "TestSet", "Vocabulary", "camera_models", "default_pattern",
+           "limit_simd_level", "load_camera", "load_pattern", "load_rig", "match", "match_guided", "option_fields", "patterns",
            "presets", "simd_level", "supported_simd_level", "supported_simd_levels", "train"]
