@@ -23,9 +23,9 @@ import cv2 as _cv2  # noqa: F401
 
 from ._mdbrief import __version__  # noqa: F401
 from ._mdbrief import (Camera, CameraRig, Database, MdBrief, TestSet, Vocabulary, camera_models, default_pattern,
-                       limit_simd_level, load_camera, load_pattern, load_rig, match, match_guided, option_fields, patterns,
-                       presets, simd_level, supported_simd_level, supported_simd_levels, train)
+                       limit_simd_level, load_camera, load_pattern, load_rig, match, match_guided, option_fields,
+                       patterns, presets, simd_level, supported_simd_level, supported_simd_levels, train)
 
 __all__ = ["Camera", "CameraRig", "Database", "MdBrief", "TestSet", "Vocabulary", "camera_models", "default_pattern",
-           "limit_simd_level", "load_camera", "load_pattern", "load_rig", "match", "match_guided", "option_fields", "patterns",
-           "presets", "simd_level", "supported_simd_level", "supported_simd_levels", "train"]
+           "limit_simd_level", "load_camera", "load_pattern", "load_rig", "match", "match_guided", "option_fields",
+           "patterns", "presets", "simd_level", "supported_simd_level", "supported_simd_levels", "train"]
