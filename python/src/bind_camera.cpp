@@ -347,18 +347,16 @@ naming the camera when the file gives no extrinsics for it.)doc")
       [](const py::handle& paths, const std::string& format, const py::handle& imageSize,
          const py::handle& opencvModel) {
         const CameraFileOptions options = fileOptions(format, imageSize, opencvModel);
+        const bool one = isPath(paths);
+        std::vector<std::string> files;
+        if (one) {
+          files.push_back(pathFrom(paths, "paths"));
+        } else {
+          for (const py::handle& item : paths) files.push_back(pathFrom(item, "paths"));
+        }
+        for (const std::string& file : files) requireFile(file);
         try {
-          if (isPath(paths)) {
-            const std::string path = pathFrom(paths, "paths");
-            requireFile(path);
-            return readCameraRig(path, options);
-          }
-          std::vector<std::string> files;
-          for (const py::handle& item : paths) {
-            files.push_back(pathFrom(item, "paths"));
-            requireFile(files.back());
-          }
-          return readCameraRig(files, options);
+          return one ? readCameraRig(files.front(), options) : readCameraRig(files, options);
         } catch (const std::runtime_error& e) {
           throw py::value_error(e.what());
         } catch (const std::invalid_argument& e) {
