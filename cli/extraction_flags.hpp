@@ -45,7 +45,7 @@ struct ExtractionFlags {
   bool strict = false;                // a truncated image file is an error, not a warning
 };
 
-// Adds --camera, --camera-format, --camera-id, --preset, every MdBriefOptions flag (--features, --detector, --descriptor,
+// Adds --camera, --camera-format, --camera-id, --preset, every MdBriefOptions flag (--nfeatures, --detector, --descriptor,
 // --bits, ...), --allow-size-mismatch and --strict to cmd, bound to flags (which must outlive the parse and
 // stay in place).
 void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags);

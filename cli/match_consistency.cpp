@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include "mdbrief/camera/pinhole.hpp"
-#include "toolkit/bearing_homography.hpp"
+#include "mdbrief/geometry/two_view.hpp"
 
 namespace mdbrief::cli {
 
@@ -49,12 +49,12 @@ MatchConsistency classifyMatches(const Camera& cameraA, const Camera& cameraB, c
     if (!s || !cameraA.pixelToBearing(pa, ba) || !cameraB.pixelToBearing(pb, bb)) continue;
     a.push_back(ba), b.push_back(bb), scale.push_back(*s), used.push_back(k);
   }
-  RansacOptions ransac;
-  ransac.thresholdPx = options.thresholdPx;
-  const auto fit = fitBearingHomography(a, b, scale, ransac);
-  if (!fit) return out;  // fewer than 4 usable matches, or no model: none confirmed
-  for (size_t i = 0; i < used.size(); ++i) out.correct[used[i]] = fit->inliers[i];
-  out.correctCount = fit->inlierCount;
+  TwoViewOptions ransac;
+  ransac.maxPixels = options.thresholdPx;
+  const auto fit = fitHomography(a, b, ransac, scale);
+  if (!fit.ok()) return out;  // fewer than 4 usable matches, degenerate, or no model: none confirmed
+  for (size_t i = 0; i < used.size(); ++i) out.correct[used[i]] = fit.inliers[i];
+  out.correctCount = fit.inlierCount;
   return out;
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // Which matches between two images agree with one motion, for `draw --matches` and
 // `match --inliers`: a ground-truth pixel homography when the user has one, otherwise the robust
-// plane-induced homography between the matches' bearings (toolkit/bearing_homography.hpp), which
+// plane-induced homography between the matches' bearings (mdbrief/geometry/two_view.hpp), which
 // holds for any lens. Matches whose keypoint has no bearing count as wrong.
 #include <optional>
 #include <string>

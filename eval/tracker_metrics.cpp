@@ -183,11 +183,11 @@ TrackerResult trackerResult(const Features& b, const PairEvidence& e, double rat
     scaleB.push_back(e.scaleB[j]);
   }
   r.homographyErrorPx = kInf;
-  if (const auto h = fitBearingHomography(ba, bb, scaleB, o.ransac)) {
-    r.homographyInliers = h->inlierCount;
+  if (const auto h = fitHomography(ba, bb, o.ransac, scaleB); h.ok()) {
+    r.homographyInliers = h.inlierCount;
     std::vector<double> errors;
     for (size_t k = 0; k < grid.pixelA.size(); ++k) {
-      const cv::Vec3d v = h->h * grid.bearingA[k];
+      const cv::Vec3d v = h.homography * grid.bearingA[k];
       cv::Point2d p;
       errors.push_back(v.dot(grid.bearingB[k]) > 0 && camera.bearingToPixel(v, p) ? cv::norm(p - grid.pixelB[k]) : kInf);
     }
@@ -196,11 +196,12 @@ TrackerResult trackerResult(const Features& b, const PairEvidence& e, double rat
   r.essentialChecked = essential;
   r.essentialErrorPx = kInf;
   if (essential && !grid.pixelA.empty()) {
-    if (const auto f = fitEssential(ba, bb, camera.tangentPlaneScale(), o.ransac)) {
-      r.essentialInliers = f->inlierCount;
+    const std::vector<double> scale(ba.size(), camera.tangentPlaneScale());
+    if (const auto f = fitEssential(ba, bb, o.ransac, scale); f.ok()) {
+      r.essentialInliers = f.inlierCount;
       std::vector<double> errors;
       for (size_t k = 0; k < grid.pixelA.size(); ++k)
-        errors.push_back(epipolarAngle(*f, grid.bearingA[k], grid.bearingB[k]) * grid.scaleA[k]);
+        errors.push_back(epipolarAngle(f.pose, grid.bearingA[k], grid.bearingB[k]) * grid.scaleA[k]);
       r.essentialErrorPx = median(errors);
     }
   }

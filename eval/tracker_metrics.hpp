@@ -10,8 +10,8 @@
 
 #include <opencv2/core.hpp>
 
-#include "bearing_fit.hpp"
 #include "descriptor_method.hpp"
+#include "mdbrief/geometry/two_view.hpp"
 #include "precision_recall.hpp"
 
 namespace mdbrief::eval {
@@ -48,7 +48,7 @@ double averagePrecision(const PairMatches& matches);
 
 struct TrackerOptions {
   double radiusPx = 3.0;  // a match or a repeated keypoint is correct within this distance
-  RansacOptions ransac;
+  TwoViewOptions ransac;  // the fits' threshold: maxPixels (the pixels per radian of each match are given)
 };
 
 // One pair as a method sees it, independent of the ratio.

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Packaging checks (README "Build and install"), run by CI after the test suite:
-#  1. the .deb CPack makes of BUILD_DIR (library, tools, Python module) is unpacked with dpkg -x
+#  1. the .deb CPack makes of BUILD_DIR (library, tools, Python module; under /usr) is unpacked with dpkg -x
 #     into a scratch root (no root rights, the machine's packages untouched): its mdbrief tool
 #     converts an installed example camera, and /usr/bin/python3 imports its module and loads it;
 #  2. a library-only build with -DBUILD_SHARED_LIBS=ON is installed, and the test consumer
@@ -18,10 +18,13 @@ trap 'rm -rf "$SCRATCH"' EXIT
 (cd "$BUILD_DIR" && cpack -G DEB -B "$SCRATCH/deb" >/dev/null)
 deb=$(ls "$SCRATCH"/deb/*.deb)
 dpkg-deb --field "$deb" Package Version Depends
+# Debian's layout whatever the build's prefix: everything under /usr, the module where
+# /usr/bin/python3 looks for /usr's packages.
+outside=$(dpkg -c "$deb" | awk '{print $6}' | grep -v '^\./usr/' | grep -v '^\./$' || true)
+[ -z "$outside" ] || { echo "the .deb installs outside /usr: $outside" >&2; exit 1; }
 dpkg -x "$deb" "$SCRATCH/root"
-prefix=$(grep '^CMAKE_INSTALL_PREFIX:' "$BUILD_DIR/CMakeCache.txt" | cut -d= -f2)
-python_dir=$(grep '^MDBRIEF_PYTHON_INSTALL_DIR:' "$BUILD_DIR/CMakeCache.txt" | cut -d= -f2)
-root="$SCRATCH/root$prefix"
+python_dir=lib/python3/dist-packages
+root="$SCRATCH/root/usr"
 camera="$root/share/mdbrief/cameras/lafida_fisheye0.yaml"
 "$root/bin/mdbrief" camera convert "$camera" -o "$SCRATCH/camera.yaml"
 env -i PATH=/usr/bin:/bin PYTHONPATH="$root/$python_dir" /usr/bin/python3 -c "

@@ -32,7 +32,7 @@ FOLDER = {
 # Consumers above every library: they may include any of them, but not bench/ or tests/.
 TOP = ("python", "fuzz", "examples", "bench", "tests")
 # The runtime library's parts, lowest first; a part includes only its own and lower parts.
-PART_LAYER = {"base": 0, "camera": 1, "detect": 2, "describe": 3, "match": 3, "recognition": 4, "api": 5, "compat": 6}
+PART_LAYER = {"base": 0, "camera": 1, "detect": 2, "geometry": 2, "describe": 3, "match": 3, "recognition": 4, "api": 5, "compat": 6}
 # Files at the top of include/mdbrief and src/ (and internal/) that are not in a part's folder.
 BASE_FILES = {"enum_names", "option_fields", "file_format_error", "simd_level", "version", "atomic_file",
               "bit_count-inl", "framed_file", "input_file", "popcount", "simd_dispatch", "size_text"}

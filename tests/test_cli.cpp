@@ -113,7 +113,7 @@ TEST_F(CliTest, ExtractMdBriefWritesAlignedKeypointsDescriptorsAndMasks) {
 
 TEST_F(CliTest, ExtractBriefAndDBriefHaveNoMasksAndHonourBitsAndFeatures) {
   REQUIRE_IMAGE(image, "view.png");
-  ASSERT_EQ(run({"extract", "--camera", kCamera, "--descriptor", "dbrief", "--bits", "512", "--features", "300",
+  ASSERT_EQ(run({"extract", "--camera", kCamera, "--descriptor", "dbrief", "--bits", "512", "--nfeatures", "300",
                  "--form", "paper", image, "-o", path("d.json")})
                 .code,
             0);
@@ -143,10 +143,10 @@ TEST_F(CliTest, DetectorFlagSelectsTheHessianBlobsOrModOrbCorners) {
   REQUIRE_IMAGE(image, "view.png");
   // The pyramid of modORB's 31 * 1.2^octave sizes (the default detector's pyramid differs).
   ASSERT_EQ(run({"extract", "--camera", kCamera, "--detector", "modorb", "--levels", "8", "--scale-factor", "1.2",
-                 "--first-level", "0", "--features", "300", image, "-o", path("orb.yml")})
+                 "--first-level", "0", "--nfeatures", "300", image, "-o", path("orb.yml")})
                 .code,
             0);
-  const Result r = run({"extract", "--camera", kCamera, "--features", "300", image, "-o", path("hessian.yml")});
+  const Result r = run({"extract", "--camera", kCamera, "--nfeatures", "300", image, "-o", path("hessian.yml")});
   ASSERT_EQ(r.code, 0) << r.err;
   const FeatureFile corners = readFeatures(path("orb.yml")), blobs = readFeatures(path("hessian.yml"));
   EXPECT_GT(blobs.keypoints.size(), 100u);
@@ -168,6 +168,18 @@ TEST_F(CliTest, DetectorFlagSelectsTheHessianBlobsOrModOrbCorners) {
 
 // --preset picks the options the other flags start from; an unknown name exits 2 and lists the
 // presets.
+// nfeatures is one name in C++, Python and on the command line; the older --features names it.
+TEST_F(CliTest, OldFeaturesFlagNamesNfeatures) {
+  REQUIRE_IMAGE(image, "view.png");
+  const Result r = run({"extract", "--camera", kCamera, "--features", "300", image, "-o", path("old.yml")});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--features: is now --nfeatures"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(path("old.yml")));
+  const Result help = run({"extract", "--help"});
+  EXPECT_NE(help.out.find("--nfeatures"), std::string::npos);
+  EXPECT_EQ(help.out.find("--features "), std::string::npos) << "the old spelling is not offered";
+}
+
 TEST_F(CliTest, PresetChoosesTheStartingOptions) {
   REQUIRE_IMAGE(image, "view.png");
   ASSERT_EQ(run({"extract", "--camera", kCamera, "--preset", "paper", image, "-o", path("paper.yml")}).code, 0);
@@ -625,7 +637,7 @@ TEST_F(CliTest, AFailedWriteKeepsThePreviousOutputAndExitsTwo) {
   REQUIRE_IMAGE(image, "view.png");
   const std::vector<std::string> outputs{"keep.yml", "keep.yml.gz", "keep.json"};
   for (const auto& name : outputs)
-    ASSERT_EQ(run({"extract", "--descriptor", "brief", "--features", "20", image, "-o", path(name)}).code, 0);
+    ASSERT_EQ(run({"extract", "--descriptor", "brief", "--nfeatures", "20", image, "-o", path(name)}).code, 0);
   ASSERT_EQ(run({"extract", "--descriptor", "brief", image, "-o", path("all.yml")}).code, 0);
   ASSERT_EQ(run({"match", path("keep.yml"), path("keep.yml"), "-o", path("matches.yml")}).code, 0);
   std::map<std::string, std::string> before;
@@ -651,7 +663,7 @@ TEST_F(CliTest, AFullDiskKeepsThePreviousOutputAndExitsTwo) {
   testing::SmallTmpfs disk("cli", 256 * 1024);
   if (!disk.mounted()) GTEST_SKIP() << disk.skipReason();
   const std::string keep = (disk.path / "keep.yml.gz").string();
-  ASSERT_EQ(run({"extract", "--descriptor", "brief", "--features", "20", image, "-o", keep}).code, 0);
+  ASSERT_EQ(run({"extract", "--descriptor", "brief", "--nfeatures", "20", image, "-o", keep}).code, 0);
   const std::string before = testing::readFile(keep);
   disk.fill();
   const Result r = run({"extract", "--descriptor", "brief", image, "-o", keep});
@@ -665,7 +677,7 @@ TEST_F(CliTest, AFullDiskKeepsThePreviousOutputAndExitsTwo) {
 // node stays what it was instead of being replaced by a regular file.
 TEST_F(CliTest, OutputsThatAreNotRegularFilesAreRefusedAndKept) {
   REQUIRE_IMAGE(image, "view.png");
-  ASSERT_EQ(run({"extract", "--descriptor", "brief", "--features", "20", image, "-o", path("a.yml")}).code, 0);
+  ASSERT_EQ(run({"extract", "--descriptor", "brief", "--nfeatures", "20", image, "-o", path("a.yml")}).code, 0);
   ASSERT_EQ(::mkfifo(path("fifo.yml").c_str(), 0600), 0);
   fs::create_directory(path("folder.yml"));
   std::vector<std::string> nodes{path("fifo.yml"), path("folder.yml")};
@@ -692,7 +704,7 @@ TEST_F(CliTest, OutputsThatAreNotRegularFilesAreRefusedAndKept) {
 // missing file, and a FIFO is never opened (which would block).
 TEST_F(CliTest, InputsThatAreNotFilesAreNamedForWhatTheyAre) {
   REQUIRE_IMAGE(image, "view.png");
-  ASSERT_EQ(run({"extract", "--descriptor", "brief", "--features", "20", image, "-o", path("a.yml")}).code, 0);
+  ASSERT_EQ(run({"extract", "--descriptor", "brief", "--nfeatures", "20", image, "-o", path("a.yml")}).code, 0);
   fs::create_directory(path("folder.png"));
   ASSERT_EQ(::mkfifo(path("fifo.yml").c_str(), 0600), 0);
   fs::create_symlink("loop.yaml", path("loop.yaml"));

@@ -1,6 +1,5 @@
-// The tracker benchmark of eval/: robust fits on bearings (bearing_fit.hpp), the matches a
-// tracker keeps (tracker_metrics.hpp) and the poster-dev ground truth (poster_dev.hpp), on
-// constructed inputs whose answers are known.
+// The tracker benchmark of eval/: the matches a tracker keeps (tracker_metrics.hpp) and the
+// poster-dev ground truth (poster_dev.hpp), on constructed inputs whose answers are known.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
@@ -11,7 +10,6 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "eval/bearing_fit.hpp"
 #include "eval/eval_commands.hpp"
 #include "eval/poster_dev.hpp"
 #include "eval/tracker_metrics.hpp"
@@ -20,150 +18,6 @@
 
 namespace mdbrief::eval {
 namespace {
-
-cv::Vec3d unit(const cv::Vec3d& v) { return v / cv::norm(v); }
-
-double angle(const cv::Vec3d& u, const cv::Vec3d& v) { return std::atan2(cv::norm(u.cross(v)), u.dot(v)); }
-
-cv::Matx33d rotationAbout(cv::Vec3d axis, double radians) {
-  cv::Matx33d r;
-  cv::Rodrigues(unit(axis) * radians, r);
-  return r;
-}
-
-// Camera b in the frame of camera a: X_a = R X_b + t.
-struct TwoViews {
-  cv::Matx33d r = rotationAbout({0.2, 1.0, 0.1}, 0.4);
-  cv::Vec3d t{0.6, -0.1, 0.2};
-  cv::Vec3d toB(const cv::Vec3d& xa) const { return r.t() * (xa - t); }
-};
-
-// Points on the plane x = 2 seen from camera a at the origin: bearings from 0 to beyond 120
-// degrees off camera a's optical axis (a fisheye's rim and beyond), all in front of the plane.
-std::vector<cv::Vec3d> planePoints(int n, std::mt19937& rng) {
-  std::uniform_real_distribution<double> y(-1.5, 1.5), z(-1.5, 3.0);
-  std::vector<cv::Vec3d> p;
-  for (int i = 0; i < n; ++i) p.emplace_back(2.0, y(rng), z(rng));
-  return p;
-}
-
-cv::Vec3d randomBearing(std::mt19937& rng) {
-  std::normal_distribution<double> g;
-  return unit({g(rng), g(rng), g(rng)});
-}
-
-TEST(BearingHomography, RecoversAPlaneBeyondNinetyDegreesAmongOutliers) {
-  std::mt19937 rng(3);
-  const TwoViews views;
-  std::vector<cv::Vec3d> a, b;
-  std::vector<double> scale;
-  int beyond90 = 0;
-  for (const auto& x : planePoints(120, rng)) {
-    a.push_back(unit(x));
-    b.push_back(unit(views.toB(x)));
-    beyond90 += a.back()[2] < 0;
-  }
-  ASSERT_GT(beyond90, 10);
-  const size_t truePairs = a.size();
-  for (int i = 0; i < 60; ++i) {  // a third outliers
-    a.push_back(randomBearing(rng));
-    b.push_back(randomBearing(rng));
-  }
-  scale.assign(a.size(), 300.0);
-  const auto fit = fitBearingHomography(a, b, scale, {});
-  ASSERT_TRUE(fit);
-  for (size_t k = 0; k < truePairs; ++k) {
-    EXPECT_TRUE(fit->inliers[k]) << k;
-    const cv::Vec3d mapped = fit->h * a[k];
-    EXPECT_GT(mapped.dot(b[k]), 0.0);
-    EXPECT_LT(angle(mapped, b[k]), 1e-7);
-  }
-  int outliersIn = 0;
-  for (size_t k = truePairs; k < a.size(); ++k) outliersIn += fit->inliers[k];
-  EXPECT_LE(outliersIn, 2);  // a random pair agrees with the plane within 2 px by chance at most rarely
-  EXPECT_EQ(fit->inlierCount, static_cast<int>(truePairs) + outliersIn);
-  // Deterministic: the same input gives the same model.
-  const auto again = fitBearingHomography(a, b, scale, {});
-  ASSERT_TRUE(again);
-  EXPECT_EQ(again->inliers, fit->inliers);
-  EXPECT_EQ(cv::norm(again->h - fit->h), 0.0);
-}
-
-// Noisy correspondences (1.2 px), many of them near the 2 px inlier threshold: the fit must be
-// the one refined on the pixel residuals, even when refining moves a borderline inlier past the
-// threshold. The DLT's algebraic fit was kept then: 5 of these 30 fits were 0.15 to 0.19 px from
-// the truth; refined, none is beyond 0.14.
-TEST(BearingHomography, KeepsTheRefinedFitOfNoisyCorrespondences) {
-  const TwoViews views;
-  const double pixelsPerRadian = 300.0, noisePx = 1.2;
-  for (unsigned seed = 1; seed <= 30; ++seed) {
-    std::mt19937 rng(seed);
-    std::normal_distribution<double> noise(0.0, noisePx / pixelsPerRadian);
-    std::vector<cv::Vec3d> a, b, truthA, truthB;
-    for (const auto& x : planePoints(400, rng)) {
-      truthA.push_back(unit(x));
-      truthB.push_back(unit(views.toB(x)));
-      a.push_back(truthA.back());
-      // Noise across b's ray: a rotation about an axis perpendicular to it.
-      b.push_back(unit(rotationAbout(truthB.back().cross(randomBearing(rng)), noise(rng)) * truthB.back()));
-    }
-    const std::vector<double> scale(a.size(), pixelsPerRadian);
-    const auto fit = fitBearingHomography(a, b, scale, {});
-    ASSERT_TRUE(fit);
-    std::vector<double> errors;
-    for (size_t k = 0; k < truthA.size(); ++k) errors.push_back(angle(fit->h * truthA[k], truthB[k]) * pixelsPerRadian);
-    std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
-    EXPECT_LT(errors[errors.size() / 2], 0.15) << "seed " << seed << ": median distance of the fit from the truth, px";
-  }
-}
-
-TEST(BearingHomography, NeedsFourCorrespondences) {
-  const std::vector<cv::Vec3d> three{{0, 0, 1}, {0.1, 0, 1}, {0, 0.1, 1}};
-  EXPECT_FALSE(fitBearingHomography(three, three, {1, 1, 1}, {}));
-}
-
-TEST(Essential, RecoversTheEpipolarGeometryOfAGeneralScene) {
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> xy(-2, 2), depth(2, 6);
-  const TwoViews views;
-  std::vector<cv::Vec3d> a, b;
-  for (int i = 0; i < 100; ++i) {
-    const cv::Vec3d x(xy(rng), xy(rng), depth(rng));
-    a.push_back(unit(x));
-    b.push_back(unit(views.toB(x)));
-  }
-  for (int i = 0; i < 30; ++i) {
-    a.push_back(randomBearing(rng));
-    b.push_back(randomBearing(rng));
-  }
-  const auto fit = fitEssential(a, b, 300.0, {});
-  ASSERT_TRUE(fit);
-  for (int k = 0; k < 100; ++k) {
-    EXPECT_TRUE(fit->inliers[k]) << k;
-    EXPECT_LT(epipolarAngle(*fit, a[k], b[k]), 1e-6);
-  }
-  // E = [t]x R up to scale and sign: compare the normalised matrices.
-  const cv::Vec3d t = unit(views.t);
-  const cv::Matx33d tx(0, -t[2], t[1], t[2], 0, -t[0], -t[1], t[0], 0);
-  const cv::Matx33d truth = tx * views.r;
-  const cv::Matx33d e = fit->essential * (1.0 / cv::norm(fit->essential));
-  const cv::Matx33d expected = truth * (1.0 / cv::norm(truth));
-  EXPECT_LT(std::min(cv::norm(e - expected), cv::norm(e + expected)), 1e-5);
-}
-
-TEST(Essential, WorksOnAPlaneSeenBeyondNinetyDegrees) {
-  std::mt19937 rng(6);
-  const TwoViews views;
-  std::vector<cv::Vec3d> a, b;
-  for (const auto& x : planePoints(80, rng)) {
-    a.push_back(unit(x));
-    b.push_back(unit(views.toB(x)));
-  }
-  const auto fit = fitEssential(a, b, 300.0, {});
-  ASSERT_TRUE(fit);
-  EXPECT_EQ(fit->inlierCount, 80);
-  for (size_t k = 0; k < a.size(); ++k) EXPECT_LT(epipolarAngle(*fit, a[k], b[k]), 1e-6);
-}
 
 TEST(TrackerMatches, MutualNearestNeighboursPassingTheRatio) {
   NeighbourTable t;

@@ -114,8 +114,10 @@ TEST(TrainVocabularyCli, BadInputExitsWith2NamingTheProblemAndWritesNothing) {
       {{"--images", "/dev/zero", "--out", out}, "/dev/zero: is a character device, not a regular file"},
       {{"--images", dir.path.string(), "--bits", "100", "--out", out}, "bits"},
       {{"--images", dir.path.string(), "--nfeatures", "0", "--out", out}, "--nfeatures"},
-      {{"--images", dir.path.string(), "--features", "orb", "--nfeatures", "-1", "--out", out}, "--nfeatures"},
-      {{"--images", dir.path.string(), "--features", "sift", "--out", out}, "--features"},
+      {{"--images", dir.path.string(), "--extractor", "orb", "--nfeatures", "-1", "--out", out}, "--nfeatures"},
+      {{"--images", dir.path.string(), "--extractor", "sift", "--out", out}, "--extractor"},
+      // The old spelling of --extractor names the new one.
+      {{"--images", dir.path.string(), "--features", "orb", "--out", out}, "--features: is now --extractor"},
       {{"--images", dir.path.string(), "--preset", "fast", "--out", out}, "--preset"},
       {plus(inputs, {"--out", out, "--depth", "0"}), "--depth"},
       {plus(inputs, {"--out", out, "--rounds", "0"}), "--rounds"},
@@ -206,7 +208,7 @@ TEST(TrainVocabularyCli, ImagesAreDescribedAtTheAskedLengthAndHeldOutOnesRefused
   EXPECT_EQ(v.bits(), 128);
   EXPECT_TRUE(v.masked());
   EXPECT_EQ(v.trainingImages().size(), 2u);
-  r = run({"--images", (*doc / "box.png").string(), "--features", "orb", "--branching", "4", "--depth", "2", "--out", out});
+  r = run({"--images", (*doc / "box.png").string(), "--extractor", "orb", "--branching", "4", "--depth", "2", "--out", out});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_FALSE(Vocabulary::load(out).masked());
   EXPECT_EQ(Vocabulary::load(out).bits(), 256);

@@ -23,4 +23,13 @@ inline std::optional<int> parseArguments(CLI::App& app, const std::vector<std::s
   }
 }
 
+// A flag's old spelling, kept out of --help: given, the parse fails (exit 2) with "<old> is now
+// <replacement>" and the reason, so a script written for an older release says what to change.
+inline void addRenamedFlag(CLI::App& app, const std::string& old, const std::string& replacement,
+                           const std::string& reason = "") {
+  app.add_option_function<std::string>(old, [old, replacement, reason](const std::string&) {
+       throw CLI::ValidationError(old, "is now " + replacement + (reason.empty() ? "" : " (" + reason + ")"));
+     })->group("");
+}
+
 }  // namespace mdbrief

@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "mdbrief/option_fields.hpp"
+#include "toolkit/command_line.hpp"
 
 namespace mdbrief {
 
@@ -70,6 +71,8 @@ class OptionFlags {
         option->default_str(shown.str());
       }
       if (const auto* s = std::get_if<std::string>(&value); s && !s->empty()) option->default_str(*s);
+      for (const auto& [old, now] : kRenamedFlags)
+        if (now == std::string(f.flag)) addRenamedFlag(app, old, now);
     }
   }
 
@@ -89,6 +92,10 @@ class OptionFlags {
   }
 
  private:
+  // Flags spelt otherwise by an earlier release: {old, new}. nfeatures is one name in C++,
+  // Python and on the command line.
+  static constexpr std::pair<const char*, const char*> kRenamedFlags[] = {{"--features", "--nfeatures"}};
+
   // CLI11 turns a flag's value (`--make-default=yes`, `make-default = yes` in a config) into a
   // count with std::stoll, which throws std::invalid_argument past the parse's error handling on
   // anything but its true/false words and integers; checked first, a bad one is a parse error

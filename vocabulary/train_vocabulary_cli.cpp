@@ -28,7 +28,7 @@ struct Args {
   std::vector<std::string> images, descriptors, masks, heldOut;
   std::string camera, out, dbow2Text;
   std::string cameraFormat = toString(CameraFormat::Auto), cameraId;
-  std::string features = "mdbrief", preset = "tracking", weighting = "tf-idf";
+  std::string extractor = "mdbrief", preset = "tracking", weighting = "tf-idf";
   int bits = 0, nfeatures = FeatureOptions{}.nfeatures;
   bool plain = false;
   VocabularyTrainingOptions training;
@@ -87,7 +87,7 @@ void run(Args& a, std::ostream& out, bool progressTty) {
   if (a.images.empty() == a.descriptors.empty())
     throw std::invalid_argument("give either --images (with --camera or photos) or --descriptors");
   FeatureOptions features;
-  features.kind = parseName(a.features, kFeatureKindNames, "--features");
+  features.kind = parseName(a.extractor, kFeatureKindNames, "--extractor");
   features.preset = parsePreset(a.preset);
   features.bits = a.bits;
   features.nfeatures = a.nfeatures;
@@ -152,13 +152,14 @@ int runTrainVocabularyCli(const std::vector<std::string>& args, std::ostream& ou
   app.add_option("--camera-id", a.cameraId,
                  "The camera of a calibration file that holds several: Kalibr cam0, cam1, ...; basalt's index; "
                  "ORB-SLAM3 1 or 2; COLMAP's CAMERA_ID");
-  app.add_option("--features", a.features, "Features: the library's (mdbrief) or cv::ORB's (orb; a plain vocabulary)")
+  app.add_option("--extractor", a.extractor, "Features: the library's (mdbrief) or cv::ORB's (orb; a plain vocabulary)")
       ->check(CLI::IsMember(namesOf(kFeatureKindNames)))
       ->capture_default_str();
   app.add_option("--preset", a.preset, "mdbrief: the preset whose detector and descriptor run")
       ->check(CLI::IsMember(namesOf(kPresetNames)))
       ->capture_default_str();
   app.add_option("--bits", a.bits, "mdbrief: descriptor length, 32..512 in steps of 32 (default: the preset's)");
+  addRenamedFlag(app, "--features", "--extractor", "--nfeatures is the number of keypoints");
   app.add_option("--nfeatures", a.nfeatures, "Keypoints per image at most")
       ->check(CLI::Range(1, 10000000))
       ->capture_default_str();

@@ -54,7 +54,7 @@ const OptionTable<DetectorOptions>& detectorOptionFields() {
         choiceField<O>("method", "", "detector", "--detector",
                        "keypoint detector: modorb (FAST corners, ORB's scheme) or hessian (scale-space blobs)",
                        kDetectorMethodNames, [](auto& o) -> auto& { return o.method; }),
-        integerField<O>("nfeatures", "", "nfeatures", "--features", "maximum number of keypoints per image",
+        integerField<O>("nfeatures", "", "nfeatures", "--nfeatures", "maximum number of keypoints per image",
                         R::closed(1, 1e7), [](auto& o) -> auto& { return o.nfeatures; }),
     };
     appendNested(t, pyramidOptionFields(), "pyramid", "pyramid", [](auto& o) -> auto& { return o.pyramid; });

@@ -8,6 +8,10 @@
     matches = mdbrief.match(d1, d2, m1, m2)             # the preset's ratio test and mutual check
     # A tracker's next frame: search only near where the motion model predicts each keypoint.
     tracked = mdbrief.match_guided(d1, d2, predicted, kp2, (width, height), m1, m2, radius=15)
+    # Which matches are right: the relative pose of a general scene, on bearings (any lens).
+    a = camera.pixel_to_bearing(np.array([kp1[m.queryIdx].pt for m in matches]))
+    b = camera.pixel_to_bearing(np.array([kp2[m.trainIdx].pt for m in matches]))
+    fit = mdbrief.fit_essential(a, b)                   # fit.inliers, fit.rotation, fit.residuals
     vocabulary = mdbrief.Vocabulary.load("vocabulary.mdbvoc")   # place recognition (docs/vocabulary.md)
     database = mdbrief.Database(vocabulary)
     database.add(d1, m1)
@@ -22,10 +26,12 @@ without the GIL (but a Database's index, which adding changes, is used with it h
 import cv2 as _cv2  # noqa: F401
 
 from ._mdbrief import __version__  # noqa: F401
-from ._mdbrief import (Camera, CameraRig, Database, MdBrief, TestSet, Vocabulary, camera_models, default_pattern,
-                       limit_simd_level, load_camera, load_pattern, load_rig, match, match_guided, option_fields,
-                       patterns, presets, simd_level, supported_simd_level, supported_simd_levels, train)
+from ._mdbrief import (Camera, CameraRig, Database, MdBrief, TestSet, TwoViewResult, Vocabulary, camera_models,
+                       check_known_pose, default_pattern, fit_essential, fit_homography, limit_simd_level,
+                       load_camera, load_pattern, load_rig, match, match_guided, option_fields, patterns,
+                       pixels_per_radian, presets, simd_level, supported_simd_level, supported_simd_levels, train)
 
-__all__ = ["Camera", "CameraRig", "Database", "MdBrief", "TestSet", "Vocabulary", "camera_models", "default_pattern",
-           "limit_simd_level", "load_camera", "load_pattern", "load_rig", "match", "match_guided", "option_fields",
-           "patterns", "presets", "simd_level", "supported_simd_level", "supported_simd_levels", "train"]
+__all__ = ["Camera", "CameraRig", "Database", "MdBrief", "TestSet", "TwoViewResult", "Vocabulary", "camera_models",
+           "check_known_pose", "default_pattern", "fit_essential", "fit_homography", "limit_simd_level",
+           "load_camera", "load_pattern", "load_rig", "match", "match_guided", "option_fields", "patterns",
+           "pixels_per_radian", "presets", "simd_level", "supported_simd_level", "supported_simd_levels", "train"]

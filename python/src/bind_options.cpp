@@ -2,6 +2,7 @@
 // match()'s options, for introspection (and the tests that walk every option).
 #include "bindings.hpp"
 #include "mdbrief/feature2d.hpp"
+#include "mdbrief/geometry/two_view.hpp"
 #include "mdbrief/match/guided_matcher.hpp"
 #include "mdbrief/match/matcher.hpp"
 #include "option_keywords.hpp"
@@ -55,10 +56,13 @@ void bindOptions(py::module_& m) {
         if (callable == "train") return describe(train::trainOptionFields());
         if (callable == "match") return describe(matchOptionFields());
         if (callable == "match_guided") return describe(guidedMatchOptionFields());
-        throw py::value_error("callable must be one of: MdBrief, train, match, match_guided, got '" + callable + "'");
+        if (callable == "two_view") return describe(twoViewOptionFields());
+        throw py::value_error("callable must be one of: MdBrief, train, match, match_guided, two_view, got '" +
+                              callable + "'");
       },
       py::arg("callable"),
-      "The options of MdBrief, train, match or match_guided, in table order: dicts with keyword, type (int, float,\n"
+      "The options of MdBrief, train, match, match_guided or two_view (fit_essential, fit_homography,\n"
+      "check_known_pose), in table order: dicts with keyword, type (int, float,\n"
       "bool, str, list, choice), doc, default, range ((low, high, low_open, high_open, multiple_of, odd)\n"
       "of the defaults, or None), range_text and choices.");
 }

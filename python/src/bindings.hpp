@@ -12,6 +12,7 @@ namespace py = pybind11;
 void bindCamera(py::module_& m);
 void bindDatabase(py::module_& m);
 void bindFeatures(py::module_& m);
+void bindGeometry(py::module_& m);
 void bindMatching(py::module_& m);
 void bindOptions(py::module_& m);
 void bindPatterns(py::module_& m);

@@ -8,6 +8,7 @@ PYBIND11_MODULE(_mdbrief, m) {
   m.doc() = "mdbrief: distorted binary descriptors (BRIEF, dBRIEF, mdBRIEF) for calibrated fisheye cameras.";
   mdbrief::python::bindCamera(m);
   mdbrief::python::bindFeatures(m);
+  mdbrief::python::bindGeometry(m);
   mdbrief::python::bindMatching(m);
   mdbrief::python::bindOptions(m);
   mdbrief::python::bindPatterns(m);

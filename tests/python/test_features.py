@@ -40,7 +40,7 @@ def same_keypoints(a, b):
 def test_detect_and_compute_gives_the_bytes_of_the_cpp_tool(tmp_path, camera, image_pair, cli, detector):
     image = image_pair[0]
     cv2.imwrite(str(tmp_path / "view.png"), image)
-    subprocess.run([cli, "extract", "--camera", str(FISHEYE_CAMERA), "--features", "500", "--detector",
+    subprocess.run([cli, "extract", "--camera", str(FISHEYE_CAMERA), "--nfeatures", "500", "--detector",
                     detector, str(tmp_path / "view.png"), "-o", str(tmp_path / "cpp.yml")], check=True,
                    capture_output=True)
     cpp_keypoints, cpp_descriptors, cpp_masks = read_feature_file(tmp_path / "cpp.yml")
@@ -238,6 +238,23 @@ def test_the_example_matches_a_turned_view_and_draws_the_matches(tmp_path, camer
     line = next(l for l in result.stdout.splitlines() if l.startswith("correct"))
     correct, total = (int(w) for w in line.split(": ")[1].split(" of "))
     assert total > 50 and correct > total // 2, result.stdout
+    # Right matches in green, wrong ones in red (BGR; lines are antialiased, so shades of them).
+    blue, g, r = (drawn[..., i].astype(int) for i in range(3))
+    green = ((g > 120) & (r < 60) & (blue < 60)).sum()
+    red = ((r > 120) & (g < 60) & (blue < 60)).sum()
+    assert green > 0 and (red > 0) == (correct < total), (green, red, result.stdout)
+
+
+def test_the_example_checks_a_real_pair_with_the_relative_pose(tmp_path, image_pair):
+    for i, image in enumerate(image_pair):
+        cv2.imwrite(str(tmp_path / f"view{i}.png"), image)
+    result = subprocess.run([sys.executable, str(SOURCE / "examples/python/match_fisheye.py"), str(FISHEYE_CAMERA),
+                             str(tmp_path / "view0.png"), str(tmp_path / "view1.png"), "-o",
+                             str(tmp_path / "matches.png")], capture_output=True, text=True, env=dict(os.environ))
+    assert result.returncode == 0, result.stderr
+    assert any(l.startswith(("right (the fitted relative pose", "no relative pose"))
+               for l in result.stdout.splitlines()), result.stdout
+    assert cv2.imread(str(tmp_path / "matches.png")) is not None
 
 
 def test_every_simd_level_gives_the_same_features_and_matches(camera, image_pair):

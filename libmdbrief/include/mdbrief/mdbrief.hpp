@@ -18,6 +18,7 @@
 #include "mdbrief/camera/with_intrinsics.hpp"
 #include "mdbrief/detect/detector.hpp"
 #include "mdbrief/detect/image_pyramid.hpp"
+#include "mdbrief/geometry/two_view.hpp"
 #include "mdbrief/describe/descriptor.hpp"
 #include "mdbrief/describe/patterns.hpp"
 #include "mdbrief/describe/test_set.hpp"

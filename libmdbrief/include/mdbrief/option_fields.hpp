@@ -74,7 +74,7 @@ struct OptionField {
   std::string member;   // path of the C++ member ("pyramid.levels"); its last part is the FileStorage key
   const char* section;  // FileStorage node of the key ("" = the node itself)
   const char* keyword;  // Python keyword
-  // Command-line flag ("--features"); nullptr = not on the command line. A Flag field's flag
+  // Command-line flag ("--nfeatures"); nullptr = not on the command line. A Flag field's flag
   // turns its default around (--spread, --no-orientation).
   const char* flag;
   const char* doc;

@@ -56,12 +56,18 @@ Smoothing gaussianSmoothing(const cv::Mat& level8u, int taps, double sigma, bool
   // an output row reads, reflections included, lies within `radius` rows of it, so the ring
   // stays in the L1 cache instead of a level-sized intermediate image.
   std::vector<uint16_t> ring(static_cast<size_t>(window) * cols), padded(cols + 2 * radius);
+  // The reflected columns of the padding, found once rather than per row.
+  std::vector<int> leftColumn(radius + 1), rightColumn(radius + 1);
+  for (int i = 1; i <= radius; ++i) {
+    leftColumn[i] = cv::borderInterpolate(-i, cols, cv::BORDER_REFLECT_101);
+    rightColumn[i] = cv::borderInterpolate(cols - 1 + i, cols, cv::BORDER_REFLECT_101);
+  }
   const auto smoothSourceRow = [&](int s) {
     const uint8_t* in = level8u.ptr<uint8_t>(s);
-    for (int x = 0; x < cols; ++x) padded[radius + x] = in[x];
+    std::copy(in, in + cols, padded.begin() + radius);
     for (int i = 1; i <= radius; ++i) {
-      padded[radius - i] = in[cv::borderInterpolate(-i, cols, cv::BORDER_REFLECT_101)];
-      padded[radius + cols - 1 + i] = in[cv::borderInterpolate(cols - 1 + i, cols, cv::BORDER_REFLECT_101)];
+      padded[radius - i] = in[leftColumn[i]];
+      padded[radius + cols - 1 + i] = in[rightColumn[i]];
     }
     kernels.rows(padded.data() + radius, cols, rowWeights.data(), radius, &ring[static_cast<size_t>(s % window) * cols]);
   };

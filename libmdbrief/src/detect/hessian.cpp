@@ -54,16 +54,21 @@ bool strongerBlob(const Blob& a, const Blob& b) {
 
 namespace {
 
-// Largest response of `r` in the 3x3 neighbourhood of pixel (cx, cy); -inf when that pixel is
-// outside the level or on its border.
-float neighbourhoodMax(const cv::Mat& r, int cx, int cy) {
-  if (cx < 1 || cy < 1 || cx >= r.cols - 1 || cy >= r.rows - 1) return -INFINITY;
-  float best = -INFINITY;
+// Whether `value` exceeds every response of `r` in the 3x3 neighbourhood of pixel (cx, cy) (NaN
+// responses aside), and if so their largest in `largest` (-inf when that pixel is outside the
+// level or on its border). Most candidates fail on a neighbouring level, and stop at the first
+// response as large.
+bool exceedsNeighbourhood(const cv::Mat& r, int cx, int cy, float value, float& largest) {
+  largest = -INFINITY;
+  if (cx < 1 || cy < 1 || cx >= r.cols - 1 || cy >= r.rows - 1) return value > largest;
   for (int v = -1; v <= 1; ++v) {
     const float* row = r.ptr<float>(cy + v);
-    for (int u = -1; u <= 1; ++u) best = std::max(best, row[cx + u]);
+    for (int u = -1; u <= 1; ++u) {
+      if (row[cx + u] >= value) return false;
+      largest = std::max(largest, row[cx + u]);
+    }
   }
-  return best;
+  return value > largest;
 }
 
 // The pixel of level `to` nearest to each column and each row of level `from`, through the
@@ -131,9 +136,10 @@ std::vector<Blob> levelMaxima(const std::vector<cv::Mat>& responses, const std::
       // Plateaus: keep the first pixel in scan order only.
       if (row[x - 1] == value || above[x - 1] == value || above[x] == value || above[x + 1] == value) continue;
       // Same point on the neighbouring levels.
-      const float finer = neighbourhoodMax(responses[k - 1], finerPixel.column[x], finerPixel.row[y]);
-      const float coarser = neighbourhoodMax(responses[k + 1], coarserPixel.column[x], coarserPixel.row[y]);
-      if (!(value > finer) || !(value > coarser)) continue;
+      float finer, coarser;
+      if (!exceedsNeighbourhood(responses[k - 1], finerPixel.column[x], finerPixel.row[y], value, finer) ||
+          !exceedsNeighbourhood(responses[k + 1], coarserPixel.column[x], coarserPixel.row[y], value, coarser))
+        continue;
       if (!allowed(k, x, y)) continue;
       Blob b;
       b.level = k;

@@ -1,14 +1,21 @@
-#include "toolkit/bearing_homography.hpp"
+// fitHomography: b ~ H a with a positive factor (a plane seen from one side, or a pure
+// rotation): 4-point DLT in RANSAC, refitted on its inliers, then refined by Levenberg-Marquardt
+// on the inliers' residuals in b's tangent plane.
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
+#include <optional>
 #include <random>
+
+#include "geometry/two_view_support.hpp"
+#include "mdbrief/geometry/two_view.hpp"
 
 namespace mdbrief {
 namespace {
 
-double angleBetween(const cv::Vec3d& u, const cv::Vec3d& v) { return std::atan2(cv::norm(u.cross(v)), u.dot(v)); }
+using geometry::angleBetween;
+using geometry::CheckedMatches;
+constexpr int kSample = 4;
 
 // Least-squares DLT of b ~ H a over `indices`: each pair gives b x (H a) = 0, three equations
 // of rank two. Bearings are unit vectors, so no normalisation is needed. Empty when degenerate.
@@ -58,25 +65,27 @@ std::optional<cv::Matx33d> orient(cv::Matx33d h, const std::vector<cv::Vec3d>& a
   return std::nullopt;
 }
 
-double residualPx(const cv::Matx33d& h, const cv::Vec3d& a, const cv::Vec3d& b, double scale) {
+// The angle between b and h a; a prediction pointing away from b is never an inlier.
+double residual(const cv::Matx33d& h, const cv::Vec3d& a, const cv::Vec3d& b, bool& facing) {
   const cv::Vec3d v = h * a;
-  if (!(v.dot(b) > 0)) return std::numeric_limits<double>::infinity();
-  return angleBetween(v, b) * scale;
+  facing = v.dot(b) > 0;
+  return angleBetween(v, b);
 }
 
-int countInliers(const cv::Matx33d& h, const std::vector<cv::Vec3d>& a, const std::vector<cv::Vec3d>& b,
-                 const std::vector<double>& scale, double threshold, std::vector<char>& inliers) {
-  inliers.assign(a.size(), 0);
+int countInliers(const cv::Matx33d& h, const CheckedMatches& m, std::vector<unsigned char>& inliers) {
+  inliers.assign(m.size(), 0);
   int n = 0;
-  for (size_t k = 0; k < a.size(); ++k) {
-    inliers[k] = residualPx(h, a[k], b[k], scale[k]) <= threshold;
+  for (int k = 0; k < m.size(); ++k) {
+    bool facing = false;
+    const double r = residual(h, m.a[k], m.b[k], facing);
+    inliers[k] = facing && m.within(k, r);
     n += inliers[k];
   }
   return n;
 }
 
-// Pixel residual of b against h a in b's tangent plane (two components, angles times the local
-// pixel scale); +inf-free: a prediction behind b is penalised by its full angle.
+// Residual of b against h a in b's tangent plane (two components, angles times the local pixel
+// scale, or angles).
 void tangentResidual(const cv::Matx33d& h, const cv::Vec3d& a, const cv::Vec3d& b, double scale, double* out) {
   cv::Vec3d v = h * a;
   v /= cv::norm(v);
@@ -87,19 +96,20 @@ void tangentResidual(const cv::Matx33d& h, const cv::Vec3d& a, const cv::Vec3d& 
   out[1] = v.dot(e2) * scale;
 }
 
-// Levenberg-Marquardt on the pixel residuals of the inliers (the DLT minimises an algebraic
+// Levenberg-Marquardt on the tangent residuals of the inliers (the DLT minimises an algebraic
 // error, which weighs rays by where they are): what a user's pipeline does after RANSAC.
-cv::Matx33d refineHomography(cv::Matx33d h, const std::vector<cv::Vec3d>& a, const std::vector<cv::Vec3d>& b,
-                             const std::vector<double>& scale, const std::vector<int>& members) {
-  const int m = static_cast<int>(members.size()) * 2;
+cv::Matx33d refineHomography(cv::Matx33d h, const CheckedMatches& m, const std::vector<int>& members) {
+  const int rows = static_cast<int>(members.size()) * 2;
   const auto residuals = [&](const cv::Matx33d& g, cv::Mat& r) {
-    r.create(m, 1, CV_64F);
-    for (size_t k = 0; k < members.size(); ++k)
-      tangentResidual(g, a[members[k]], b[members[k]], scale[members[k]], r.ptr<double>(static_cast<int>(2 * k)));
+    r.create(rows, 1, CV_64F);
+    for (size_t k = 0; k < members.size(); ++k) {
+      const int i = members[k];
+      tangentResidual(g, m.a[i], m.b[i], m.scale.empty() ? 1.0 : m.scale[i], r.ptr<double>(static_cast<int>(2 * k)));
+    }
     return r.dot(r);
   };
   h *= 1.0 / cv::norm(h);
-  cv::Mat r, trial, jac(m, 9, CV_64F);
+  cv::Mat r, trial, jac(rows, 9, CV_64F);
   double cost = residuals(h, r), lambda = 1e-3;
   for (int iteration = 0; iteration < 20; ++iteration) {
     for (int p = 0; p < 9; ++p) {  // forward differences: h has unit norm, so steps are relative
@@ -132,83 +142,82 @@ cv::Matx33d refineHomography(cv::Matx33d h, const std::vector<cv::Vec3d>& a, con
 
 }  // namespace
 
-int ransacIterationsNeeded(double w, int sampleSize, double confidence, int cap) {
-  const double good = std::pow(w, sampleSize);
-  if (good >= 1.0) return 1;
-  if (good <= 0.0) return cap;
-  const double k = std::log(1.0 - confidence) / std::log(1.0 - good);
-  return k >= cap ? cap : std::max(1, static_cast<int>(std::ceil(k)));
-}
-
-std::optional<double> pixelsPerRadian(const Camera& camera, const cv::Point2d& pixel) {
-  cv::Vec3d l, r, u, d;
-  const double h = 0.5;
-  if (!camera.pixelToBearing(pixel - cv::Point2d(h, 0), l) || !camera.pixelToBearing(pixel + cv::Point2d(h, 0), r) ||
-      !camera.pixelToBearing(pixel - cv::Point2d(0, h), u) || !camera.pixelToBearing(pixel + cv::Point2d(0, h), d))
-    return std::nullopt;
-  const double radiansPerPixel = 0.5 * (angleBetween(l, r) + angleBetween(u, d)) / (2 * h);
-  if (!(radiansPerPixel > 0)) return std::nullopt;
-  return 1.0 / radiansPerPixel;
-}
-
-std::optional<HomographyFit> fitBearingHomography(const std::vector<cv::Vec3d>& a, const std::vector<cv::Vec3d>& b,
-                                                  const std::vector<double>& scaleB, const RansacOptions& o) {
-  const int n = static_cast<int>(a.size());
-  if (n < 4 || b.size() != a.size() || scaleB.size() != a.size()) return std::nullopt;
+HomographyResult fitHomography(const std::vector<cv::Vec3d>& a, const std::vector<cv::Vec3d>& b,
+                               const TwoViewOptions& o, const std::vector<double>& pixelsPerRadian) {
+  const CheckedMatches m = geometry::checkMatches("fitHomography", a, b, o, pixelsPerRadian);
+  HomographyResult result;
+  const int n = m.size();
+  if (const TwoViewFailure f = geometry::degeneracy(m, kSample); f != TwoViewFailure::None) {
+    geometry::fail(result, f, n, kSample);
+    return result;
+  }
   std::mt19937_64 rng(o.seed);
   std::uniform_int_distribution<int> pick(0, n - 1);
-  HomographyFit best;
-  std::vector<char> inliers;
-  int needed = o.maxIterations;
-  std::vector<int> sample(4);
+  cv::Matx33d best;
+  std::vector<unsigned char> bestInliers, inliers;
+  int bestCount = 0, needed = o.maxIterations;
+  std::vector<int> sample(kSample);
   for (int it = 0; it < needed; ++it) {
-    for (int s = 0; s < 4; ++s) {
+    for (int s = 0; s < kSample; ++s) {
       do sample[s] = pick(rng);
       while (std::find(sample.begin(), sample.begin() + s, sample[s]) != sample.begin() + s);
     }
-    auto h = solveHomography(a, b, sample);
-    if (h) h = orient(*h, a, b, sample);
+    auto h = solveHomography(m.a, m.b, sample);
+    if (h) h = orient(*h, m.a, m.b, sample);
     if (!h) continue;
-    const int count = countInliers(*h, a, b, scaleB, o.thresholdPx, inliers);
-    if (count > best.inlierCount) {
-      best.h = *h;
-      best.inlierCount = count;
-      best.inliers = inliers;
-      needed = ransacIterationsNeeded(static_cast<double>(count) / n, 4, o.confidence, o.maxIterations);
+    const int count = countInliers(*h, m, inliers);
+    if (count > bestCount) {
+      best = *h;
+      bestCount = count;
+      bestInliers = inliers;
+      needed = ransacIterationsNeeded(static_cast<double>(count) / n, kSample, o.confidence, o.maxIterations);
     }
   }
-  if (best.inlierCount < 4) return std::nullopt;
-  // Refit on the inliers while that keeps or adds inliers (a local optimisation step).
-  for (int round = 0; round < 5; ++round) {
+  if (bestCount < kSample) {
+    geometry::fail(result, TwoViewFailure::NoModel, n, kSample);
+    return result;
+  }
+  const auto membersOf = [&](const std::vector<unsigned char>& in) {
     std::vector<int> members;
     for (int k = 0; k < n; ++k)
-      if (best.inliers[k]) members.push_back(k);
-    auto h = solveHomography(a, b, members);
-    if (h) {
-      // The least-squares fit keeps the sign convention of the majority.
-      int positive = 0;
-      for (int k : members) positive += ((*h) * a[k]).dot(b[k]) > 0;
-      if (2 * positive < static_cast<int>(members.size())) *h = -*h;
-    }
+      if (in[k]) members.push_back(k);
+    return members;
+  };
+  // Refit on the inliers while that keeps or adds inliers (a local optimisation step).
+  for (int round = 0; round < 5; ++round) {
+    const std::vector<int> members = membersOf(bestInliers);
+    auto h = solveHomography(m.a, m.b, members);
     if (!h) break;
-    const int count = countInliers(*h, a, b, scaleB, o.thresholdPx, inliers);
-    if (count < best.inlierCount) break;
-    const bool grew = count > best.inlierCount;
-    best.h = *h;
-    best.inlierCount = count;
-    best.inliers = inliers;
+    // The least-squares fit keeps the sign convention of the majority.
+    int positive = 0;
+    for (int k : members) positive += ((*h) * m.a[k]).dot(m.b[k]) > 0;
+    if (2 * positive < static_cast<int>(members.size())) *h = -*h;
+    const int count = countInliers(*h, m, inliers);
+    if (count < bestCount) break;
+    const bool grew = count > bestCount;
+    best = *h;
+    bestCount = count;
+    bestInliers = inliers;
     if (!grew) break;
   }
-  std::vector<int> members;
-  for (int k = 0; k < n; ++k)
-    if (best.inliers[k]) members.push_back(k);
   // The refined model is kept even when a borderline inlier moves past the threshold: it fits
   // the inliers better than the DLT's algebraic error, and it is what a pipeline keeps
   // (cv::findHomography refines its inliers the same way). Keeping the DLT whenever one of
   // hundreds of inliers moved left fits of 0.3 px where the refined one was within 0.05 px.
-  best.h = refineHomography(best.h, a, b, scaleB, members);
-  best.inlierCount = countInliers(best.h, a, b, scaleB, o.thresholdPx, best.inliers);
-  return best;
+  if (o.refine) best = refineHomography(best, m, membersOf(bestInliers));
+  best *= 1.0 / cv::norm(best);
+  result.inlierCount = countInliers(best, m, result.inliers);
+  if (result.inlierCount < kSample) {
+    geometry::fail(result, TwoViewFailure::NoModel, n, kSample);
+    return result;
+  }
+  result.homography = best;
+  result.residuals.resize(n);
+  for (int k = 0; k < n; ++k) {
+    bool facing = false;
+    result.residuals[k] = residual(best, m.a[k], m.b[k], facing);
+  }
+  return result;
 }
 
 }  // namespace mdbrief
