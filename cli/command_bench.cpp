@@ -15,6 +15,7 @@
 #include <tbb/global_control.h>
 
 #include "cli/commands.hpp"
+#include "cli/extraction_flags.hpp"
 #include "mdbrief/camera/io.hpp"
 #include "mdbrief/feature2d.hpp"
 #include "mdbrief/match/matcher.hpp"
@@ -29,7 +30,8 @@ namespace mdbrief::cli {
 namespace {
 
 struct BenchFlags {
-  std::string image, camera, level = "all";
+  std::string image, level = "all";
+  CameraFileFlags camera;
   int nfeatures = 1000;
   int repeat = 15;
 };
@@ -76,9 +78,12 @@ void run(const BenchFlags& flags) {
     throw InputError(imagePath + ": " + problem);
   const cv::Mat image = decodeGreyImage(imagePath);
   if (image.empty()) throw InputError(imagePath + ": no image decoder reads it");
-  const CameraPtr camera = flags.camera.empty() ? photoCamera(image.size()) : loadCamera(flags.camera);
+  if (flags.camera.path.empty() && flags.camera.anyGiven())
+    throw InputError("--camera-format, --camera-id, --camera-size and --camera-opencv-model need --camera");
+  const CameraPtr camera =
+      flags.camera.path.empty() ? photoCamera(image.size()) : readCalibrationFile(flags.camera).camera;
   if (camera->imageSize() != image.size())
-    throw InputError("--camera: " + flags.camera + " is for " + std::to_string(camera->imageSize().width) + "x" +
+    throw InputError("--camera: " + flags.camera.path + " is for " + std::to_string(camera->imageSize().width) + "x" +
                      std::to_string(camera->imageSize().height) + " images, " + imagePath + " is " +
                      std::to_string(image.cols) + "x" + std::to_string(image.rows));
   std::vector<SimdLevel> levels = supportedSimdLevels();
@@ -141,7 +146,8 @@ void addBenchCommand(CLI::App& app) {
       "bench", "Time detection + description and matching on this machine against OpenCV's ORB, AKAZE, BRISK and "
                "BFMatcher, at every SIMD level this CPU runs");
   cmd->add_option("--image", flags->image, "Image to detect on (default: opencv-doc's graf1.png)");
-  cmd->add_option("--camera", flags->camera, "Its calibration (default: a pinhole for an undistorted photo)");
+  cmd->add_option("--camera", flags->camera.path, "Its calibration (default: a pinhole for an undistorted photo)");
+  addCameraFileFlags(*cmd, flags->camera, "--camera-format", "--camera-id");
   cmd->add_option("--nfeatures", flags->nfeatures, "Keypoints to detect (ORB's budget too)")->capture_default_str();
   cmd->add_option("--level", flags->level, "A SIMD level (portable, sse4, neon, avx2, avx512), or all")
       ->capture_default_str();

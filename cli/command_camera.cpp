@@ -1,5 +1,5 @@
 // `mdbrief camera convert`: a calibration of any format loadCamera reads (Kalibr, basalt,
-// ORB-SLAM3, OpenCV, COLMAP, OCamCalib, fisheye-calib-adapter, the project's YAML) written as the
+// ORB-SLAM3, EuRoC / Kimera, OpenCV, COLMAP, OCamCalib, fisheye-calib-adapter, the project's YAML) written as the
 // project's YAML (configs/cameras/README.md), to a file or to stdout.
 #include <filesystem>
 #include <iostream>
@@ -57,7 +57,7 @@ void addCameraCommand(CLI::App& app) {
   CLI::App* convert = camera->add_subcommand(
       "convert",
       "Write a calibration of any supported format (Kalibr camchain.yaml, basalt calib.json, ORB-SLAM3 settings, "
-      "OpenCV calibration YAML, COLMAP cameras.txt, OCamCalib calib_results.txt, fisheye-calib-adapter YAML, the "
+      "EuRoC / Kimera sensor.yaml, OpenCV calibration YAML or K and D, COLMAP cameras.txt, OCamCalib calib_results.txt, fisheye-calib-adapter YAML, the "
       "project's YAML) as the project's YAML");
   convert->add_option("input", args->input.path, "Calibration file")->required();
   addCameraFileFlags(*convert, args->input, "--format", "--camera-id");

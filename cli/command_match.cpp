@@ -76,8 +76,8 @@ void runMatch(const MatchArgs& args) {
   }
   if (args.noRatio) options.ratio.reset();
   if (!args.inliers && !args.camera.path.empty()) throw InputError("--camera is used only with --inliers");
-  if (args.camera.path.empty() && (!args.camera.id.empty() || args.camera.format != toString(CameraFormat::Auto)))
-    throw InputError("--camera-format and --camera-id need --camera");
+  if (args.camera.path.empty() && args.camera.anyGiven())
+    throw InputError("--camera-format, --camera-id, --camera-size and --camera-opencv-model need --camera");
   checkStorageOutput(args.output);
   checkOutputsApart({args.query, args.train, args.camera.path}, {args.output});
   const Features a = readFeatureFile(args.query);

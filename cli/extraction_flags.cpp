@@ -75,12 +75,31 @@ void addCameraFileFlags(CLI::App& cmd, CameraFileFlags& flags, const std::string
   cmd.add_option(idFlag, flags.id,
                  "The camera of a calibration file that holds several: Kalibr cam0, cam1, ...; basalt's index; "
                  "ORB-SLAM3 1 or 2; COLMAP's CAMERA_ID");
+  cmd.add_option("--camera-size", flags.size,
+                 "Image size WxH of a calibration file without one (a FileStorage with K and D)");
+  cmd.add_option("--camera-opencv-model", flags.opencvModel,
+                 "Which model four OpenCV distortion coefficients are when the file does not say: fisheye "
+                 "(cv::fisheye's k1..k4) or standard (k1 k2 p1 p2)")
+      ->check(CLI::IsMember(namesOf(kOpenCvModelNames)))
+      ->capture_default_str();
+}
+
+bool CameraFileFlags::anyGiven() const {
+  return !id.empty() || format != toString(CameraFormat::Auto) || !size.empty() ||
+         opencvModel != toString(OpenCvModel::Unstated);
 }
 
 CameraFile readCalibrationFile(const CameraFileFlags& flags) {
   requireReadableFile(flags.path);
+  CameraFileOptions options{parseCameraFormat(flags.format), flags.id, std::nullopt,
+                            parseOpenCvModel(flags.opencvModel)};
+  if (!flags.size.empty()) {
+    options.imageSize = internal::parseSizeText(flags.size);
+    if (!options.imageSize)
+      throw InputError("--camera-size must be WxH, two integers in [1, 1000000], got '" + flags.size + "'");
+  }
   try {
-    return readCameraFile(flags.path, {parseCameraFormat(flags.format), flags.id});
+    return readCameraFile(flags.path, options);
   } catch (const std::exception& e) {
     const std::string what = e.what();
     // loadCamera's messages already start with the path.
@@ -118,8 +137,9 @@ CameraPtr loadCalibration(const ExtractionFlags& flags) {
   const DescriptorKind kind = options.descriptor.kind;
   const bool modelled = usesCamera(kind);
   if (flags.camera.path.empty()) {
-    if (!flags.camera.id.empty() || flags.camera.format != toString(CameraFormat::Auto))
-      throw InputError("--camera-format and --camera-id need --camera (the calibration file they describe)");
+    if (flags.camera.anyGiven())
+      throw InputError("--camera-format, --camera-id, --camera-size and --camera-opencv-model need --camera (the "
+                       "calibration file they describe)");
     if (modelled) throw InputError("--camera is required for --descriptor " + toString(kind));
     // The library ignores the option without a camera: the output would be that of a run without it.
     if (options.detector.conformal)

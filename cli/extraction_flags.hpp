@@ -15,14 +15,20 @@
 
 namespace mdbrief::cli {
 
-// A calibration file, its format and the camera of a multi-camera file (camera/io.hpp).
+// A calibration file, its format, the camera of a multi-camera file, the image size of a file
+// without one and the model of four OpenCV coefficients (camera/io.hpp CameraFileOptions).
 struct CameraFileFlags {
   std::string path;
   std::string format = toString(CameraFormat::Auto);
   std::string id;
+  std::string size;                                       // WxH; empty: the file's
+  std::string opencvModel = toString(OpenCvModel::Unstated);
+  // Whether any of the flags besides the path was given.
+  bool anyGiven() const;
 };
 
-// Adds the format and camera-id options (named formatFlag, idFlag) bound to flags.
+// Adds the format and camera-id options (named formatFlag, idFlag), --camera-size and
+// --camera-opencv-model bound to flags.
 void addCameraFileFlags(CLI::App& cmd, CameraFileFlags& flags, const std::string& formatFlag, const std::string& idFlag);
 
 // The calibration of flags.path. InputError naming the file and the problem (loadCamera's

@@ -9,6 +9,7 @@
 
 #include "cli/extraction_flags.hpp"
 #include "mdbrief/camera/io.hpp"
+#include "mdbrief/camera/rig.hpp"
 #include "mdbrief/recognition/database.hpp"
 #include "mdbrief/internal/framed_file.hpp"
 #include "mdbrief/describe/patterns.hpp"
@@ -43,7 +44,19 @@ void expectingErrors(Parse&& parse) {
 }
 
 void camera(const uint8_t* d, size_t n) {
-  expectingErrors([&] { loadCamera(asFile(d, n, ".yaml")); });
+  const std::string path = asFile(d, n, ".yaml");
+  expectingErrors([&] { loadCamera(path); });
+  // Every camera of the file, its extrinsics, and the size and model a caller gives (which only
+  // K and D alone, or four OpenCV coefficients, take).
+  expectingErrors([&] {
+    CameraFileOptions options;
+    options.imageSize = cv::Size(752, 480);
+    options.opencvModel = OpenCvModel::Fisheye;
+    const CameraRig rig = readCameraRig(path, options);
+    for (size_t i = 0; i < rig.size(); ++i)
+      for (size_t j = 0; j < rig.size(); ++j)
+        if (rig.hasRelativePose(i, j)) rig.relativePose(i, j);
+  });
 }
 void patternJson(const uint8_t* d, size_t n) {
   expectingErrors([&] { loadTestSetJson(asFile(d, n, ".json")); });

@@ -17,7 +17,9 @@ struct Target {
   void (*run)(const uint8_t* data, size_t size);
 };
 
-// camera (loadCamera: project YAML, OCamCalib text, calib-adapter YAML), pattern_json
+// camera (loadCamera and readCameraRig: every format of camera/io.hpp, the project YAML,
+// calib-adapter, Kalibr, basalt, ORB-SLAM3, EuRoC / Kimera, OpenCV, OpenCV K and D, COLMAP,
+// OCamCalib, and the rigs' extrinsics), pattern_json
 // (loadTestSetJson), keypoints (mdbrief extract --keypoints), patch_set (HDF5 readPatchSet),
 // train_config (mdbrief-train --config TOML), vocabulary (Vocabulary::load), vocabulary_text
 // (importDbow2Text), database (Database::load with databaseVocabulary()), held_out_list

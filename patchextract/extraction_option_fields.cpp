@@ -44,6 +44,13 @@ const OptionTable<ExtractionOptions>& extractionOptionFields() {
         textField<O>("cameraPath", "", "camera", "--camera",
                      "calibration YAML: patches on the tangent plane (fisheye)",
                      [](auto& o) -> auto& { return o.cameraPath; }),
+        choiceField<O>("cameraFormat", "", "camera_format", "--camera-format",
+                       "format of the calibration file (auto: recognised from the content)", kCameraFormatNames,
+                       [](auto& o) -> auto& { return o.cameraFormat; }),
+        textField<O>("cameraId", "", "camera_id", "--camera-id",
+                     "the camera of a calibration file that holds several (Kalibr cam0, cam1, ...; basalt's index; "
+                     "ORB-SLAM3 1 or 2; COLMAP's CAMERA_ID)",
+                     [](auto& o) -> auto& { return o.cameraId; }),
         // The trainer's bit matrix grows by 46 KiB per patch (one bit per candidate test):
         // 200,000 patches hold 9 GiB.
         integerField<O>("patches", "", "patches", "--patches", "patch budget", R::closed(1, 200000),

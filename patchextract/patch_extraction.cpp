@@ -284,7 +284,9 @@ PatchSet extractPatches(const ExtractionOptions& o, ExtractionReport& report,
     throw std::invalid_argument("matchRadius must be positive and matchSizeRatio at least 1");
   validate(o.placement);
   CameraPtr camera;
-  if (!o.cameraPath.empty()) camera = loadCamera(o.cameraPath);
+  if (o.cameraPath.empty() && (!o.cameraId.empty() || o.cameraFormat != CameraFormat::Auto))
+    throw std::invalid_argument("a camera id or format needs a camera (the calibration file they describe)");
+  if (!o.cameraPath.empty()) camera = loadCamera(o.cameraPath, {o.cameraFormat, o.cameraId});
   const std::vector<fs::path> images = listImages(o.imageDirs);
   report = ExtractionReport{};
   report.imagesFound = images.size();
@@ -382,7 +384,8 @@ PatchSet extractPatches(const ExtractionOptions& o, ExtractionReport& report,
                     {"seed", std::to_string(o.seed)},
                     {"patch_budget", std::to_string(o.patches)},
                     {"keypoints_per_image", std::to_string(o.keypointsPerImage)},
-                    {"camera", o.cameraPath.empty() ? "none" : o.cameraPath},
+                    {"camera", o.cameraPath.empty() ? "none"
+                               : o.cameraPath + (o.cameraId.empty() ? "" : " (camera " + o.cameraId + ")")},
                     {"render_through_camera",
                      o.renderThroughCamera ? "half fov " + std::to_string(o.renderHalfFovDeg) + " deg"
                                            : "no"},

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "mdbrief/camera/io.hpp"
 #include "mdbrief/describe/descriptor.hpp"
 #include "patchextract/image_digest.hpp"
 #include "patchextract/keypoint_detectors.hpp"
@@ -26,6 +27,8 @@ struct ExtractionOptions {
   size_t patches = 20000;        // budget; fewer when the images do not have that many keypoints
   uint32_t seed = 1;             // drives the choice of keypoints within each image
   std::string cameraPath;        // calibration (mdbrief/camera/io.hpp); empty = perspective
+  CameraFormat cameraFormat = CameraFormat::Auto;  // its format; auto: recognised from the content
+  std::string cameraId;          // the camera of a file that holds several (CameraFileOptions::cameraId)
   int keypointsPerImage = 1000;  // detector budget per image, the pool patches are drawn from; 1..kMaxKeypointsPerImage
   // Fisheye training without fisheye photos: each image becomes the texture of a
   // fronto-parallel plane seen through the camera (renderPlane, 2x2 supersampling), its width

@@ -56,6 +56,12 @@ const std::vector<Sample> kSamples = {
     {"orbslam3_kannala_brandt8_stereo.yaml", "2", CameraFormat::OrbSlam3, "orbslam3_kannala_brandt8_stereo_2",
      "kannala_brandt"},
     {"orbslam3_pinhole.yaml", "", CameraFormat::OrbSlam3, "orbslam3_pinhole", "radtan"},
+    // The same lenses as EuRoC / Kimera sensor.yaml files.
+    {"euroc_cam0_sensor.yaml", "", CameraFormat::Euroc, "kalibr_camchain_cam0", "kannala_brandt"},
+    {"euroc_cam1_sensor.yaml", "", CameraFormat::Euroc, "kalibr_camchain_cam4", "radtan"},
+    {"euroc_omni_sensor.yaml", "", CameraFormat::Euroc, "kalibr_camchain_cam1", "omni"},
+    {"kimera_omni_sensor.yaml", "", CameraFormat::Euroc, "kimera_omni_sensor", "ocam"},
+    {"opencv_kd_standard.yaml", "", CameraFormat::OpenCvKd, "opencv_standard", "radtan"},
     {"opencv_fisheye.yaml", "", CameraFormat::OpenCv, "opencv_fisheye", "kannala_brandt"},
     {"opencv_standard.yaml", "", CameraFormat::OpenCv, "opencv_standard", "radtan"},
     {"opencv_rational.yaml", "", CameraFormat::OpenCv, "opencv_rational", "radtan"},
@@ -319,6 +325,27 @@ TEST_F(CameraFileErrors, LookAlikesAreRefused) {
   expectError("opencv_fisheye_five.yaml", "%YAML:1.0\n---\nfisheye_model: 1\n" + k +
                   "distortion_coefficients: !!opencv-matrix\n  rows: 5\n  cols: 1\n  dt: d\n  data: [0, 0, 0, 0, 0]\n",
               "cv::fisheye needs 4 coefficients");
+  const std::string sensor = "sensor_type: camera\nresolution: [752, 480]\ncamera_model: pinhole\n"
+                             "intrinsics: [461, 460, 366, 249]\n";
+  expectError("euroc_no_distortion.yaml", sensor + "distortion_coefficients: [0, 0, 0, 0]\n",
+              "key 'distortion_model' is missing (one of: radtan, radial-tangential, plumb_bob, equidistant, none");
+  expectError("euroc_fov.yaml", sensor + "distortion_model: fov\ndistortion_coefficients: [0.9]\n",
+              "key 'distortion_model' names an unknown model 'fov'");
+  expectError("euroc_equidistant_three.yaml", sensor + "distortion_model: equidistant\ndistortion_coefficients: [0, 0, 0]\n",
+              "key 'distortion_coefficients' needs 4 numbers (k1 k2 k3 k4), found 3");
+  expectError("euroc_imu.yaml", "sensor_type: imu\nrate_hz: 200\n", "key 'sensor_type' is 'imu', not camera");
+  expectError("euroc_unknown_camera.yaml",
+              "camera_model: fisheye\nresolution: [752, 480]\ndistortion_model: none\nintrinsics: [461, 460, 366, 249]\n",
+              "key 'camera_model' names an unknown model 'fisheye' (known: pinhole, omni, ds, eucm)");
+  expectError("kimera_omni_no_centre.yaml",
+              "camera_model: omni\nresolution: [754, 480]\ndistortion_model: omni\n"
+              "distortion_coefficients: [-209, 0, 0.002, -4e-06, 1.8e-08]\nomni_affine: [0, 0, 1]\n",
+              "key 'omni_distortion_center' is missing");
+  expectError("kd_no_size.yaml",
+              "%YAML:1.0\n---\nK: !!opencv-matrix\n  rows: 3\n  cols: 3\n  dt: d\n  data: [461, 0, 366, 0, 460, 249, 0, 0, 1]\n"
+              "D: !!opencv-matrix\n  rows: 1\n  cols: 5\n  dt: d\n  data: [0.01, 0.02, 0.001, 0.002, 0]\n",
+              "holds no image size (keys image_width and image_height, width and height, or image_size): give it "
+              "(mdbrief --camera-size WxH; Python image_size=(w, h)");
   expectError("colmap_fov.txt", "# Camera list\n1 FOV 752 480 461 460 366 249 0.9\n",
               "model FOV has no camera model here (supported: SIMPLE_PINHOLE");
   expectError("colmap_short.txt", "1 OPENCV_FISHEYE 752 480 461 460 366 249 0.01 0.02\n",
@@ -362,6 +389,9 @@ TEST(CameraFormatSeeds, TruncatedAndLookAlikeSeedsAreRefusedNamingTheProblem) {
       {"truncated_orbslam3_pinhole.yaml", "key 'Camera.width' is missing"},
       {"truncated_opencv_fisheye.yaml", "unparsable camera file (YAML: "},
       {"truncated_colmap_cameras.txt", "OPENCV_FISHEYE needs 8 parameters"},
+      {"truncated_euroc_cam0_sensor.yaml", "key 'distortion_model' is missing"},
+      {"lookalike_euroc_fov.yaml", "key 'distortion_model' names an unknown model 'fov'"},
+      {"lookalike_opencv_kd_no_size.yaml", "holds no image size"},
       {"truncated_ocam_minimal.txt", "needs 5 lines of numbers"},
       {"lookalike_kalibr_fov.yaml", "distortion_model 'fov' has no camera model here"},
       {"lookalike_basalt_fov.json", "'fov' has no camera model here"},
@@ -441,6 +471,56 @@ TEST(CameraParameters, OpenCvResultsProjectAsOpenCvDoes) {
     EXPECT_LT(cv::norm(a - viaFisheye[i]), 1e-6) << rays[i];
     EXPECT_LT(cv::norm(b - viaStandard[i]), 1e-6) << rays[i];
   }
+}
+
+// cv2.fisheye users save K and D alone: the size and, for four coefficients, the model come from
+// the caller when the file does not hold them; a file that does must agree.
+TEST_F(CameraFileErrors, OpenCvKdTakesTheSizeAndModelFromTheCaller) {
+  const std::string kd = (formatsDir() / "opencv_kd_fisheye.yaml").string();
+  CameraFileOptions options;
+  options.imageSize = cv::Size(752, 480);
+  EXPECT_NE(errorOf(kd, options).find("has 4 coefficients, which are cv::fisheye's k1 k2 k3 k4 or "
+                                      "cv::calibrateCamera's k1 k2 p1 p2"),
+            std::string::npos);
+  EXPECT_NE(errorOf(kd, options).find("--camera-opencv-model fisheye|standard; Python opencv_model="),
+            std::string::npos);
+  options.opencvModel = OpenCvModel::Fisheye;
+  const CameraFile file = readCameraFile(kd, options);
+  EXPECT_EQ(file.format, CameraFormat::OpenCvKd);
+  EXPECT_EQ(cameraToYaml(*file.camera), cameraToYaml(*loadCamera((formatsDir() / "expected/opencv_fisheye.yaml").string())));
+  options.opencvModel = OpenCvModel::Standard;
+  EXPECT_EQ(readCameraFile(kd, options).camera->modelName(), "radtan");
+  options.imageSize.reset();
+  EXPECT_NE(errorOf(kd, options).find("holds no image size"), std::string::npos);
+
+  // A file with its own size: the caller's must be the same.
+  const std::string standard = (formatsDir() / "opencv_kd_standard.yaml").string();
+  CameraFileOptions other;
+  other.imageSize = cv::Size(1280, 960);
+  EXPECT_NE(errorOf(standard, other).find("key 'image_size' gives the size 640x480, the size given is 1280x960"),
+            std::string::npos);
+  other.imageSize = cv::Size(640, 480);
+  EXPECT_EQ(readCameraFile(standard, other).camera->imageSize(), cv::Size(640, 480));
+
+  // The samples' format too: four coefficients without fisheye_model, the caller says which.
+  const fs::path lookalike = seedsDir() / "lookalike_opencv_four_coefficients.yaml";
+  CameraFileOptions fisheye;
+  fisheye.opencvModel = OpenCvModel::Fisheye;
+  EXPECT_EQ(loadCamera(lookalike.string(), fisheye)->modelName(), "kannala_brandt");
+  // A file that says fisheye_model: 1 is not read as the standard model.
+  CameraFileOptions contrary;
+  contrary.opencvModel = OpenCvModel::Standard;
+  EXPECT_NE(errorOf(formatsDir() / "opencv_fisheye.yaml", contrary)
+                .find("key 'fisheye_model' says fisheye, the OpenCV model chosen is standard"),
+            std::string::npos);
+}
+
+// The refusal of an unknown file says what chooses a format, on the command line and in Python.
+TEST_F(CameraFileErrors, UnrecognisedFilesNameTheFlagAndKeywordThatChooseAFormat) {
+  expectError("unknown.yaml", "a: 1\n", "choose the format (mdbrief --camera-format NAME");
+  expectError("unknown.yaml", "a: 1\n", "Python format=\"NAME\"");
+  expectError("unknown.yaml", "a: 1\n", "euroc: EuRoC / Kimera sensor.yaml");
+  expectError("unknown.yaml", "a: 1\n", "opencv-kd: OpenCV FileStorage with 'K' and 'D'");
 }
 
 }  // namespace

@@ -65,6 +65,11 @@ TEST_F(CliBenchTest, RefusesWhatItCannotMeasure) {
   expectOneLineNaming(runMdbrief({"bench", "--image", image_, "--camera",
                                   MDBRIEF_SOURCE_DIR "/configs/cameras/lafida_fisheye0.yaml"}),
                       "--camera");
+  // A rig file's camera by --camera-id, as for extract.
+  const std::string kalibr = MDBRIEF_SOURCE_DIR "/tests/data/camera_formats/kalibr_camchain.yaml";
+  expectOneLineNaming(runMdbrief({"bench", "--image", image_, "--camera", kalibr}), "choose one by its id");
+  expectOneLineNaming(runMdbrief({"bench", "--image", image_, "--camera", kalibr, "--camera-id", "cam1"}),
+                      "--camera: " + kalibr + " is for 752x480 images");
 }
 
 }  // namespace

@@ -53,7 +53,10 @@ TEST_F(CameraCommand, ConvertWritesTheProjectYamlOfEachTool) {
                {"orbslam3_kannala_brandt8_stereo.yaml", "2", "orbslam3_kannala_brandt8_stereo_2", "orbslam3"},
                {"orbslam3_pinhole.yaml", "", "orbslam3_pinhole", "orbslam3"},
                {"opencv_fisheye.yaml", "", "opencv_fisheye", "opencv"},
-               {"colmap_cameras.txt", "1", "colmap_cameras_1", "colmap"}};
+               {"colmap_cameras.txt", "1", "colmap_cameras_1", "colmap"},
+               {"euroc_cam0_sensor.yaml", "", "kalibr_camchain_cam0", "euroc"},
+               {"kimera_omni_sensor.yaml", "", "kimera_omni_sensor", "euroc"},
+               {"opencv_kd_standard.yaml", "", "opencv_standard", "opencv-kd"}};
   for (const auto& c : cases) {
     SCOPED_TRACE(c.file);
     std::vector<std::string> args = {"camera", "convert", (kFormats / c.file).string(), "-o", path("out.yaml")};
@@ -90,7 +93,7 @@ TEST_F(CameraCommand, BadCalibrationsExitTwoNamingTheFileAndTheProblem) {
     EXPECT_FALSE(fs::exists(path("out.yaml")));
     ++seen;
   }
-  EXPECT_GE(seen, 11);
+  EXPECT_GE(seen, 14);
   expectOneLineNaming(runMdbrief({"camera", "convert", (kFormats / "kalibr_camchain.yaml").string()}),
                       "holds cameras cam0, cam1, cam2, cam3, cam4: choose one");
   expectOneLineNaming(
@@ -118,10 +121,42 @@ TEST_F(CameraCommand, ExtractWithAToolsFileMatchesTheProjectYamlByteForByte) {
   EXPECT_GT(contentOf(path("a.yml")).size(), 10000u);
   expectOneLineNaming(runMdbrief({"extract", "--descriptor", "brief", "--camera-id", "cam1", path("view.png"), "-o",
                                   path("c.yml")}),
-                      "--camera-id need --camera");
+                      "--camera-format, --camera-id, --camera-size and --camera-opencv-model need --camera");
   expectOneLineNaming(runMdbrief({"extract", "--camera", (kFormats / "kalibr_camchain.yaml").string(), path("view.png"),
                                   "-o", path("c.yml")}),
                       "choose one");
+}
+
+// EuRoC / Kimera sensor files without a usable distortion model exit 2 naming the key, from
+// every command that reads a camera; K and D alone take the size and model from flags.
+TEST_F(CameraCommand, SensorFilesAndBareKdFilesOnTheCommandLine) {
+  std::ofstream(path("sensor.yaml")) << "sensor_type: camera\nresolution: [752, 480]\ncamera_model: pinhole\n"
+                                        "intrinsics: [461, 460, 366, 249]\ndistortion_coefficients: [0, 0, 0, 0]\n";
+  std::ofstream(path("fov.yaml")) << "sensor_type: camera\nresolution: [752, 480]\ncamera_model: pinhole\n"
+                                     "intrinsics: [461, 460, 366, 249]\ndistortion_model: fov\n";
+  cv::Mat image(480, 752, CV_8U, cv::Scalar(128));
+  ASSERT_TRUE(cv::imwrite(path("view.png"), image));
+  for (const char* file : {"sensor.yaml", "fov.yaml"}) {
+    SCOPED_TRACE(file);
+    const std::string key = std::string(file) == "sensor.yaml" ? "key 'distortion_model' is missing"
+                                                               : "key 'distortion_model' names an unknown model 'fov'";
+    expectOneLineNaming(runMdbrief({"camera", "convert", path(file)}), path(file) + ": " + key);
+    expectOneLineNaming(runMdbrief({"extract", "--camera", path(file), path("view.png"), "-o", path("out.yml")}),
+                        path(file) + ": " + key);
+    EXPECT_FALSE(fs::exists(path("out.yml")));
+  }
+  const std::string kd = (kFormats / "opencv_kd_fisheye.yaml").string();
+  expectOneLineNaming(runMdbrief({"camera", "convert", kd}), "give it (mdbrief --camera-size WxH");
+  expectOneLineNaming(runMdbrief({"camera", "convert", kd, "--camera-size", "752x480"}),
+                      "--camera-opencv-model fisheye|standard");
+  expectOneLineNaming(runMdbrief({"camera", "convert", kd, "--camera-size", "752 by 480"}),
+                      "--camera-size must be WxH");
+  const auto r = runMdbrief({"camera", "convert", kd, "--camera-size", "752x480", "--camera-opencv-model", "fisheye"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out, cameraToYaml(*loadCamera((kFormats / "expected/opencv_fisheye.yaml").string())));
+  // The refusal of an unknown file names the flag that chooses a format.
+  std::ofstream(path("unknown.yaml")) << "a: 1\n";
+  expectOneLineNaming(runMdbrief({"camera", "convert", path("unknown.yaml")}), "--camera-format NAME");
 }
 
 }  // namespace

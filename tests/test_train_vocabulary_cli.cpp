@@ -97,6 +97,7 @@ TEST(TrainVocabularyCli, BadInputExitsWith2NamingTheProblemAndWritesNothing) {
   cv::Mat pixels(64, 64, CV_8UC1);
   cv::randu(pixels, 0, 256);
   ASSERT_TRUE(cv::imwrite(image, pixels));
+  const std::string kalibr = MDBRIEF_SOURCE_DIR "/tests/data/camera_formats/kalibr_camchain.yaml";
   const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
       {{"--out", out}, "give either --images"},
       {plus(inputs, {"--images", dir.path.string(), "--out", out}), "give either --images"},
@@ -125,6 +126,12 @@ TEST(TrainVocabularyCli, BadInputExitsWith2NamingTheProblemAndWritesNothing) {
       {plus(inputs, {"--out", out, "--seed", "x"}), "--seed"},
       {{"--images", image, "--camera", (dir.path / "none.yaml").string(), "--out", out},
        (dir.path / "none.yaml").string() + ": camera file: no such file"},
+      // A rig file: the camera is chosen by --camera-id, as for mdbrief extract.
+      {{"--images", image, "--camera", kalibr, "--out", out}, "holds cameras cam0, cam1, cam2, cam3, cam4: choose one"},
+      {{"--images", image, "--camera", kalibr, "--camera-id", "cam9", "--out", out}, "has no camera 'cam9'"},
+      {{"--images", image, "--camera", kalibr, "--camera-id", "cam1", "--out", out},
+       "64x64, but --camera " + kalibr + " is calibrated for 752x480"},
+      {{"--images", image, "--camera-id", "cam1", "--out", out}, "--camera-format and --camera-id need --camera"},
       {{"--images", image, "--held-out", (dir.path / "none.txt").string(), "--out", out},
        (dir.path / "none.txt").string() + ": held-out list: no such file"},
       // Issue 29: read without bound until std::bad_alloc.

@@ -338,3 +338,30 @@ TEST(TrainCli, SameInputsAndSeedGiveByteIdenticalHeaders) {
     EXPECT_EQ(again.tests[i].y2, learned.tests[i].y2);
   }
 }
+
+// A rig file's camera is chosen by --camera-id, as for mdbrief extract; the choice reaches the
+// patch extraction (the size check names the chosen camera's size).
+TEST(TrainCli, CameraIdChoosesTheCameraOfARigFile) {
+  TempDir dir("camera_id");
+  const fs::path images = smallImageFolder(dir);
+  if (fs::is_empty(images)) GTEST_SKIP() << "opencv-doc not installed";
+  const std::string kalibr = MDBRIEF_SOURCE_DIR "/tests/data/camera_formats/kalibr_camchain.yaml";
+  const struct {
+    std::vector<std::string> args;
+    std::string why;
+  } cases[] = {
+      {{"--camera", kalibr}, "holds cameras cam0, cam1, cam2, cam3, cam4: choose one"},
+      {{"--camera", kalibr, "--camera-id", "cam9"}, "has no camera 'cam9'"},
+      {{"--camera", kalibr, "--camera-id", "cam1"}, "does not match the camera's 752x480"},
+      {{"--camera", kalibr, "--camera-format", "basalt", "--camera-id", "cam1"}, "key 'value0' is missing"},
+      {{"--camera-id", "cam1"}, "a camera id or format needs a camera"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.why);
+    std::vector<std::string> args{"--images", images.string(), "--out", dir.path.string()};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const CliRun r = runTrain(args);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(c.why), std::string::npos) << r.err;
+  }
+}

@@ -30,6 +30,8 @@ std::string recordedCommand(const TrainOptions& s, int counterparts, const std::
     for (const auto& file : s.heldOutFiles) c << " --held-out " << file;
     c << " --detector " << detectorName(e.detector);
     if (!e.cameraPath.empty()) c << " --camera " << e.cameraPath;
+    if (e.cameraFormat != CameraFormat::Auto) c << " --camera-format " << toString(e.cameraFormat);
+    if (!e.cameraId.empty()) c << " --camera-id " << e.cameraId;
     if (e.renderThroughCamera) c << " --render-through-camera";
     c << " --patches " << e.patches << " --seed " << e.seed;
     const ExtractionOptions defaults;  // named: a temporary trips GCC 12 -Wmaybe-uninitialized under LTO

@@ -27,6 +27,7 @@ namespace fs = std::filesystem;
 struct Args {
   std::vector<std::string> images, descriptors, masks, heldOut;
   std::string camera, out, dbow2Text;
+  std::string cameraFormat = toString(CameraFormat::Auto), cameraId;
   std::string extractor = "mdbrief", preset = "tracking", weighting = "tf-idf";
   int bits = 0, nfeatures = FeatureOptions{}.nfeatures;
   bool plain = false;
@@ -38,7 +39,7 @@ struct Args {
 std::vector<TrainingImage> describeImages(const Args& a, const std::vector<fs::path>& files,
                                           const FeatureOptions& features, ProgressReporter& progress) {
   CameraPtr camera;
-  if (!a.camera.empty()) camera = loadCamera(a.camera);
+  if (!a.camera.empty()) camera = loadCamera(a.camera, {parseCameraFormat(a.cameraFormat), a.cameraId});
   train::HeldOutImages heldOut = train::shippedHeldOutImages();
   for (const auto& list : a.heldOut) heldOut.merge(train::readHeldOutImages(list));
   std::vector<TrainingImage> images(files.size());
@@ -100,6 +101,8 @@ void run(Args& a, std::ostream& out, bool progressTty) {
       throw std::invalid_argument("--dbow2-text: the DBoW2 text format has no masks; train a plain vocabulary (--plain)");
     internal::checkOutputPath(a.dbow2Text);
   }
+  if (a.camera.empty() && (!a.cameraId.empty() || a.cameraFormat != toString(CameraFormat::Auto)))
+    throw std::invalid_argument("--camera-format and --camera-id need --camera (the calibration file they describe)");
   const std::vector<fs::path> files = a.images.empty() ? std::vector<fs::path>{} : imageFiles(a.images);
   std::vector<fs::path> inputs(files.begin(), files.end());
   for (const auto* list : {&a.descriptors, &a.masks, &a.heldOut})
@@ -142,6 +145,13 @@ int runTrainVocabularyCli(const std::vector<std::string>& args, std::ostream& ou
   app.add_option("--camera", a.camera,
                  "Calibration of every image (default: each photo as the pinhole of f = its width, "
                  "toolkit/photo_camera.hpp)");
+  app.add_option("--camera-format", a.cameraFormat,
+                 "Format of the calibration file; auto recognises it from the content (configs/cameras/README.md)")
+      ->check(CLI::IsMember(namesOf(kCameraFormatNames)))
+      ->capture_default_str();
+  app.add_option("--camera-id", a.cameraId,
+                 "The camera of a calibration file that holds several: Kalibr cam0, cam1, ...; basalt's index; "
+                 "ORB-SLAM3 1 or 2; COLMAP's CAMERA_ID");
   app.add_option("--extractor", a.extractor, "Features: the library's (mdbrief) or cv::ORB's (orb; a plain vocabulary)")
       ->check(CLI::IsMember(namesOf(kFeatureKindNames)))
       ->capture_default_str();

@@ -10,6 +10,7 @@
 #include "bindings.hpp"
 #include "conversions.hpp"
 #include "mdbrief/camera/io.hpp"
+#include "mdbrief/camera/rig.hpp"
 
 namespace mdbrief::python {
 namespace {
@@ -146,6 +147,53 @@ std::shared_ptr<Camera> cameraFromOpenCvArrays(const py::handle& kObject, const 
   }
 }
 
+// The options load_camera and load_rig share, ValueError naming the keyword.
+CameraFileOptions fileOptions(const std::string& format, const py::handle& imageSize, const py::handle& opencvModel) {
+  CameraFileOptions options;
+  try {
+    options.format = parseCameraFormat(format);
+  } catch (const std::exception& e) {
+    throw py::value_error(std::string("format: ") + e.what());
+  }
+  if (!imageSize.is_none()) {
+    std::pair<int, int> size;
+    try {
+      size = imageSize.cast<std::pair<int, int>>();
+    } catch (const py::cast_error&) {
+      throw py::value_error("image_size must be (width, height), two integers");
+    }
+    if (size.first <= 0 || size.second <= 0 || size.first > 1000000 || size.second > 1000000)
+      throw py::value_error("image_size must be (width, height), both in [1, 1000000], got (" +
+                            std::to_string(size.first) + ", " + std::to_string(size.second) + ")");
+    options.imageSize = cv::Size(size.first, size.second);
+  }
+  if (!opencvModel.is_none()) {
+    try {
+      options.opencvModel = parseOpenCvModel(py::str(opencvModel));
+    } catch (const std::exception& e) {
+      throw py::value_error(std::string("opencv_model: ") + e.what());
+    }
+  }
+  return options;
+}
+
+// A camera of the rig by index or id, IndexError / KeyError as Python's containers raise.
+std::size_t rigIndex(const CameraRig& rig, const py::handle& which) {
+  if (py::isinstance<py::str>(which)) {
+    try {
+      return rig.index(which.cast<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw py::key_error(e.what());
+    }
+  }
+  if (!py::isinstance<py::int_>(which)) throw py::type_error("a camera is chosen by its index (int) or id (str)");
+  const long long i = which.cast<long long>();
+  if (i < 0 || static_cast<unsigned long long>(i) >= rig.size())
+    throw py::index_error("camera index " + std::to_string(i) + " out of range (the rig has " +
+                          std::to_string(rig.size()) + ")");
+  return static_cast<std::size_t>(i);
+}
+
 }  // namespace
 
 void bindCamera(py::module_& m) {
@@ -223,14 +271,10 @@ Cameras pickle (as model, size and parameters).)doc")
 
   m.def(
       "load_camera",
-      [](const py::handle& pathArgument, const std::string& format, const py::handle& cameraId) -> std::shared_ptr<Camera> {
+      [](const py::handle& pathArgument, const std::string& format, const py::handle& cameraId,
+         const py::handle& imageSize, const py::handle& opencvModel) -> std::shared_ptr<Camera> {
         const std::string path = pathFrom(pathArgument, "path");
-        CameraFileOptions options;
-        try {
-          options.format = parseCameraFormat(format);
-        } catch (const std::exception& e) {
-          throw py::value_error(std::string("format: ") + e.what());
-        }
+        CameraFileOptions options = fileOptions(format, imageSize, opencvModel);
         if (!cameraId.is_none()) options.cameraId = py::str(cameraId);
         requireFile(path);
         try {
@@ -242,12 +286,90 @@ Cameras pickle (as model, size and parameters).)doc")
         }
       },
       py::arg("path"), py::kw_only(), py::arg("format") = toString(CameraFormat::Auto), py::arg("camera_id") = py::none(),
+      py::arg("image_size") = py::none(), py::arg("opencv_model") = py::none(),
       R"doc(
 Reads a calibration (path: str, bytes or os.PathLike), recognising the format from the content
-or by format= (auto, mdbrief, calib-adapter, kalibr, basalt, orbslam3, opencv, colmap,
-ocamcalib; configs/cameras/README.md). camera_id chooses the camera of a file that holds
+or by format= (auto, mdbrief, calib-adapter, kalibr, basalt, orbslam3, euroc, opencv, opencv-kd,
+colmap, ocamcalib; configs/cameras/README.md). camera_id chooses the camera of a file that holds
 several: Kalibr's 'cam0', 'cam1', ...; basalt's index; ORB-SLAM3's 1 or 2; COLMAP's CAMERA_ID.
-Raises FileNotFoundError for a missing file and ValueError naming the key for a bad one.)doc");
+image_size=(width, height) gives the size of a file without one (a FileStorage with K and D).
+opencv_model="fisheye" or "standard" says which model four OpenCV coefficients are when the
+file does not. Raises FileNotFoundError for a missing file and ValueError naming the key for a
+bad one.)doc");
+
+  py::class_<CameraRig>(m, "CameraRig", R"doc(
+The cameras of a rig (mdbrief.load_rig) and the extrinsics between them. relative_pose(i, j)
+returns (R, t), numpy (3, 3) and (3,), that map a point of camera j's frame into camera i's:
+x_i = R @ x_j + t (t is camera j's centre seen from camera i, in the file's unit).)doc")
+      .def_property_readonly("ids", [](const CameraRig& r) {
+        std::vector<std::string> ids;
+        for (const RigCamera& c : r.cameras()) ids.push_back(c.id);
+        return ids;
+      }, "The cameras' ids in the file ('cam0', '0', ...; '' for a one-camera format), or their files' paths.")
+      .def_property_readonly("cameras", [](const CameraRig& r) {
+        std::vector<std::shared_ptr<Camera>> cameras;
+        for (const RigCamera& c : r.cameras()) cameras.push_back(c.camera);
+        return cameras;
+      }, "The cameras, in the order of ids.")
+      .def_property_readonly("format", [](const CameraRig& r) { return toString(r.format()); },
+                             "The format the file was read as.")
+      .def("__len__", &CameraRig::size)
+      .def("camera", [](const CameraRig& r, const py::handle& which) { return r.at(rigIndex(r, which)).camera; },
+           py::arg("which"), "The camera by index (int) or id (str).")
+      .def("has_relative_pose", [](const CameraRig& r, const py::handle& i, const py::handle& j) {
+        return r.hasRelativePose(rigIndex(r, i), rigIndex(r, j));
+      }, py::arg("i"), py::arg("j"), "Whether relative_pose(i, j) is known.")
+      .def("relative_pose", [](const CameraRig& r, const py::handle& i, const py::handle& j) {
+        RigidTransform pose;
+        const std::size_t a = rigIndex(r, i), b = rigIndex(r, j);
+        try {
+          pose = r.relativePose(a, b);
+        } catch (const std::runtime_error& e) {
+          throw py::value_error(e.what());
+        }
+        py::array_t<double> rotation({3, 3}), translation(3);
+        auto R = rotation.mutable_unchecked<2>();
+        auto t = translation.mutable_unchecked<1>();
+        for (int row = 0; row < 3; ++row) {
+          for (int col = 0; col < 3; ++col) R(row, col) = pose.rotation(row, col);
+          t(row) = pose.translation[row];
+        }
+        return py::make_tuple(rotation, translation);
+      }, py::arg("i"), py::arg("j"), R"doc(
+(R, t) with x_i = R @ x_j + t: camera j's frame into camera i's (by index or id). ValueError
+naming the camera when the file gives no extrinsics for it.)doc")
+      .def("__repr__", [](const CameraRig& r) {
+        return "<mdbrief.CameraRig " + toString(r.format()) + " of " + std::to_string(r.size()) + " cameras>";
+      });
+
+  m.def(
+      "load_rig",
+      [](const py::handle& paths, const std::string& format, const py::handle& imageSize,
+         const py::handle& opencvModel) {
+        const CameraFileOptions options = fileOptions(format, imageSize, opencvModel);
+        const bool one = isPath(paths);
+        std::vector<std::string> files;
+        if (one) {
+          files.push_back(pathFrom(paths, "paths"));
+        } else {
+          for (const py::handle& item : paths) files.push_back(pathFrom(item, "paths"));
+        }
+        for (const std::string& file : files) requireFile(file);
+        try {
+          return one ? readCameraRig(files.front(), options) : readCameraRig(files, options);
+        } catch (const std::runtime_error& e) {
+          throw py::value_error(e.what());
+        } catch (const std::invalid_argument& e) {
+          throw py::value_error(e.what());
+        }
+      },
+      py::arg("paths"), py::kw_only(), py::arg("format") = toString(CameraFormat::Auto),
+      py::arg("image_size") = py::none(), py::arg("opencv_model") = py::none(),
+      R"doc(
+Every camera of a calibration file (a Kalibr camchain, a basalt calib.json, ORB-SLAM3 stereo
+settings, a COLMAP cameras.txt, or any one-camera file), or of a list of one-camera files
+(EuRoC's cam0/sensor.yaml and cam1/sensor.yaml, placed by their T_BS), with the extrinsics the
+files give: a CameraRig. format, image_size and opencv_model as for load_camera.)doc");
 
   m.def(
       "camera_models",

@@ -21,6 +21,9 @@ def loadable_cameras():
             cameras[path.name] = mdbrief.load_camera(path)
             continue
         except ValueError as error:
+            if "image_size=" in str(error):  # K and D alone (opencv_kd_fisheye.yaml): size and model from the caller
+                cameras[path.name] = mdbrief.load_camera(path, image_size=(752, 480), opencv_model="fisheye")
+                continue
             if "camera_id=" not in str(error):
                 raise
         for camera_id in [f"cam{i}" for i in range(8)] + [str(i) for i in range(1, 8)] + ["0"]:

@@ -12,6 +12,7 @@
 #include "mdbrief/camera/pinhole.hpp"
 #include "mdbrief/camera/radial.hpp"
 #include "mdbrief/camera/radtan.hpp"
+#include "mdbrief/camera/rig.hpp"
 #include "mdbrief/camera/tangent_plane.hpp"
 #include "mdbrief/camera/unified.hpp"
 #include "mdbrief/camera/with_intrinsics.hpp"

@@ -20,6 +20,7 @@
 #include "camera/registry.hpp"
 #include "camera/formats/yaml_reader.hpp"
 #include "mdbrief/camera/ocam.hpp"
+#include "mdbrief/camera/rig.hpp"
 #include "mdbrief/internal/atomic_file.hpp"
 #include "mdbrief/internal/input_file.hpp"
 
@@ -179,7 +180,7 @@ std::string readText(const std::string& path) {
 }
 
 // One entry per file format, in the order `auto` tries them. A reader gets the YAML root when
-// the file parsed as a YAML map (null otherwise) and the camera choice.
+// the file parsed as a YAML map (null otherwise) and the options (the camera choice among them).
 struct FileFormat {
   CameraFormat format;
   const char* signature;  // what recognises it, for the message listing the formats tried
@@ -187,51 +188,87 @@ struct FileFormat {
   bool manyCameras;       // takes a camera choice
   bool (*recognises)(const std::string& text, const YAML::Node* map);
   std::shared_ptr<Camera> (*read)(const std::string& path, const std::string& text, const YAML::Node* map,
-                                  const std::string& camera);
+                                  const CameraFileOptions& options);
+  // The ids of the cameras, in file order; null for a one-camera format (its camera's id is "").
+  std::vector<std::string> (*ids)(const std::string& path, const std::string& text, const YAML::Node* map);
+  // The camera's frame in the rig's; null for a format without extrinsics.
+  std::optional<RigidTransform> (*cameraToRig)(const std::string& path, const YAML::Node& map, const std::string& id);
 };
 
 const std::vector<FileFormat>& fileFormats() {
+  using Options = CameraFileOptions;
   static const std::vector<FileFormat> formats = {
       {CameraFormat::Mdbrief, "the project's YAML (a 'model' key)", true, false,
        [](const std::string&, const YAML::Node* map) { return map && (*map)["model"]; },
-       [](const std::string& path, const std::string&, const YAML::Node* map, const std::string&) {
+       [](const std::string& path, const std::string&, const YAML::Node* map, const Options&) {
          return loadProjectYaml(path, YamlReader(path, *map));
-       }},
+       },
+       nullptr, nullptr},
       {CameraFormat::CalibAdapter, "fisheye-calib-adapter YAML ('image' and 'parameter')", true, false,
        [](const std::string&, const YAML::Node* map) { return map && (*map)["parameter"]; },
-       [](const std::string& path, const std::string&, const YAML::Node* map, const std::string&) {
+       [](const std::string& path, const std::string&, const YAML::Node* map, const Options&) {
          return loadCalibAdapterYaml(path, YamlReader(path, *map));
-       }},
+       },
+       nullptr, nullptr},
       {CameraFormat::Kalibr, "Kalibr camchain.yaml (camN maps with 'camera_model')", true, true,
        [](const std::string&, const YAML::Node* map) { return map && detail::isKalibrCamchain(*map); },
-       [](const std::string& path, const std::string&, const YAML::Node* map, const std::string& camera) {
-         return detail::readKalibrCamchain(path, *map, camera);
-       }},
+       [](const std::string& path, const std::string&, const YAML::Node* map, const Options& o) {
+         return detail::readKalibrCamchain(path, *map, o.cameraId);
+       },
+       [](const std::string&, const std::string&, const YAML::Node* map) { return detail::kalibrCameraIds(*map); },
+       detail::kalibrCameraToRig},
       {CameraFormat::Basalt, "basalt calib.json ('value0' with 'intrinsics')", true, true,
        [](const std::string&, const YAML::Node* map) { return map && detail::isBasaltCalibration(*map); },
-       [](const std::string& path, const std::string&, const YAML::Node* map, const std::string& camera) {
-         return detail::readBasaltCalibration(path, *map, camera);
-       }},
+       [](const std::string& path, const std::string&, const YAML::Node* map, const Options& o) {
+         return detail::readBasaltCalibration(path, *map, o.cameraId);
+       },
+       [](const std::string& path, const std::string&, const YAML::Node* map) {
+         return detail::basaltCameraIds(path, *map);
+       },
+       detail::basaltCameraToRig},
       {CameraFormat::OrbSlam3, "ORB-SLAM3 settings ('Camera.type')", true, true,
        [](const std::string&, const YAML::Node* map) { return map && detail::isOrbSlam3Settings(*map); },
-       [](const std::string& path, const std::string&, const YAML::Node* map, const std::string& camera) {
-         return detail::readOrbSlam3Settings(path, *map, camera);
+       [](const std::string& path, const std::string&, const YAML::Node* map, const Options& o) {
+         return detail::readOrbSlam3Settings(path, *map, o.cameraId);
+       },
+       [](const std::string&, const std::string&, const YAML::Node* map) { return detail::orbSlam3CameraIds(*map); },
+       detail::orbSlam3CameraToRig},
+      {CameraFormat::Euroc, "EuRoC / Kimera sensor.yaml ('sensor_type', or 'camera_model' with 'resolution')", true,
+       false, [](const std::string&, const YAML::Node* map) { return map && detail::isEurocSensor(*map); },
+       [](const std::string& path, const std::string&, const YAML::Node* map, const Options&) {
+         return detail::readEurocSensor(path, *map);
+       },
+       nullptr,
+       [](const std::string& path, const YAML::Node& map, const std::string&) {
+         return detail::eurocCameraToRig(path, map);
        }},
       {CameraFormat::OpenCv, "OpenCV calibration YAML ('camera_matrix')", true, false,
        [](const std::string&, const YAML::Node* map) { return map && detail::isOpenCvCalibration(*map); },
-       [](const std::string& path, const std::string&, const YAML::Node* map, const std::string&) {
-         return detail::readOpenCvCalibration(path, *map);
-       }},
+       [](const std::string& path, const std::string&, const YAML::Node* map, const Options& o) {
+         return detail::readOpenCvCalibration(path, *map, o);
+       },
+       nullptr, nullptr},
+      {CameraFormat::OpenCvKd, "OpenCV FileStorage with 'K' and 'D'", true, false,
+       [](const std::string&, const YAML::Node* map) { return map && detail::isOpenCvKd(*map); },
+       [](const std::string& path, const std::string&, const YAML::Node* map, const Options& o) {
+         return detail::readOpenCvKd(path, *map, o);
+       },
+       nullptr, nullptr},
       {CameraFormat::Colmap, "COLMAP cameras.txt (lines 'CAMERA_ID MODEL WIDTH HEIGHT PARAMS...')", false, true,
        [](const std::string& text, const YAML::Node*) { return detail::isColmapCameras(text); },
-       [](const std::string& path, const std::string& text, const YAML::Node*, const std::string& camera) {
-         return detail::readColmapCameras(path, text, camera);
-       }},
+       [](const std::string& path, const std::string& text, const YAML::Node*, const Options& o) {
+         return detail::readColmapCameras(path, text, o.cameraId);
+       },
+       [](const std::string& path, const std::string& text, const YAML::Node*) {
+         return detail::colmapCameraIds(path, text);
+       },
+       nullptr},
       {CameraFormat::OcamCalib, "OCamCalib calib_results.txt (lines of numbers)", false, false,
        [](const std::string& text, const YAML::Node*) { return looksLikeOcamText(text); },
-       [](const std::string& path, const std::string& text, const YAML::Node*, const std::string&) {
+       [](const std::string& path, const std::string& text, const YAML::Node*, const Options&) {
          return loadOcamText(path, text);
-       }},
+       },
+       nullptr, nullptr},
   };
   return formats;
 }
@@ -266,19 +303,60 @@ void requireUniqueKeys(const std::string& path, const YAML::Node& root, std::siz
   }
 }
 
-std::shared_ptr<Camera> readAs(const FileFormat& format, const std::string& path, const std::string& text,
-                               const YAML::Node* map, const std::string& yamlError, const std::string& camera) {
-  if (!format.manyCameras && !camera.empty())
-    throw std::runtime_error(path + ": a " + toString(format.format) + " file holds one camera; the camera choice '" +
-                             camera + "' does not apply");
-  if (format.yaml && !map)
-    throw std::runtime_error(path + (yamlError.empty() ? ": a " + toString(format.format) + " file is a YAML map"
-                                                       : ": unparsable camera file (YAML: " + yamlError + ")"));
+// Turns yaml-cpp's exceptions, which do not name the file, into ours.
+template <class Read>
+auto namingYamlErrors(const std::string& path, Read read) {
   try {
-    return format.read(path, text, map, camera);
+    return read();
   } catch (const YAML::Exception& e) {
     throw std::runtime_error(path + ": malformed camera YAML (" + e.msg + ")");
   }
+}
+
+// A calibration file's text, its YAML map (if it parsed as one) and its format.
+struct RecognisedFile {
+  std::string text;
+  YAML::Node root;
+  const YAML::Node* map = nullptr;
+  const FileFormat* format = nullptr;
+};
+
+// Reads and recognises path (or takes the format chosen). The file must be of a format that
+// takes a camera choice when one is given.
+void recognise(const std::string& path, const CameraFileOptions& options, RecognisedFile& file) {
+  file.text = readText(path);
+  std::string yamlError;
+  try {
+    file.root = YAML::Load(file.text);
+  } catch (const YAML::Exception& e) {
+    yamlError = e.msg;
+  }
+  file.map = yamlError.empty() && file.root.IsMap() ? &file.root : nullptr;
+  if (file.map) requireUniqueKeys(path, file.root, file.text.size());
+  for (const FileFormat& format : fileFormats()) {
+    const bool chosen = options.format == CameraFormat::Auto
+                            ? namingYamlErrors(path, [&] { return format.recognises(file.text, file.map); })
+                            : format.format == options.format;
+    if (!chosen) continue;
+    if (!format.manyCameras && !options.cameraId.empty())
+      throw std::runtime_error(path + ": a " + toString(format.format) +
+                               " file holds one camera; the camera choice '" + options.cameraId + "' does not apply");
+    if (format.yaml && !file.map)
+      throw std::runtime_error(path + (yamlError.empty() ? ": a " + toString(format.format) + " file is a YAML map"
+                                                         : ": unparsable camera file (YAML: " + yamlError + ")"));
+    file.format = &format;
+    return;
+  }
+  // A file that did not parse is reported as such: a damaged calibration more often than an
+  // unknown format.
+  if (!yamlError.empty()) throw std::runtime_error(path + ": unparsable camera file (YAML: " + yamlError + ")");
+  std::string tried;
+  for (const FileFormat& format : fileFormats())
+    tried += (tried.empty() ? "" : "; ") + toString(format.format) + ": " + format.signature;
+  throw std::runtime_error(path + ": unrecognised camera file: none of the formats tried matches (" + tried +
+                           "); to read it as one of them, choose the format (mdbrief --camera-format NAME, "
+                           "mdbrief camera convert --format NAME; Python format=\"NAME\"; "
+                           "CameraFileOptions::format)");
 }
 
 }  // namespace
@@ -303,35 +381,33 @@ std::string chooseCamera(const std::string& path, const std::string& what, const
 }  // namespace detail
 
 CameraFile readCameraFile(const std::string& path, const CameraFileOptions& options) {
-  const std::string text = readText(path);
-  YAML::Node root;
-  std::string yamlError;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    yamlError = e.msg;
-  }
-  const YAML::Node* map = yamlError.empty() && root.IsMap() ? &root : nullptr;
-  if (map) requireUniqueKeys(path, root, text.size());
-  for (const FileFormat& format : fileFormats()) {
-    bool chosen = format.format == options.format;
-    if (options.format == CameraFormat::Auto) {
-      try {
-        chosen = format.recognises(text, map);
-      } catch (const YAML::Exception& e) {
-        throw std::runtime_error(path + ": malformed camera YAML (" + e.msg + ")");
-      }
+  RecognisedFile file;
+  recognise(path, options, file);
+  const FileFormat& format = *file.format;
+  return {namingYamlErrors(path, [&] { return format.read(path, file.text, file.map, options); }), format.format};
+}
+
+CameraRig readCameraRig(const std::string& path, const CameraFileOptions& options) {
+  if (!options.cameraId.empty())
+    throw std::invalid_argument(path + ": a rig holds all the cameras of its file; the camera choice '" +
+                                options.cameraId + "' does not apply");
+  RecognisedFile file;
+  recognise(path, options, file);
+  const FileFormat& format = *file.format;
+  return namingYamlErrors(path, [&] {
+    const std::vector<std::string> ids =
+        format.ids ? format.ids(path, file.text, file.map) : std::vector<std::string>{""};
+    if (ids.empty()) throw std::runtime_error(path + ": the " + toString(format.format) + " file holds no camera");
+    std::vector<RigCamera> cameras;
+    for (const std::string& id : ids) {
+      CameraFileOptions one = options;
+      one.cameraId = id;
+      RigCamera camera{id, format.read(path, file.text, file.map, one), std::nullopt};
+      if (format.cameraToRig && file.map) camera.cameraToRig = format.cameraToRig(path, *file.map, id);
+      cameras.push_back(std::move(camera));
     }
-    if (chosen) return {readAs(format, path, text, map, yamlError, options.cameraId), format.format};
-  }
-  // A file that did not parse is reported as such: a damaged calibration more often than an
-  // unknown format.
-  if (!yamlError.empty()) throw std::runtime_error(path + ": unparsable camera file (YAML: " + yamlError + ")");
-  std::string tried;
-  for (const FileFormat& format : fileFormats())
-    tried += (tried.empty() ? "" : "; ") + toString(format.format) + ": " + format.signature;
-  throw std::runtime_error(path + ": unrecognised camera file: none of the formats tried matches (" + tried +
-                           "); to read it as one of them, choose the format");
+    return CameraRig(path, format.format, std::move(cameras));
+  });
 }
 
 std::shared_ptr<Camera> loadCamera(const std::string& path, const CameraFileOptions& options) {

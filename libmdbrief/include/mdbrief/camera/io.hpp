@@ -4,6 +4,7 @@
 // read into the matching camera model.
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -25,19 +26,36 @@ namespace mdbrief {
 //  - kalibr: Kalibr's camchain.yaml (cam0, cam1, ... with camera_model);
 //  - basalt: basalt's calib.json (value0 with intrinsics);
 //  - orbslam3: ORB-SLAM3's settings (Camera.type; the old flat keys and the newer Camera1.*);
+//  - euroc: a EuRoC / Kimera-VIO sensor.yaml (camera_model, intrinsics, distortion_model,
+//    distortion_coefficients, resolution, T_BS);
 //  - opencv: the FileStorage YAML OpenCV's calibration samples write (camera_matrix,
 //    distortion_coefficients, image_width, image_height, fisheye_model);
+//  - opencv-kd: a FileStorage file with K and D as cv2.fisheye or cv2.calibrateCamera users
+//    save them (the image size from image_width / image_height, width / height or image_size,
+//    else CameraFileOptions::imageSize);
 //  - colmap: COLMAP's cameras.txt (lines "CAMERA_ID MODEL WIDTH HEIGHT PARAMS...");
 //  - ocamcalib: OCamCalib's calib_results.txt (comment lines and five lines of numbers).
 // auto recognises the format from the content, in this order.
-enum class CameraFormat { Auto, Mdbrief, CalibAdapter, Kalibr, Basalt, OrbSlam3, OpenCv, Colmap, OcamCalib };
+enum class CameraFormat { Auto, Mdbrief, CalibAdapter, Kalibr, Basalt, OrbSlam3, Euroc, OpenCv, OpenCvKd, Colmap, OcamCalib };
 inline constexpr EnumName<CameraFormat> kCameraFormatNames[] = {
-    {CameraFormat::Auto, "auto"},         {CameraFormat::Mdbrief, "mdbrief"}, {CameraFormat::CalibAdapter, "calib-adapter"},
-    {CameraFormat::Kalibr, "kalibr"},     {CameraFormat::Basalt, "basalt"},   {CameraFormat::OrbSlam3, "orbslam3"},
-    {CameraFormat::OpenCv, "opencv"},     {CameraFormat::Colmap, "colmap"},   {CameraFormat::OcamCalib, "ocamcalib"}};
+    {CameraFormat::Auto, "auto"},         {CameraFormat::Mdbrief, "mdbrief"},     {CameraFormat::CalibAdapter, "calib-adapter"},
+    {CameraFormat::Kalibr, "kalibr"},     {CameraFormat::Basalt, "basalt"},       {CameraFormat::OrbSlam3, "orbslam3"},
+    {CameraFormat::Euroc, "euroc"},       {CameraFormat::OpenCv, "opencv"},       {CameraFormat::OpenCvKd, "opencv-kd"},
+    {CameraFormat::Colmap, "colmap"},     {CameraFormat::OcamCalib, "ocamcalib"}};
 inline std::string toString(CameraFormat format) { return nameOf(format, kCameraFormatNames); }
 inline CameraFormat parseCameraFormat(const std::string& name) {
   return parseName(name, kCameraFormatNames, "camera format");
+}
+
+// Which model four OpenCV distortion coefficients are when the file does not say (opencv's
+// fisheye_model key, opencv-kd's fisheye_model key): cv::fisheye's k1 k2 k3 k4 or
+// cv::calibrateCamera's k1 k2 p1 p2.
+enum class OpenCvModel { Unstated, Fisheye, Standard };
+inline constexpr EnumName<OpenCvModel> kOpenCvModelNames[] = {
+    {OpenCvModel::Unstated, "unstated"}, {OpenCvModel::Fisheye, "fisheye"}, {OpenCvModel::Standard, "standard"}};
+inline std::string toString(OpenCvModel model) { return nameOf(model, kOpenCvModelNames); }
+inline OpenCvModel parseOpenCvModel(const std::string& name) {
+  return parseName(name, kOpenCvModelNames, "OpenCV model");
 }
 
 struct CameraFileOptions {
@@ -47,6 +65,12 @@ struct CameraFileOptions {
   // only camera (a file with several is refused, naming them). The one-camera formats refuse a
   // choice.
   std::string cameraId;
+  // The image size of a file that does not hold one (opencv-kd); a file that holds one must
+  // agree with it. None: the file's own, and an opencv-kd file without a size is refused.
+  std::optional<cv::Size> imageSize = std::nullopt;
+  // unstated: four coefficients of an opencv or opencv-kd file without fisheye_model are refused
+  // as ambiguous. A file whose fisheye_model says otherwise is refused.
+  OpenCvModel opencvModel = OpenCvModel::Unstated;
 };
 
 struct CameraFile {
@@ -55,7 +79,8 @@ struct CameraFile {
 };
 
 // Reads a calibration. A file no format recognises is refused with a message listing the
-// formats tried; a recognised one is read only as its format's model (never guessed into
+// formats tried and naming what chooses one (CameraFileOptions::format, the command line's
+// --camera-format, Python's format=); a recognised one is read only as its format's model (never guessed into
 // another). Kalibr, basalt and ORB-SLAM3 use OpenCV's pixel convention, as this library does
 // (camera.hpp); COLMAP's principal point is moved by -0.5 px (COLMAP puts the centre of the
 // top-left pixel at (0.5, 0.5)).

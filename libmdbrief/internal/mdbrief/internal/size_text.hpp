@@ -1,5 +1,7 @@
 #pragma once
-// Image sizes in error messages, as "640x480". Internal to the build, as atomic_file.hpp.
+// Image sizes in error messages, as "640x480", and read back from the command line. Internal to
+// the build, as atomic_file.hpp.
+#include <optional>
 #include <string>
 
 #include <opencv2/core/types.hpp>
@@ -7,5 +9,19 @@
 namespace mdbrief::internal {
 
 inline std::string sizeText(cv::Size size) { return std::to_string(size.width) + "x" + std::to_string(size.height); }
+
+// "640x480" as a size, each side in [1, 10^6]; none for anything else.
+inline std::optional<cv::Size> parseSizeText(const std::string& text) {
+  const auto side = [](const std::string& digits, int& value) {
+    if (digits.empty() || digits.size() > 7 || digits.find_first_not_of("0123456789") != std::string::npos) return false;
+    value = std::stoi(digits);
+    return value >= 1 && value <= 1000000;
+  };
+  const std::size_t x = text.find('x');
+  int width = 0, height = 0;
+  if (x == std::string::npos || !side(text.substr(0, x), width) || !side(text.substr(x + 1), height))
+    return std::nullopt;
+  return cv::Size(width, height);
+}
 
 }  // namespace mdbrief::internal

@@ -3,7 +3,10 @@
 // [width, height], one entry per camera; a camera is chosen by its index ("0", "1", ...). The
 // camera types kb4, ds, eucm, ucm (basalt's alpha form, as camera/unified.hpp), pinhole-radtan8
 // (its rpmax, the radius of the one-to-one area on the z = 1 plane, 0 = none) and pinhole are
-// read; the IMU and extrinsic entries are not. Basalt's pixels are OpenCV's.
+// read, and for rigs value0.T_imu_cam, one {px, py, pz, qx, qy, qz, qw} per camera (maps the
+// camera's points into the IMU's); the IMU entries are not. Basalt's pixels are OpenCV's.
+#include <cmath>
+
 #include "camera/construction.hpp"
 #include "camera/formats/readers.hpp"
 #include "camera/formats/yaml_reader.hpp"
@@ -20,11 +23,35 @@ bool isBasaltCalibration(const YAML::Node& root) {
   return value && value.IsMap() && value["intrinsics"];
 }
 
-std::shared_ptr<Camera> readBasaltCalibration(const std::string& path, const YAML::Node& root,
-                                              const std::string& camera) {
+std::vector<std::string> basaltCameraIds(const std::string& path, const YAML::Node& root) {
   const YamlReader value = YamlReader(path, root).sub("value0");
   std::vector<std::string> ids;
   for (std::size_t i = 0; i < value.count("intrinsics"); ++i) ids.push_back(std::to_string(i));
+  return ids;
+}
+
+std::optional<RigidTransform> basaltCameraToRig(const std::string& path, const YAML::Node& root, const std::string& id) {
+  const YamlReader value = YamlReader(path, root).sub("value0");
+  const std::size_t index = std::stoul(id);
+  if (!value.has("T_imu_cam") || index >= value.count("T_imu_cam")) return std::nullopt;
+  const YamlReader pose = value.elementMap("T_imu_cam", index);
+  pose.requireOnly({"px", "py", "pz", "qx", "qy", "qz", "qw"}, "basalt T_imu_cam");
+  const cv::Vec4d q(pose.number("qw"), pose.number("qx"), pose.number("qy"), pose.number("qz"));
+  // Written normalised to the digits kept; anything further off is no rotation.
+  if (std::abs(cv::norm(q) - 1.0) > 1e-3) pose.fail("qw", "with qx, qy, qz is no unit quaternion (norm " +
+                                                          std::to_string(cv::norm(q)) + ")");
+  const cv::Vec4d u = q / cv::norm(q);
+  const double w = u[0], x = u[1], y = u[2], z = u[3];
+  const cv::Matx33d r(1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w),  //
+                      2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w),  //
+                      2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y));
+  return RigidTransform{r, {pose.number("px"), pose.number("py"), pose.number("pz")}};
+}
+
+std::shared_ptr<Camera> readBasaltCalibration(const std::string& path, const YAML::Node& root,
+                                              const std::string& camera) {
+  const YamlReader value = YamlReader(path, root).sub("value0");
+  const std::vector<std::string> ids = basaltCameraIds(path, root);
   const std::size_t index = std::stoul(chooseCamera(path, "the basalt calibration", ids, camera));
   const YamlReader entry = value.elementMap("intrinsics", index);
   const cv::Size size = value.elementImageSize("resolution", index);

@@ -90,7 +90,7 @@ bool isColmapCameras(const std::string& text) {
          looksLikeModelName(lines.front().tokens[1]);
 }
 
-std::shared_ptr<Camera> readColmapCameras(const std::string& path, const std::string& text, const std::string& camera) {
+std::vector<std::string> colmapCameraIds(const std::string& path, const std::string& text) {
   const std::vector<Line> lines = dataLines(text);
   std::vector<std::string> ids;
   for (const Line& l : lines) {
@@ -108,6 +108,12 @@ std::shared_ptr<Camera> readColmapCameras(const std::string& path, const std::st
                                std::to_string(l.number));
     ids.push_back(id);
   }
+  return ids;
+}
+
+std::shared_ptr<Camera> readColmapCameras(const std::string& path, const std::string& text, const std::string& camera) {
+  const std::vector<Line> lines = dataLines(text);
+  const std::vector<std::string> ids = colmapCameraIds(path, text);
   const std::string id = chooseCamera(path, "the COLMAP cameras file", ids, camera);
   const Line& line = lines[std::find(ids.begin(), ids.end(), id) - ids.begin()];
   const std::string where = path + ": line " + std::to_string(line.number) + " (camera " + id + ")";

@@ -19,6 +19,7 @@ class YamlReader {
       : source_(std::move(source)), map_(std::move(map)), prefix_(std::move(prefix)), noun_(std::move(noun)) {}
 
   const std::string& source() const { return source_; }
+  const std::string& prefix() const { return prefix_; }
 
   [[noreturn]] void fail(const std::string& key, const std::string& what) const {
     throw std::runtime_error(source_ + ": " + noun_ + " '" + prefix_ + key + "' " + what);

@@ -1,0 +1,111 @@
+#include "mdbrief/camera/rig.hpp"
+
+#include <set>
+#include <stdexcept>
+
+#include "camera/formats/readers.hpp"
+#include "camera/formats/yaml_reader.hpp"
+
+namespace mdbrief {
+namespace {
+
+// Where each format keeps the extrinsics, for the message when a camera has none.
+std::string extrinsicsKeys(CameraFormat format) {
+  switch (format) {
+    case CameraFormat::Kalibr: return "a Kalibr camchain keeps them in T_cn_cnm1 or T_cam_imu";
+    case CameraFormat::Basalt: return "a basalt calibration keeps them in value0.T_imu_cam";
+    case CameraFormat::OrbSlam3: return "ORB-SLAM3 settings keep them in Tlr or Stereo.T_c1_c2";
+    case CameraFormat::Euroc: return "a EuRoC sensor.yaml keeps them in T_BS";
+    default: return "a " + toString(format) + " file has none";
+  }
+}
+
+std::string quoted(const std::string& id) { return "'" + id + "'"; }
+
+}  // namespace
+
+CameraRig::CameraRig(std::string source, CameraFormat format, std::vector<RigCamera> cameras)
+    : source_(std::move(source)), format_(format), cameras_(std::move(cameras)) {}
+
+const RigCamera& CameraRig::at(std::size_t i) const {
+  if (i >= cameras_.size())
+    throw std::out_of_range(source_ + ": no camera " + std::to_string(i) + " (the rig has " +
+                            std::to_string(cameras_.size()) + ")");
+  return cameras_[i];
+}
+
+std::size_t CameraRig::index(const std::string& id) const {
+  std::string list;
+  for (std::size_t i = 0; i < cameras_.size(); ++i) {
+    if (cameras_[i].id == id) return i;
+    list += (list.empty() ? "" : ", ") + quoted(cameras_[i].id);
+  }
+  throw std::invalid_argument(source_ + ": no camera " + quoted(id) + " (it has " + list + ")");
+}
+
+bool CameraRig::hasRelativePose(std::size_t i, std::size_t j) const {
+  return i == j || (at(i).cameraToRig && at(j).cameraToRig);
+}
+
+RigidTransform CameraRig::relativePose(std::size_t i, std::size_t j) const {
+  const RigCamera& a = at(i);
+  const RigCamera& b = at(j);
+  if (i == j) return {};
+  for (const RigCamera* c : {&a, &b})
+    if (!c->cameraToRig)
+      throw std::runtime_error(source_ + ": camera " + quoted(c->id) + " has no extrinsics (" +
+                               extrinsicsKeys(format_) + "), so its pose relative to camera " +
+                               quoted((c == &a ? b : a).id) + " is unknown");
+  // x_rig = A x_i = B x_j, so x_i = A^-1 B x_j.
+  return a.cameraToRig->inverse() * *b.cameraToRig;
+}
+
+RigidTransform CameraRig::relativePose(const std::string& i, const std::string& j) const {
+  return relativePose(index(i), index(j));
+}
+
+CameraRig readCameraRig(const std::vector<std::string>& paths, const CameraFileOptions& options) {
+  if (paths.empty()) throw std::invalid_argument("readCameraRig: no calibration file given");
+  if (!options.cameraId.empty())
+    throw std::invalid_argument("readCameraRig: a rig of files takes each file's only camera; the camera choice '" +
+                                options.cameraId + "' does not apply");
+  std::set<std::string> seen;
+  std::vector<RigCamera> cameras;
+  std::string source;
+  CameraFormat format = CameraFormat::Auto;
+  for (const std::string& path : paths) {
+    if (!seen.insert(path).second) throw std::invalid_argument(path + ": given twice in the rig's files");
+    const CameraRig one = readCameraRig(path, options);
+    if (one.size() != 1)
+      throw std::runtime_error(path + ": holds " + std::to_string(one.size()) +
+                               " cameras; a rig of files takes one camera per file (read this file alone as a rig)");
+    // A camera without extrinsics cannot be placed among the others: its own frame is no rig's.
+    RigCamera camera = one.at(0);
+    camera.id = path;
+    if (one.format() != CameraFormat::Euroc) camera.cameraToRig.reset();
+    cameras.push_back(std::move(camera));
+    if (format == CameraFormat::Auto) format = one.format();
+    source += (source.empty() ? "" : ", ") + path;
+  }
+  return CameraRig(source, format, std::move(cameras));
+}
+
+namespace detail {
+
+RigidTransform rigidTransformOf(const YamlReader& r, const std::string& key, const std::vector<double>& m) {
+  if (m.size() == 16 && (m[12] != 0.0 || m[13] != 0.0 || m[14] != 0.0 || m[15] != 1.0))
+    r.fail(key, "must end with the row 0 0 0 1");
+  const cv::Matx33d rotation(m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]);
+  const double offBy = cv::norm(rotation.t() * rotation - cv::Matx33d::eye(), cv::NORM_INF);
+  if (offBy > 1e-3 || cv::determinant(rotation) <= 0.0)
+    r.fail(key, "has no rotation in its upper-left 3 x 3 (R^T R differs from I by " + std::to_string(offBy) +
+                    ", det " + std::to_string(cv::determinant(rotation)) + ")");
+  // The nearest rotation, so that chains and inverses stay rigid.
+  cv::Mat w, u, vt;
+  cv::SVDecomp(cv::Mat(rotation), w, u, vt);
+  const cv::Mat nearest = u * vt;
+  return {cv::Matx33d(nearest), {m[3], m[7], m[11]}};
+}
+
+}  // namespace detail
+}  // namespace mdbrief
