@@ -147,7 +147,7 @@ void addBenchCommand(CLI::App& app) {
                "BFMatcher, at every SIMD level this CPU runs");
   cmd->add_option("--image", flags->image, "Image to detect on (default: opencv-doc's graf1.png)");
   cmd->add_option("--camera", flags->camera.path, "Its calibration (default: a pinhole for an undistorted photo)");
-  addCameraFileFlags(*cmd, flags->camera, "--camera-format", "--camera-id");
+  addCameraFileFlags(*cmd, flags->camera, "--camera");
   cmd->add_option("--nfeatures", flags->nfeatures, "Keypoints to detect (ORB's budget too)")->capture_default_str();
   cmd->add_option("--level", flags->level, "A SIMD level (portable, sse4, neon, avx2, avx512), or all")
       ->capture_default_str();

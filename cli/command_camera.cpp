@@ -60,7 +60,7 @@ void addCameraCommand(CLI::App& app) {
       "EuRoC / Kimera sensor.yaml, OpenCV calibration YAML or K and D, COLMAP cameras.txt, OCamCalib calib_results.txt, fisheye-calib-adapter YAML, the "
       "project's YAML) as the project's YAML");
   convert->add_option("input", args->input.path, "Calibration file")->required();
-  addCameraFileFlags(*convert, args->input, "--format", "--camera-id");
+  addCameraFileFlags(*convert, args->input, "--camera", "--format");
   convert->add_option("-o,--output", args->output, "Output YAML file (default: stdout)");
   convert->callback([args] { runConvert(*args); });
 }

@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/consistency_flags.hpp"
 #include "cli/extraction_flags.hpp"
 #include "cli/match_consistency.hpp"
 #include "cli/storage_io.hpp"
@@ -26,6 +27,8 @@ struct DrawArgs {
   std::string otherKeypoints;
   std::string matches;
   std::string homography;  // ground truth for --matches; empty: a robust fit
+  CameraFileFlags otherCamera;  // --other's calibration when another camera took it
+  std::string model = toString(ConsistencyModel::Auto);
   double thresholdPx = MatchConsistencyOptions{}.thresholdPx;
   bool hideKeypoints = false;
   std::optional<int> keypoint;
@@ -101,9 +104,12 @@ std::vector<std::pair<int, int>> loadMatches(const std::string& path, size_t que
 void runDraw(const DrawArgs& args) {
   if (args.other.empty() != args.matches.empty()) throw InputError("--other and --matches go together");
   if (!args.homography.empty() && args.matches.empty()) throw InputError("--homography needs --matches");
+  const CameraFileFlags otherCamera = secondCameraFlags(args.flags.camera, args.otherCamera);
+  if (args.other.empty() && !otherCamera.path.empty()) throw InputError("--other-camera needs --other");
+  checkConsistencyModel(args.model, args.flags.camera, otherCamera);
   checkImageOutput(args.output);
-  checkOutputsApart({args.flags.camera.path, args.image, args.keypoints, args.other, args.otherKeypoints, args.matches,
-                     args.homography},
+  checkOutputsApart({args.flags.camera.path, otherCamera.path, args.image, args.keypoints, args.other,
+                     args.otherKeypoints, args.matches, args.homography},
                     {args.output});
   const CameraPtr calibration = loadCalibration(args.flags);
   const cv::Mat image = loadImage(args.image, args.flags.strict);
@@ -130,6 +136,9 @@ void runDraw(const DrawArgs& args) {
   if (!args.other.empty()) {
     MatchConsistencyOptions consistency;
     consistency.thresholdPx = args.thresholdPx;
+    consistency.model = parseName(args.model, kConsistencyModelNames, "--model");
+    consistency.calibrated = calibration != nullptr;
+    if (consistency.model == ConsistencyModel::KnownPose) setRigPose(args.flags.camera, otherCamera, consistency);
     if (!args.homography.empty()) {
       try {
         consistency.groundTruth = readHomography(args.homography);
@@ -140,18 +149,23 @@ void runDraw(const DrawArgs& args) {
     const cv::Mat otherImage = loadImage(args.other, args.flags.strict);
     std::optional<std::vector<cv::KeyPoint>> otherGiven;
     if (!args.otherKeypoints.empty()) otherGiven = loadKeypoints(args.otherKeypoints);
-    const Features g = extractFeatures(args.flags, calibration, args.other, otherImage, otherGiven);
+    // The other image described with its own camera when it has one.
+    ExtractionFlags otherFlags = args.flags;
+    if (!otherCamera.path.empty()) otherFlags.camera = otherCamera;
+    const CameraPtr otherCalibration = otherCamera.path.empty() ? calibration : loadCalibration(otherFlags);
+    const Features g = extractFeatures(otherFlags, otherCalibration, args.other, otherImage, otherGiven);
     const auto pairs = loadMatches(args.matches, f.keypoints.size(), g.keypoints.size(), args.image, args.other);
     // The calibration as each image was described (rescaled with --allow-size-mismatch).
-    const auto cameraFor = [&](cv::Size size) -> CameraPtr {
-      if (!calibration) return pixelPlaneCamera(size);
-      return calibration->imageSize() == size ? calibration : calibration->resized(size);
+    const auto cameraFor = [](const CameraPtr& camera, cv::Size size) -> CameraPtr {
+      if (!camera) return pixelPlaneCamera(size);
+      return camera->imageSize() == size ? camera : camera->resized(size);
     };
     std::vector<cv::Point2f> pointsA, pointsB;
     for (const auto& kp : f.keypoints) pointsA.push_back(kp.pt);
     for (const auto& kp : g.keypoints) pointsB.push_back(kp.pt);
-    const MatchConsistency verdict = classifyMatches(*cameraFor(image.size()), *cameraFor(otherImage.size()),
-                                                     pointsA, pointsB, pairs, consistency);
+    const MatchConsistency verdict = classifyMatches(*cameraFor(calibration, image.size()),
+                                                     *cameraFor(otherCalibration, otherImage.size()), pointsA, pointsB,
+                                                     pairs, consistency);
     cv::Mat right;
     cv::cvtColor(otherImage, right, cv::COLOR_GRAY2BGR);
     const cv::Point2f offset(static_cast<float>(canvas.cols), 0.f);
@@ -181,7 +195,8 @@ void addDrawCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "draw",
       "Draw keypoints (colour = octave), matches between two images (green: correct, red: wrong, by --homography "
-      "or else a robust homography fitted on the matches' bearings), and one keypoint's test pairs as the camera "
+      "or else by --model fitted on the matches' bearings: the essential matrix with a calibration), and one "
+      "keypoint's test pairs as the camera "
       "model distorts them (green lines, red = first point, blue = second). Keypoints are re-extracted with the "
       "extraction flags: give the flags used for extract so match indices agree.");
   addExtractionFlags(*cmd, args->flags);
@@ -192,6 +207,11 @@ void addDrawCommand(CLI::App& app) {
   cmd->add_option("--matches", args->matches, "Output of match (IMAGE's features as A, --other's as B)");
   cmd->add_option("--homography", args->homography,
                   "Ground truth for --matches: the pixel homography from IMAGE to --other (nine numbers, row by row)");
+  cmd->add_option("--other-camera", args->otherCamera.path,
+                  "Calibration of --other when another camera took it; --other-camera-id alone: another camera of "
+                  "--camera's file (a rig)");
+  addCameraFileFlags(*cmd, args->otherCamera, "--other-camera");
+  addModelFlag(*cmd, args->model);
   cmd->add_option("--inlier-threshold", args->thresholdPx, "A match is correct within this many pixels of the model")
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();

@@ -1,12 +1,14 @@
 // `mdbrief match`: brute-force matching of two `extract` outputs, masked (mdBRIEF's masked
 // Hamming distance) when both files have masks, plain Hamming otherwise; with --inliers, how many
-// matches agree with a robust fit (match_consistency.hpp).
+// matches agree with a model of the two views (match_consistency.hpp): by default the essential
+// matrix on the bearings of --camera (and --camera-b for B), or the rig's relative pose.
 #include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "cli/consistency_flags.hpp"
 #include "cli/extraction_flags.hpp"
 #include "cli/match_consistency.hpp"
 #include "cli/storage_io.hpp"
@@ -24,7 +26,9 @@ struct MatchArgs {
   OptionFlags<MatchOptions> options;  // MatchOptions' field table: --ratio, --no-cross-check, --max-distance
   bool noRatio = false;
   bool inliers = false;
-  CameraFileFlags camera;  // the bearings for --inliers; none: the pixels' own plane
+  CameraFileFlags camera;   // the bearings for --inliers; none: the pixels' own plane
+  CameraFileFlags cameraB;  // B's, when another camera took it (a rig's second camera)
+  std::string model = toString(ConsistencyModel::Auto);
   double thresholdPx = MatchConsistencyOptions{}.thresholdPx;
   std::string output;
 };
@@ -47,13 +51,17 @@ std::string inlierSummary(const MatchArgs& args, const Features& a, const Featur
   for (const auto* f : {&a, &b})
     if (f->keypoints.size() != static_cast<size_t>(f->descriptors.rows))
       throw InputError((f == &a ? args.query : args.train) + ": --inliers needs the keypoints (node 'keypoints')");
-  const CameraPtr calibration = args.camera.path.empty() ? nullptr : CameraPtr(readCalibrationFile(args.camera).camera);
-  if (calibration)
-    for (const auto* f : {&a, &b})
-      if (!f->provenance.cameraDigest.empty() && f->provenance.cameraDigest != cameraDigest(*calibration))
-        throw InputError("--camera " + args.camera.path + ": not the calibration " +
-                         (f == &a ? args.query : args.train) + " was described with (camera digest " +
-                         cameraDigest(*calibration) + ", the file records " + f->provenance.cameraDigest + ")");
+  const CameraFileFlags cameraB = secondCameraFlags(args.camera, args.cameraB);
+  const CameraPtr calibrationA = args.camera.path.empty() ? nullptr : CameraPtr(readCalibrationFile(args.camera).camera);
+  const CameraPtr calibrationB = cameraB.path.empty() ? calibrationA : CameraPtr(readCalibrationFile(cameraB).camera);
+  for (const auto* f : {&a, &b}) {
+    const CameraPtr& calibration = f == &a ? calibrationA : calibrationB;
+    if (calibration && !f->provenance.cameraDigest.empty() && f->provenance.cameraDigest != cameraDigest(*calibration))
+      throw InputError((f == &a || cameraB.path.empty() ? "--camera " + args.camera.path : "--camera-b " + cameraB.path) +
+                       ": not the calibration " + (f == &a ? args.query : args.train) +
+                       " was described with (camera digest " + cameraDigest(*calibration) + ", the file records " +
+                       f->provenance.cameraDigest + ")");
+  }
   std::vector<cv::Point2f> pointsA, pointsB;
   for (const auto& kp : a.keypoints) pointsA.push_back(kp.pt);
   for (const auto& kp : b.keypoints) pointsB.push_back(kp.pt);
@@ -61,8 +69,12 @@ std::string inlierSummary(const MatchArgs& args, const Features& a, const Featur
   for (const auto& m : matches) pairs.emplace_back(m.queryIdx, m.trainIdx);
   MatchConsistencyOptions consistency;
   consistency.thresholdPx = args.thresholdPx;
-  const MatchConsistency verdict = classifyMatches(*cameraForInliers(calibration, a), *cameraForInliers(calibration, b),
-                                                   pointsA, pointsB, pairs, consistency);
+  consistency.model = parseName(args.model, kConsistencyModelNames, "--model");
+  consistency.calibrated = calibrationA != nullptr;
+  if (consistency.model == ConsistencyModel::KnownPose) setRigPose(args.camera, cameraB, consistency);
+  const MatchConsistency verdict =
+      classifyMatches(*cameraForInliers(calibrationA, a), *cameraForInliers(calibrationB, b), pointsA, pointsB, pairs,
+                      consistency);
   return std::to_string(verdict.correctCount) + " inliers (" + verdict.method + ")";
 }
 
@@ -75,11 +87,12 @@ void runMatch(const MatchArgs& args) {
     throw InputError(e.what());
   }
   if (args.noRatio) options.ratio.reset();
-  if (!args.inliers && !args.camera.path.empty()) throw InputError("--camera is used only with --inliers");
-  if (args.camera.path.empty() && args.camera.anyGiven())
-    throw InputError("--camera-format, --camera-id, --camera-size and --camera-opencv-model need --camera");
+  if (!args.inliers && (!args.camera.path.empty() || !args.cameraB.path.empty() || args.cameraB.anyGiven()))
+    throw InputError("--camera and --camera-b are used only with --inliers");
+  if (args.camera.path.empty() && args.camera.anyGiven()) throw InputError(args.camera.flagNames() + " need --camera");
+  checkConsistencyModel(args.model, args.camera, secondCameraFlags(args.camera, args.cameraB));
   checkStorageOutput(args.output);
-  checkOutputsApart({args.query, args.train, args.camera.path}, {args.output});
+  checkOutputsApart({args.query, args.train, args.camera.path, args.cameraB.path}, {args.output});
   const Features a = readFeatureFile(args.query);
   const Features b = readFeatureFile(args.train);
   if (!a.descriptors.empty() && !b.descriptors.empty() && a.descriptors.cols != b.descriptors.cols)
@@ -132,11 +145,17 @@ void addMatchCommand(CLI::App& app) {
   args->options.add(*cmd, matchOptionFields());
   cmd->add_flag("--no-ratio", args->noRatio, "Disable the ratio test");
   cmd->add_flag("--inliers", args->inliers,
-                "Also print how many matches agree with a robust homography fitted on their bearings (needs the "
-                "keypoints in A and B)");
+                "Also print how many matches agree with a model of the two views fitted on their bearings, and "
+                "which model (needs the keypoints in A and B)");
   cmd->add_option("--camera", args->camera.path,
-                  "Calibration of A and B for --inliers; without it the homography is fitted on pixels");
-  addCameraFileFlags(*cmd, args->camera, "--camera-format", "--camera-id");
+                  "Calibration of A (and of B without --camera-b) for --inliers; without it a homography is fitted "
+                  "on the pixels");
+  addCameraFileFlags(*cmd, args->camera, "--camera");
+  cmd->add_option("--camera-b", args->cameraB.path,
+                  "Calibration of B when another camera took it; --camera-b-id alone: another camera of --camera's "
+                  "file (a rig)");
+  addCameraFileFlags(*cmd, args->cameraB, "--camera-b");
+  addModelFlag(*cmd, args->model);
   cmd->add_option("--inlier-threshold", args->thresholdPx, "--inliers: a match agrees within this many pixels of the fit")
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();

@@ -67,17 +67,19 @@ void requireReadableFile(const std::string& path) {
 
 }  // namespace
 
-void addCameraFileFlags(CLI::App& cmd, CameraFileFlags& flags, const std::string& formatFlag, const std::string& idFlag) {
-  cmd.add_option(formatFlag, flags.format,
+void addCameraFileFlags(CLI::App& cmd, CameraFileFlags& flags, const std::string& prefix,
+                        const std::string& formatFlag) {
+  flags.prefix = prefix;
+  cmd.add_option(formatFlag.empty() ? prefix + "-format" : formatFlag, flags.format,
                  "Format of the calibration file; auto recognises it from the content (configs/cameras/README.md)")
       ->check(CLI::IsMember(namesOf(kCameraFormatNames)))
       ->capture_default_str();
-  cmd.add_option(idFlag, flags.id,
+  cmd.add_option(prefix + "-id", flags.id,
                  "The camera of a calibration file that holds several: Kalibr cam0, cam1, ...; basalt's index; "
                  "ORB-SLAM3 1 or 2; COLMAP's CAMERA_ID");
-  cmd.add_option("--camera-size", flags.size,
+  cmd.add_option(prefix + "-size", flags.size,
                  "Image size WxH of a calibration file without one (a FileStorage with K and D)");
-  cmd.add_option("--camera-opencv-model", flags.opencvModel,
+  cmd.add_option(prefix + "-opencv-model", flags.opencvModel,
                  "Which model four OpenCV distortion coefficients are when the file does not say: fisheye "
                  "(cv::fisheye's k1..k4) or standard (k1 k2 p1 p2)")
       ->check(CLI::IsMember(namesOf(kOpenCvModelNames)))
@@ -89,6 +91,10 @@ bool CameraFileFlags::anyGiven() const {
          opencvModel != toString(OpenCvModel::Unstated);
 }
 
+std::string CameraFileFlags::flagNames() const {
+  return prefix + "-format, " + prefix + "-id, " + prefix + "-size and " + prefix + "-opencv-model";
+}
+
 CameraFile readCalibrationFile(const CameraFileFlags& flags) {
   requireReadableFile(flags.path);
   CameraFileOptions options{parseCameraFormat(flags.format), flags.id, std::nullopt,
@@ -96,7 +102,7 @@ CameraFile readCalibrationFile(const CameraFileFlags& flags) {
   if (!flags.size.empty()) {
     options.imageSize = internal::parseSizeText(flags.size);
     if (!options.imageSize)
-      throw InputError("--camera-size must be WxH, two integers in [1, 1000000], got '" + flags.size + "'");
+      throw InputError(flags.prefix + "-size must be WxH, two integers in [1, 1000000], got '" + flags.size + "'");
   }
   try {
     return readCameraFile(flags.path, options);
@@ -109,7 +115,7 @@ CameraFile readCalibrationFile(const CameraFileFlags& flags) {
 
 void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
   cmd.add_option("--camera", flags.camera.path, "Calibration file (configs/cameras/README.md); required for dbrief/mdbrief");
-  addCameraFileFlags(cmd, flags.camera, "--camera-format", "--camera-id");
+  addCameraFileFlags(cmd, flags.camera, "--camera");
   cmd.add_option("--preset", flags.preset,
                  "Start from this preset's options (mdbrief/presets.hpp); the flags below change them")
       ->check(CLI::IsMember(namesOf(kPresetNames)))
@@ -138,8 +144,7 @@ CameraPtr loadCalibration(const ExtractionFlags& flags) {
   const bool modelled = usesCamera(kind);
   if (flags.camera.path.empty()) {
     if (flags.camera.anyGiven())
-      throw InputError("--camera-format, --camera-id, --camera-size and --camera-opencv-model need --camera (the "
-                       "calibration file they describe)");
+      throw InputError(flags.camera.flagNames() + " need --camera (the calibration file they describe)");
     if (modelled) throw InputError("--camera is required for --descriptor " + toString(kind));
     // The library ignores the option without a camera: the output would be that of a run without it.
     if (options.detector.conformal)

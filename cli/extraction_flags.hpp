@@ -23,13 +23,19 @@ struct CameraFileFlags {
   std::string id;
   std::string size;                                       // WxH; empty: the file's
   std::string opencvModel = toString(OpenCvModel::Unstated);
+  // The flags' common start on this command: "--camera" names --camera-id, --camera-size, ...;
+  // a second image's camera has its own ("--camera-b").
+  std::string prefix = "--camera";
   // Whether any of the flags besides the path was given.
   bool anyGiven() const;
+  // "--camera-format, --camera-id, --camera-size and --camera-opencv-model", for messages.
+  std::string flagNames() const;
 };
 
-// Adds the format and camera-id options (named formatFlag, idFlag), --camera-size and
-// --camera-opencv-model bound to flags.
-void addCameraFileFlags(CLI::App& cmd, CameraFileFlags& flags, const std::string& formatFlag, const std::string& idFlag);
+// Adds <prefix>-id, <prefix>-size and <prefix>-opencv-model, and the format option (formatFlag;
+// empty: <prefix>-format), bound to flags, whose prefix becomes `prefix`.
+void addCameraFileFlags(CLI::App& cmd, CameraFileFlags& flags, const std::string& prefix,
+                        const std::string& formatFlag = "");
 
 // The calibration of flags.path. InputError naming the file and the problem (loadCamera's
 // messages, which start with the path).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "mdbrief/camera/pinhole.hpp"
 #include "mdbrief/geometry/two_view.hpp"
@@ -37,8 +38,6 @@ MatchConsistency classifyMatches(const Camera& cameraA, const Camera& cameraB, c
     out.method = method.str();
     return out;
   }
-  method << "robust homography on bearings, " << options.thresholdPx << " px";
-  out.method = method.str();
   std::vector<cv::Vec3d> a, b;
   std::vector<double> scale;
   std::vector<size_t> used;  // match of each fitted correspondence
@@ -49,10 +48,32 @@ MatchConsistency classifyMatches(const Camera& cameraA, const Camera& cameraB, c
     if (!s || !cameraA.pixelToBearing(pa, ba) || !cameraB.pixelToBearing(pb, bb)) continue;
     a.push_back(ba), b.push_back(bb), scale.push_back(*s), used.push_back(k);
   }
-  TwoViewOptions ransac;
-  ransac.maxPixels = options.thresholdPx;
-  const auto fit = fitHomography(a, b, ransac, scale);
-  if (!fit.ok()) return out;  // fewer than 4 usable matches, degenerate, or no model: none confirmed
+  TwoViewOptions twoView;
+  twoView.maxPixels = options.thresholdPx;
+  ConsistencyModel model = options.model;
+  if (model == ConsistencyModel::Auto) model = options.calibrated ? ConsistencyModel::Essential : ConsistencyModel::Homography;
+  TwoViewResult fit;
+  switch (model) {
+    case ConsistencyModel::Essential:
+      method << "essential matrix on bearings, RANSAC";
+      fit = fitEssential(a, b, twoView, scale);
+      break;
+    case ConsistencyModel::Homography:
+      method << (options.calibrated ? "homography on bearings, RANSAC" : "homography on pixels (no calibration), RANSAC");
+      fit = fitHomography(a, b, twoView, scale);
+      break;
+    case ConsistencyModel::KnownPose:
+      if (!options.knownPose) throw std::invalid_argument("the known-pose check needs a relative pose");
+      method << "known relative pose" << (options.poseSource.empty() ? "" : " of " + options.poseSource);
+      fit = checkKnownPose(a, b, *options.knownPose, twoView, scale);
+      break;
+    case ConsistencyModel::Auto:
+      break;
+  }
+  method << ", " << options.thresholdPx << " px";
+  if (!fit.ok()) method << ": " << fit.reason << ", none confirmed";
+  out.method = method.str();
+  if (!fit.ok()) return out;
   for (size_t i = 0; i < used.size(); ++i) out.correct[used[i]] = fit.inliers[i];
   out.correctCount = fit.inlierCount;
   return out;

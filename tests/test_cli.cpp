@@ -489,6 +489,101 @@ TEST_F(CliTest, DrawMatchesColoursCorrectAndWrongAndMatchCountsInliers) {
                       "--inliers");
 }
 
+// A stereo rig (Kalibr camchain: two equidistant fisheye cameras 5 cm apart, cam1's T_cn_cnm1)
+// renders one plane: `match --inliers` checks the matches with the essential matrix by default,
+// or against the rig's extrinsics with --model pose (--camera-b-id picks the second camera of the
+// same file), and says which model it used. A wrong baseline in the file rejects the matches.
+TEST_F(CliTest, MatchInliersUsesTheGeneralModelOrTheRigsRelativePose) {
+  const auto doc = testing::opencvDocDataDir();
+  cv::Mat texture;
+  if (doc) texture = cv::imread((*doc / "graf1.png").string(), cv::IMREAD_GRAYSCALE);
+  if (texture.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  const auto camchain = [&](const std::string& name, const std::string& t) {
+    const std::string camera = "  camera_model: pinhole\n  distortion_model: equidistant\n"
+                               "  distortion_coeffs: [-0.0125, 0.0578, -0.0850, 0.0436]\n"
+                               "  intrinsics: [461.6, 460.3, 366.3, 249.1]\n  resolution: [752, 480]\n";
+    std::ofstream(path(name)) << "cam0:\n" << camera << "cam1:\n  T_cn_cnm1:\n" << t << camera;
+    return path(name);
+  };
+  // cam1 sits 5 cm right of cam0 (+x), same orientation: X_1 = X_0 - (0.05, 0, 0).
+  const std::string rig = camchain("rig.yaml",
+                                   "  - [1.0, 0.0, 0.0, -0.05]\n  - [0.0, 1.0, 0.0, 0.0]\n"
+                                   "  - [0.0, 0.0, 1.0, 0.0]\n  - [0.0, 0.0, 0.0, 1.0]\n");
+  const std::string wrong = camchain("wrong.yaml",
+                                     "  - [1.0, 0.0, 0.0, 0.0]\n  - [0.0, 1.0, 0.0, -0.05]\n"
+                                     "  - [0.0, 0.0, 1.0, 0.0]\n  - [0.0, 0.0, 0.0, 1.0]\n");
+  PlaneScene scene;
+  scene.texture = texture;
+  scene.texelSize = 0.004;
+  const auto camera = loadCamera(rig, {CameraFormat::Auto, "cam0"});
+  for (const auto& [name, x] : {std::pair<std::string, double>{"left.png", 0.25}, {"right.png", 0.30}}) {
+    CameraPose pose;
+    pose.centre = {x, 0.1, -0.8};
+    cv::imwrite(path(name), renderPlane(*camera, pose, scene));
+  }
+  ASSERT_EQ(run({"extract", "--camera", rig, "--camera-id", "cam0", path("left.png"), "-o", path("l.yml")}).code, 0);
+  ASSERT_EQ(run({"extract", "--camera", rig, "--camera-id", "cam1", path("right.png"), "-o", path("r.yml")}).code, 0);
+  const std::vector<std::string> base = {"match", path("l.yml"), path("r.yml"), "--inliers", "--camera", rig,
+                                         "--camera-id", "cam0", "--camera-b-id", "cam1", "-o", path("m.yml")};
+  const auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = base;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run(args);
+  };
+  const Result general = with({});
+  ASSERT_EQ(general.code, 0) << general.err;
+  const int matches = countBefore(general.out, "masked matches");
+  ASSERT_GT(matches, 50) << general.out;
+  EXPECT_NE(general.out.find("essential matrix on bearings"), std::string::npos) << general.out;
+  EXPECT_GT(countBefore(general.out, "inliers"), matches * 8 / 10) << general.out;
+
+  const Result pose = with({"--model", "pose"});
+  ASSERT_EQ(pose.code, 0) << pose.err;
+  EXPECT_NE(pose.out.find("known relative pose of " + rig + " (cam0 and cam1)"), std::string::npos) << pose.out;
+  EXPECT_GT(countBefore(pose.out, "inliers"), matches * 8 / 10) << pose.out;
+
+  const Result plane = with({"--model", "homography"});
+  ASSERT_EQ(plane.code, 0) << plane.err;
+  EXPECT_NE(plane.out.find("homography on bearings"), std::string::npos) << plane.out;
+
+  // The same matches against a baseline the file gets wrong (5 cm down instead of right).
+  std::vector<std::string> wrongArgs = base;
+  std::replace(wrongArgs.begin(), wrongArgs.end(), rig, wrong);
+  wrongArgs.insert(wrongArgs.end(), {"--model", "pose"});
+  const Result rejected = run(wrongArgs);
+  ASSERT_EQ(rejected.code, 0) << rejected.err;
+  EXPECT_LT(countBefore(rejected.out, "inliers"), matches / 2) << rejected.out;
+
+  // What the models need, named.
+  expectOneLineNaming(run({"match", path("l.yml"), path("r.yml"), "--inliers", "--model", "pose", "--camera", rig,
+                           "--camera-id", "cam0", "-o", path("x.yml")}),
+                      "--camera-b");
+  expectOneLineNaming(run({"match", path("l.yml"), path("r.yml"), "--inliers", "--model", "essential", "-o",
+                           path("x.yml")}),
+                      "--model essential needs --camera");
+  expectOneLineNaming(run({"match", path("l.yml"), path("r.yml"), "--inliers", "--camera-b", rig, "-o", path("x.yml")}),
+                      "--camera-b needs --camera");
+  // A file without extrinsics: the rig's pose cannot be asked of it.
+  std::ofstream(path("two.yaml")) << "cam0:\n  camera_model: pinhole\n  distortion_model: none\n  distortion_coeffs: []\n"
+                                     "  intrinsics: [461.6, 460.3, 366.3, 249.1]\n  resolution: [752, 480]\n"
+                                     "cam1:\n  camera_model: pinhole\n  distortion_model: none\n  distortion_coeffs: []\n"
+                                     "  intrinsics: [461.6, 460.3, 366.3, 249.1]\n  resolution: [752, 480]\n";
+  ASSERT_EQ(run({"extract", "--camera", path("two.yaml"), "--camera-id", "cam0", path("left.png"), "-o",
+                 path("p0.yml")}).code, 0);
+  ASSERT_EQ(run({"extract", "--camera", path("two.yaml"), "--camera-id", "cam1", path("right.png"), "-o",
+                 path("p1.yml")}).code, 0);
+  expectOneLineNaming(run({"match", path("p0.yml"), path("p1.yml"), "--inliers", "--model", "pose", "--camera",
+                           path("two.yaml"), "--camera-id", "cam0", "--camera-b-id", "cam1", "-o", path("x.yml")}),
+                      path("two.yaml"));
+
+  // draw: the other image with its own camera, the same model and count as match.
+  const Result d = run({"draw", "--camera", rig, "--camera-id", "cam0", path("left.png"), "--other", path("right.png"),
+                        "--other-camera-id", "cam1", "--matches", path("m.yml"), "--model", "pose", "-o", path("d.png")});
+  ASSERT_EQ(d.code, 0) << d.err;
+  EXPECT_EQ(countBefore(d.out, "correct"), countBefore(pose.out, "inliers")) << d.out;
+  EXPECT_NE(d.out.find("known relative pose"), std::string::npos) << d.out;
+}
+
 TEST_F(CliTest, MatchInliersWithoutCameraFitsPixelsAndNeedsKeypoints) {
   REQUIRE_IMAGE(a, "a.png", 0.3);
   ASSERT_EQ(run({"extract", "--descriptor", "brief", a, "-o", path("a.yml")}).code, 0);
