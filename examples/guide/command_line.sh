@@ -38,13 +38,14 @@ cp "$calib" calib.yaml
 mkdir -p features
 mdbrief extract --camera calib.yaml a.png b.png -o features/       # keypoints, descriptors, masks
 mdbrief match features/a.yml features/b.yml -o matches.yml         # brute force, masked distance
-mdbrief match features/a.yml features/b.yml --inliers --camera calib.yaml -o inliers.yml  # + model inliers
+mdbrief match features/a.yml features/b.yml --inliers --camera calib.yaml -o inliers.yml  # + essential matrix
+mdbrief match features/a.yml features/b.yml --inliers --camera calib.yaml --model homography -o turned.yml  # a turn
 mdbrief draw --camera calib.yaml a.png --other b.png --matches matches.yml -o matches.png
 mdbrief extract --preset matching --camera calib.yaml a.png -o a_512.yml  # another preset
 mdbrief camera convert calib.yaml -o converted.yaml                # any calibration file to the schema
 # [guide]
 
-for f in features/a.yml features/b.yml matches.yml inliers.yml matches.png a_512.yml converted.yaml; do
+for f in features/a.yml features/b.yml matches.yml inliers.yml turned.yml matches.png a_512.yml converted.yaml; do
   [ -s "$f" ] || { echo "command_line.sh: $f was not written" >&2; exit 1; }
 done
 grep -q "masked: 1" matches.yml || { echo "command_line.sh: matches.yml is not a masked match" >&2; exit 1; }

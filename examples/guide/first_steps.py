@@ -111,6 +111,33 @@ def main(calibration_path, vocabulary_path, work):
     check(turn.ok and turn.inliers[correct].mean() >= 0.9,
           "the bearing homography keeps fewer than 90 % of the correct matches")
 
+    work.mkdir(parents=True, exist_ok=True)
+    camchain = work / "camchain.yaml"  # as Kalibr writes it: cam1 11 cm right of cam0
+    fisheye = ("  camera_model: pinhole\n  distortion_model: equidistant\n"
+               "  distortion_coeffs: [-0.0125, 0.0578, -0.0850, 0.0436]\n"
+               "  intrinsics: [461.6, 460.3, 366.3, 249.1]\n  resolution: [752, 480]\n")
+    camchain.write_text("cam0:\n" + fisheye + "cam1:\n  T_cn_cnm1:\n  - [1.0, 0.0, 0.0, -0.11]\n"
+                        "  - [0.0, 1.0, 0.0, 0.0]\n  - [0.0, 0.0, 1.0, 0.0]\n  - [0.0, 0.0, 0.0, 1.0]\n" + fisheye)
+    # [guide:rig]
+    rig = mdbrief.load_rig(str(camchain))  # or load_rig(["cam0/sensor.yaml", "cam1/sensor.yaml"])
+    left, right = rig.camera("cam0"), rig.camera("cam1")
+    rotation, translation = rig.relative_pose("cam0", "cam1")  # x_cam0 = R @ x_cam1 + t
+    # ... then with the matches' bearings of the left and right images:
+    #   labels = mdbrief.check_known_pose(bearings_left, bearings_right, rotation, translation)
+    # [guide]
+    points = np.random.default_rng(3).uniform([-2, -1.5, 1], [2, 1.5, 5], (200, 3))  # cam0's frame
+    pixels_left = left.bearing_to_pixel(points)
+    pixels_right = right.bearing_to_pixel((points - translation) @ rotation)  # R^T (x - t), row-wise
+    seen = np.isfinite(pixels_left).all(axis=1) & np.isfinite(pixels_right).all(axis=1)
+    bearings_left = left.pixel_to_bearing(pixels_left[seen])
+    bearings_right = right.pixel_to_bearing(pixels_right[seen])
+    labels = mdbrief.check_known_pose(bearings_left, bearings_right, rotation, translation)
+    shuffled = mdbrief.check_known_pose(bearings_left, np.roll(bearings_right, 7, axis=0), rotation, translation)
+    print(f"rig: {int(labels.inlier_count)} of {int(seen.sum())} true matches right, "
+          f"{int((~shuffled.inliers).sum())} shuffled ones wrong")
+    check(seen.sum() > 100 and labels.inliers.all(), "a true match of the rig was labelled wrong")
+    check((~shuffled.inliers).mean() >= 0.95, "fewer than 95 % of the shuffled matches labelled wrong")
+
     # [guide:presets]
     wide = mdbrief.MdBrief(camera, preset="matching", nfeatures=1500)  # 512 bits
     # ... then mdbrief.match(d1, d2, m1, m2, preset="matching", ratio=0.7)
