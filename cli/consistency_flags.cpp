@@ -44,16 +44,14 @@ void setRigPose(const CameraFileFlags& first, const CameraFileFlags& second, Mat
       CameraFileOptions fileOptions;
       fileOptions.format = parseCameraFormat(first.format);
       const CameraRig rig = readCameraRig(first.path, fileOptions);
-      const RigidTransform pose = rig.relativePose(first.id, second.id);
-      options.knownPose = RelativePose{pose.rotation, pose.translation};
+      options.knownPose = rig.relativePose(first.id, second.id);
       options.poseSource = first.path + " (" + (first.id.empty() ? "its camera" : first.id) + " and " +
                            (second.id.empty() ? "its camera" : second.id) + ")";
     } else {
       CameraFileOptions fileOptions;
       if (first.format == second.format) fileOptions.format = parseCameraFormat(first.format);
       const CameraRig rig = readCameraRig(std::vector<std::string>{first.path, second.path}, fileOptions);
-      const RigidTransform pose = rig.relativePose(0, 1);
-      options.knownPose = RelativePose{pose.rotation, pose.translation};
+      options.knownPose = rig.relativePose(0, 1);
       options.poseSource = first.path + " and " + second.path;
     }
   } catch (const std::exception& e) {

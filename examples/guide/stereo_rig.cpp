@@ -43,9 +43,8 @@ int main(int argc, char** argv) try {
   const mdbrief::CameraRig rig = mdbrief::readCameraRig(camchainPath);
   const std::shared_ptr<mdbrief::Camera> left = rig.at(rig.index("cam0")).camera;
   const std::shared_ptr<mdbrief::Camera> right = rig.at(rig.index("cam1")).camera;
-  // x_cam0 = R x_cam1 + t: cam1's pose in cam0's frame, the convention of mdbrief::RelativePose.
-  const mdbrief::RigidTransform extrinsics = rig.relativePose("cam0", "cam1");
-  const mdbrief::RelativePose pose{extrinsics.rotation, extrinsics.translation};
+  // x_cam0 = R x_cam1 + t: cam1's pose in cam0's frame, as the two-view geometry's RelativePose.
+  const mdbrief::RelativePose pose = rig.relativePose("cam0", "cam1");
   // ... match left and right images, take the matches' bearings (pixelToBearing), then:
   //   mdbrief::TwoViewResult labels = mdbrief::checkKnownPose(bearingsLeft, bearingsRight, pose);
   // [guide]
@@ -53,10 +52,10 @@ int main(int argc, char** argv) try {
   // Points 1-5 m in front of the rig, seen by both cameras: true matches, then shuffled ones.
   std::vector<cv::Vec3d> bearingsLeft, bearingsRight;
   cv::RNG rng(3);
-  const cv::Matx33d toRight = extrinsics.rotation.t();
+  const cv::Matx33d toRight = pose.rotation.t();
   while (bearingsLeft.size() < 200) {
     const cv::Vec3d point(rng.uniform(-2.0, 2.0), rng.uniform(-1.5, 1.5), rng.uniform(1.0, 5.0));  // cam0 frame
-    const cv::Vec3d inRight = toRight * (point - extrinsics.translation);
+    const cv::Vec3d inRight = toRight * (point - pose.translation);
     cv::Point2d pixelLeft, pixelRight;
     if (!left->bearingToPixel(point, pixelLeft) || !right->bearingToPixel(inRight, pixelRight)) continue;
     cv::Vec3d a, b;
@@ -68,7 +67,7 @@ int main(int argc, char** argv) try {
   int right200 = 0, wrongShuffled = 0;
   for (size_t i = 0; i < 200; ++i) right200 += labels.inliers[i], wrongShuffled += !labels.inliers[200 + i];
   std::printf("rig of %zu cameras, baseline %.3f m: %d of 200 true matches right, %d of 200 shuffled ones wrong\n",
-              rig.size(), cv::norm(extrinsics.translation), right200, wrongShuffled);
+              rig.size(), cv::norm(pose.translation), right200, wrongShuffled);
   if (right200 != 200) return fail("a true match was labelled wrong");
   if (wrongShuffled < 190) return fail("fewer than 190 of 200 shuffled matches labelled wrong");
   return 0;

@@ -26,7 +26,7 @@ cv::Matx33d toCv(const Eigen::Matrix3d& m) {
 // Labels every match under the pose: residual, threshold, and (options) in front.
 int label(const geometry::CheckedMatches& m, const RelativePose& pose, bool front, std::vector<double>& residuals,
           std::vector<unsigned char>& inliers) {
-  const cv::Matx33d e = pose.essential();
+  const cv::Matx33d e = essentialMatrix(pose);
   const double parallel = m.typicalAngle();
   residuals.resize(m.size());
   inliers.assign(m.size(), 0);
@@ -237,7 +237,7 @@ EssentialResult fitEssential(const std::vector<cv::Vec3d>& a, const std::vector<
     return result;
   }
   result.pose = pose;
-  result.essential = pose.essential();
+  result.essential = essentialMatrix(pose);
   result.residuals = std::move(residuals);
   result.inliers = std::move(inliers);
   result.inlierCount = count;

@@ -51,15 +51,15 @@ const char* toString(TwoViewFailure failure) {
   return "unknown failure";
 }
 
-cv::Matx33d RelativePose::essential() const {
-  const cv::Vec3d& t = translation;
-  return cv::Matx33d(0, -t[2], t[1], t[2], 0, -t[0], -t[1], t[0], 0) * rotation;
+cv::Matx33d essentialMatrix(const RelativePose& pose) {
+  const cv::Vec3d& t = pose.translation;
+  return cv::Matx33d(0, -t[2], t[1], t[2], 0, -t[0], -t[1], t[0], 0) * pose.rotation;
 }
 
 double epipolarAngle(const RelativePose& pose, const cv::Vec3d& a, const cv::Vec3d& b) {
   const double na = cv::norm(a), nb = cv::norm(b);
-  if (!(na > 0) || !(nb > 0)) return geometry::epipolarResidual(pose.essential(), a, b);
-  return geometry::epipolarResidual(pose.essential(), a / na, b / nb);
+  if (!(na > 0) || !(nb > 0)) return geometry::epipolarResidual(essentialMatrix(pose), a, b);
+  return geometry::epipolarResidual(essentialMatrix(pose), a / na, b / nb);
 }
 
 std::optional<double> pixelsPerRadian(const Camera& camera, const cv::Point2d& pixel) {
@@ -95,7 +95,7 @@ TwoViewResult checkKnownPose(const std::vector<cv::Vec3d>& a, const std::vector<
     throw std::invalid_argument("checkKnownPose: pose.translation must be finite and non-zero (with no baseline, "
                                 "matches have no epipolar geometry)");
   const cv::Vec3d t = pose.translation / tn;
-  const cv::Matx33d e = RelativePose{r, t}.essential();
+  const cv::Matx33d e = essentialMatrix(RelativePose{r, t});
   const double parallel = m.typicalAngle();
   TwoViewResult result;
   result.inliers.assign(m.size(), 0);

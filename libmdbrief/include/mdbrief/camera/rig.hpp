@@ -62,7 +62,7 @@ class CameraRig {
 
   // Maps points of camera j's frame into camera i's frame: x_i = R x_j + t. So t is camera j's
   // centre in camera i's frame, and a bearing b_j of camera j is R b_j seen from camera i: the
-  // convention of geometry/two_view.hpp's RelativePose with a = i and b = j.
+  // RelativePose of geometry/two_view.hpp with a = i and b = j.
   // Identity for i == j. Throws std::runtime_error naming the source, the camera and where its
   // format keeps extrinsics when either camera has none; std::out_of_range for a bad index.
   RigidTransform relativePose(std::size_t i, std::size_t j) const;

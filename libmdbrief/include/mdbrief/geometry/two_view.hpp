@@ -32,6 +32,7 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/camera/camera.hpp"
+#include "mdbrief/camera/rig.hpp"
 #include "mdbrief/option_fields.hpp"
 
 namespace mdbrief {
@@ -78,13 +79,11 @@ enum class TwoViewFailure {
 // "too few matches", "all matches on the same point", "all matches on a line", "no model found".
 const char* toString(TwoViewFailure failure);
 
-// The pose of camera b in camera a's frame (X_a = R X_b + t).
-struct RelativePose {
-  cv::Matx33d rotation = cv::Matx33d::eye();
-  cv::Vec3d translation{0, 0, 0};
-  // E = [t]x R.
-  cv::Matx33d essential() const;
-};
+// The pose of camera b in camera a's frame (X_a = R X_b + t): the rigid transform a rig gives
+// between its cameras (CameraRig::relativePose(a, b)).
+using RelativePose = RigidTransform;
+// E = [t]x R.
+cv::Matx33d essentialMatrix(const RelativePose& pose);
 
 struct TwoViewResult {
   TwoViewFailure failure = TwoViewFailure::None;
@@ -99,7 +98,7 @@ struct EssentialResult : TwoViewResult {
   // Residual: the angle between bearing b and the epipolar plane of a (through the centres and
   // a), measured at camera b as the pixels per radian of image b expect.
   RelativePose pose;     // |t| = 1
-  cv::Matx33d essential;  // pose.essential(): [t]x R with |t| = 1
+  cv::Matx33d essential;  // essentialMatrix(pose): [t]x R with |t| = 1
 };
 
 struct HomographyResult : TwoViewResult {
