@@ -14,6 +14,12 @@ std::string sharedData() {
   return "../shared/data";
 }
 
+void addCameraIdFlag(CLI::App* cmd, std::string& id, const std::string& flag, const std::string& cameraFlag) {
+  cmd->add_option(flag, id,
+                  "The camera of " + cameraFlag + "'s file when it holds several (a rig): Kalibr cam0, cam1, ...; "
+                  "basalt's index; ORB-SLAM3 1 or 2; COLMAP's CAMERA_ID");
+}
+
 void addOpencvDocFlag(CLI::App* cmd, std::string& dir) {
   dir = kDebianOpencvDocData;
   cmd->add_option("--opencv-doc-dir", dir,
@@ -23,9 +29,11 @@ void addOpencvDocFlag(CLI::App* cmd, std::string& dir) {
       ->capture_default_str();
 }
 
-CameraPtr loadCameraOrThrow(const std::string& path) {
+CameraPtr loadCameraOrThrow(const std::string& path, const std::string& cameraId) {
   try {
-    return loadCamera(path);
+    CameraFileOptions options;
+    options.cameraId = cameraId;
+    return loadCamera(path, options);
   } catch (const std::exception& e) {
     throw InputError(e.what());
   }

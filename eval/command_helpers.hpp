@@ -20,7 +20,10 @@ std::string sharedData();
 void addOpencvDocFlag(CLI::App* cmd, std::string& dir);
 
 // loadCamera / loadEvaluationImage, throwing InputError.
-CameraPtr loadCameraOrThrow(const std::string& path);
+CameraPtr loadCameraOrThrow(const std::string& path, const std::string& cameraId = "");
+// Adds `flag` (e.g. --camera-id), the camera of `cameraFlag`'s file that holds several.
+void addCameraIdFlag(CLI::App* cmd, std::string& id, const std::string& flag = "--camera-id",
+                     const std::string& cameraFlag = "--camera");
 cv::Mat loadGreyOrThrow(const std::string& path);
 
 // internal::checkOutputsApart as an InputError: no output may be an input (under any name) or

@@ -105,7 +105,7 @@ struct DatasetFlags {
   std::string opencvDocDir;
   int poses = 6;
   std::vector<std::string> userImages, userHomographies;
-  std::string userCamera;
+  std::string userCamera, userCameraId;
   bool noPerspective = false, noFisheye = false;
 };
 
@@ -124,6 +124,7 @@ void addDatasetFlags(CLI::App* cmd, DatasetFlags& d) {
   cmd->add_option("--poses", d.poses, "Rendered poses per fisheye sequence")->check(CLI::Range(2, 50))->capture_default_str();
   cmd->add_option("--user-images", d.userImages, "User sequence: reference image first");
   cmd->add_option("--user-camera", d.userCamera, "User sequence: camera calibration");
+  addCameraIdFlag(cmd, d.userCameraId, "--user-camera-id", "--user-camera");
   cmd->add_option("--user-homographies", d.userHomographies,
                   "User sequence: 3x3 bearing-space homographies image 1 -> image k (k = 2..)");
   cmd->add_flag("--no-perspective", d.noPerspective, "Skip the Oxford sequences");
@@ -173,7 +174,7 @@ std::vector<EvalGroup> loadGroups(const DatasetFlags& d, std::vector<std::string
     groups.push_back(std::move(g));
   }
   if (!d.userImages.empty())
-    groups.push_back({"user", {loadUserSequence("user", d.userImages, d.userCamera, d.userHomographies)}});
+    groups.push_back({"user", {loadUserSequence("user", d.userImages, d.userCamera, d.userHomographies, d.userCameraId)}});
   // A group without sequences would replace its results with empty tables (issue 29: a mistyped
   // --oxford-dir emptied eval_summary.csv and exited 0).
   groups.erase(std::remove_if(groups.begin(), groups.end(), [](const EvalGroup& g) { return g.sequences.empty(); }),
@@ -306,20 +307,22 @@ void addTimingCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("timing", "The paper's timing table (detection, description, matching)");
   auto o = std::make_shared<TimingOptions>();
   auto camPath = std::make_shared<std::string>("configs/cameras/lafida_fisheye0.yaml");
+  auto camId = std::make_shared<std::string>();
   auto texture = std::make_shared<std::string>();
   auto docDir = std::make_shared<std::string>();
   cmd->add_option("--camera", *camPath, "Camera of the timed images (default relative to the working directory)")
       ->capture_default_str();
+  addCameraIdFlag(cmd, *camId);
   cmd->add_option("--texture", *texture, "Photo rendered through the camera at 4 poses (default: graf1.png of "
                                          "--opencv-doc-dir)");
   addOpencvDocFlag(cmd, *docDir);
   cmd->add_option("--repeats", o->repeats, "Repeats (median reported)")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--keypoints", o->keypoints, "Detector budget")->check(CLI::Range(10, 100000))->capture_default_str();
   cmd->add_option("--out", o->outDir, "Output folder")->required();
-  cmd->callback([o, camPath, texture, docDir] {
+  cmd->callback([o, camPath, camId, texture, docDir] {
     const std::string texturePath = texture->empty() ? *docDir + "/graf1.png" : *texture;
     checkOutputsApart({*camPath, texturePath}, {(fs::path(o->outDir) / "timing_table.csv").string()});
-    const CameraPtr cam = loadCameraOrThrow(*camPath);
+    const CameraPtr cam = loadCameraOrThrow(*camPath, *camId);
     const cv::Mat tex = loadGreyOrThrow(texturePath);
     asInputErrors([&] {
       const auto seq = renderedFisheyeSequence("timing", tex, cam, 4);
@@ -338,7 +341,7 @@ void addExportUserSampleCommand(CLI::App& app) {
                                  "Write a rendered sequence as user data (images, camera.yaml, bearing homographies "
                                  "H1toK) for `eval --user-images --user-camera --user-homographies`");
   struct Args {
-    std::string camera = "configs/cameras/lafida_fisheye0.yaml";
+    std::string camera = "configs/cameras/lafida_fisheye0.yaml", cameraId;
     std::string texture, opencvDocDir;
     std::string out;
     int poses = 6;
@@ -346,6 +349,7 @@ void addExportUserSampleCommand(CLI::App& app) {
   auto a = std::make_shared<Args>();
   cmd->add_option("--camera", a->camera, "Calibration to render with (default relative to the working directory)")
       ->capture_default_str();
+  addCameraIdFlag(cmd, a->cameraId);
   cmd->add_option("--texture", a->texture, "Photo rendered as the plane (default: graf3.png of --opencv-doc-dir)");
   addOpencvDocFlag(cmd, a->opencvDocDir);
   cmd->add_option("--poses", a->poses, "Images (the poses of the fisheye sequences)")->check(CLI::Range(2, 50))->capture_default_str();
@@ -353,7 +357,7 @@ void addExportUserSampleCommand(CLI::App& app) {
   cmd->callback([a] {
     const std::string texture = a->texture.empty() ? a->opencvDocDir + "/graf3.png" : a->texture;
     checkOutputsApart({a->camera, texture}, allPaths(userSequenceFiles(a->out, a->poses)));
-    const CameraPtr cam = loadCameraOrThrow(a->camera);
+    const CameraPtr cam = loadCameraOrThrow(a->camera, a->cameraId);
     const cv::Mat tex = loadGreyOrThrow(texture);
     asInputErrors([&] { reportExported(a->out, exportUserSequence(a->out, tex, cam, a->poses)); });
   });
@@ -364,17 +368,18 @@ void addExportRotatedViewsCommand(CLI::App& app) {
                                  "Write a real photo and the same lens turned (images, camera.yaml, bearing "
                                  "homographies H1toK = the rotations) for `eval --user-images ...`");
   struct Args {
-    std::string photo, camera, out;
+    std::string photo, camera, cameraId, out;
     int views = 6;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("--image", a->photo, "Photo taken with the calibrated camera")->required();
   cmd->add_option("--camera", a->camera, "Its calibration")->required();
+  addCameraIdFlag(cmd, a->cameraId);
   cmd->add_option("--views", a->views, "Images, the photo included")->check(CLI::Range(2, 20))->capture_default_str();
   cmd->add_option("--out", a->out, "Output folder")->required();
   cmd->callback([a] {
     checkOutputsApart({a->camera, a->photo}, allPaths(userSequenceFiles(a->out, a->views)));
-    const CameraPtr cam = loadCameraOrThrow(a->camera);
+    const CameraPtr cam = loadCameraOrThrow(a->camera, a->cameraId);
     const cv::Mat photo = loadGreyOrThrow(a->photo);
     asInputErrors([&] { reportExported(a->out, exportRotatedViews(a->out, photo, cam, a->views)); });
   });

@@ -198,14 +198,17 @@ EvalSequence renderedFisheyeSequence(const std::string& name, const cv::Mat& tex
 }
 
 EvalSequence loadUserSequence(const std::string& name, const std::vector<std::string>& images,
-                              const std::string& cameraPath, const std::vector<std::string>& homographyFiles) {
+                              const std::string& cameraPath, const std::vector<std::string>& homographyFiles,
+                              const std::string& cameraId) {
   if (images.size() < 2) throw std::runtime_error("user data: at least two images are needed");
   if (homographyFiles.size() != images.size() - 1)
     throw std::runtime_error("user data: need one homography per image after the first (" +
                              std::to_string(images.size() - 1) + "), got " + std::to_string(homographyFiles.size()));
   EvalSequence s;
   s.name = name;
-  s.camera = loadCamera(cameraPath);
+  CameraFileOptions cameraOptions;
+  cameraOptions.cameraId = cameraId;
+  s.camera = loadCamera(cameraPath, cameraOptions);
   s.cameraIsModel = true;
   for (const auto& p : images) {
     s.images.push_back(loadEvaluationImage(p));

@@ -112,7 +112,8 @@ EvalSequence turnedLensSequence(const std::string& name, const cv::Mat& photo, c
 // taken with det(H) > 0, true for every plane seen from one side (and for rotations). Throws
 // std::runtime_error naming the file and the problem (unreadable, singular).
 EvalSequence loadUserSequence(const std::string& name, const std::vector<std::string>& images,
-                              const std::string& cameraPath, const std::vector<std::string>& homographyFiles);
+                              const std::string& cameraPath, const std::vector<std::string>& homographyFiles,
+                              const std::string& cameraId = "");
 
 // An image the evaluation reads, as 8-bit grey. Throws std::runtime_error naming the file when it
 // is missing, truncated (toolkit/image_file.hpp) or cannot be decoded.

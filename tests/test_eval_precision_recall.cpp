@@ -334,5 +334,32 @@ TEST(EvalCli, AnOutputThatIsAnInputIsRefused) {
   EXPECT_FALSE(fs::exists(out / "img1.png"));
 }
 
+// A rig file's cameras are chosen by --camera-id in the evaluation too: the photo of cam1 is
+// turned with cam1's lens (its camera.yaml is cam1's), and a rig without a choice is refused
+// naming the ids.
+TEST(EvalCli, CameraIdChoosesTheCameraOfARigFile) {
+  testing::TempDir dir("eval_rig");
+  const fs::path rig = dir.path / "camchain.yaml", photo = dir.path / "photo.png", out = dir.path / "out";
+  std::ofstream(rig) << "cam0:\n  camera_model: pinhole\n  distortion_model: equidistant\n"
+                        "  distortion_coeffs: [-0.0125, 0.0578, -0.0850, 0.0436]\n"
+                        "  intrinsics: [461.6, 460.3, 366.3, 249.1]\n  resolution: [752, 480]\n"
+                        "cam1:\n  camera_model: pinhole\n  distortion_model: equidistant\n"
+                        "  distortion_coeffs: [-0.0125, 0.0578, -0.0850, 0.0436]\n"
+                        "  intrinsics: [455.0, 455.0, 370.0, 240.0]\n  resolution: [752, 480]\n";
+  cv::Mat pixels(480, 752, CV_8UC1);
+  cv::randu(pixels, 0, 256);
+  ASSERT_TRUE(cv::imwrite(photo.string(), pixels));
+  const EvalRun refused = runEval({"export-rotated-views", "--camera", rig.string(), "--image", photo.string(),
+                                   "--views", "2", "--out", out.string()});
+  EXPECT_EQ(refused.code, 2) << refused.err;
+  EXPECT_NE(refused.err.find("cam1"), std::string::npos) << refused.err;
+  const EvalRun chosen = runEval({"export-rotated-views", "--camera", rig.string(), "--camera-id", "cam1", "--image",
+                                  photo.string(), "--views", "2", "--out", out.string()});
+  ASSERT_EQ(chosen.code, 0) << chosen.err;
+  CameraFileOptions cam1;
+  cam1.cameraId = "cam1";
+  EXPECT_EQ(cameraToYaml(*loadCamera((out / "camera.yaml").string())), cameraToYaml(*loadCamera(rig.string(), cam1)));
+}
+
 }  // namespace
 }  // namespace mdbrief::eval
