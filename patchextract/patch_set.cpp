@@ -10,6 +10,7 @@
 
 #include "mdbrief/internal/atomic_file.hpp"
 #include "mdbrief/internal/input_file.hpp"
+#include "patchextract/hdf5_damage_check.hpp"
 
 namespace mdbrief::train {
 
@@ -230,6 +231,8 @@ PatchSet readPatchSet(const fs::path& path) {
   const std::string p = path.string();
   if (const std::string problem = internal::inputFileProblem(path); !problem.empty())
     throw std::runtime_error(p + ": patch file: " + problem);
+  if (const std::string problem = hdf5DamageProblem(path); !problem.empty())
+    throw std::runtime_error(p + ": damaged HDF5 file: " + problem);
   std::error_code ec;
   if (H5Fis_hdf5(p.c_str()) <= 0) throw std::runtime_error(p + ": not an HDF5 file");
   Handle file(H5Fopen(p.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);

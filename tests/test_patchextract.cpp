@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -276,6 +277,46 @@ TEST(PatchFile, RoundTripAndBrokenFiles) {
   fs::resize_file(dir.path / "cut.h5", size / 2);
   EXPECT_THROW(readPatchSet(dir.path / "cut.h5"), std::runtime_error);
   EXPECT_THROW(writePatchSet(s, dir.path / "nofolder" / "x.h5"), std::runtime_error);
+}
+
+// libhdf5 1.10 follows a local heap's free list that loops back until memory runs out (fuzzing
+// found one: 24 GB). The reader finds the loop first; the heap's signature inside the data (an
+// image named after it) is no reason to refuse a file.
+TEST(PatchFile, ALocalHeapFreeListThatLoopsIsRefusedBeforeLibhdf5ReadsIt) {
+  TempDir dir("h5_heap");
+  PatchSet s;
+  s.images = {"HEAP", "HEAP\x01.png"};
+  s.records.push_back({1, 1.f, 2.f, 31.f, 0.f, 0.5f, 0});
+  s.pixels.assign(1024, 7);
+  const fs::path p = dir.path / "set.h5";
+  writePatchSet(s, p);
+  EXPECT_EQ(readPatchSet(p).images, s.images);
+
+  std::string bytes;
+  {
+    std::ifstream in(p, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  // The root group's heap: "HEAP", version 0, three zero bytes, then (8-byte lengths and
+  // offsets) the data size, the first free block and the data address.
+  const size_t at = bytes.find(std::string("HEAP\0\0\0\0", 8));
+  ASSERT_NE(at, std::string::npos);
+  uint64_t size = 0, address = 0;
+  std::memcpy(&size, &bytes[at + 8], 8);
+  std::memcpy(&address, &bytes[at + 24], 8);
+  ASSERT_GE(size, 16u);
+  ASSERT_LE(address + size, bytes.size());
+  const uint64_t first = 0;
+  std::memcpy(&bytes[at + 16], &first, 8);       // the free list starts at the data's byte 0
+  std::memcpy(&bytes[address], &first, 8);       // whose next block is itself
+  const fs::path looped = dir.path / "looped.h5";
+  std::ofstream(looped, std::ios::binary) << bytes;
+  try {
+    readPatchSet(looped);
+    ADD_FAILURE() << "a looping free list was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("free list that loops"), std::string::npos) << e.what();
+  }
 }
 
 // A write that fails (here beyond the file size limit) keeps the previous file, leaves no
