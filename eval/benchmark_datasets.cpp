@@ -30,10 +30,13 @@ EvalGroup loadBenchmarkDataset(const std::string& name, const BenchmarkDataPaths
     for (const auto& s : kOxfordSequences)
       if (const std::string t = paths.data + "/oxford-affine/" + s + "/img1.png"; fs::exists(t)) textures.push_back(t);
     for (const auto& p : kDocFisheyeTextures) textures.push_back(paths.opencvDocDir + "/" + p);
-    for (const auto& cameraPath : paths.fisheyeCameras) {
-      const CameraPtr camera = loadCamera(cameraPath);
+    for (const auto& value : paths.fisheyeCameras) {
+      const CameraReference reference = parseCameraReference(value);
+      CameraFileOptions options;
+      options.cameraId = reference.cameraId;
+      const CameraPtr camera = loadCamera(reference.path, options);
       for (const auto& t : textures) {
-        const std::string seqName = fs::path(cameraPath).stem().string() + ":" + fs::path(t).parent_path().filename().string() +
+        const std::string seqName = reference.label() + ":" + fs::path(t).parent_path().filename().string() +
                                     "/" + fs::path(t).stem().string();
         g.sequences.push_back(renderedFisheyeSequence(seqName, loadEvaluationImage(t), camera, 6));
       }

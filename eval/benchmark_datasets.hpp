@@ -15,7 +15,8 @@ inline const std::vector<std::string> kBenchmarkDatasets{"poster-dev", "oxford",
 struct BenchmarkDataPaths {
   std::string data = sharedData();  // the shared data folder
   std::string opencvDocDir;         // the opencv-doc photos (textures of the rendered sequences)
-  // The calibrations the rendered fisheye sequences use, one sequence per camera and texture.
+  // The calibrations the rendered fisheye sequences use, one sequence per camera and texture;
+  // "file#id" takes one camera of a rig file (parseCameraReference).
   std::vector<std::string> fisheyeCameras{"configs/cameras/lafida_fisheye0.yaml",
                                           "configs/cameras/double_sphere_example.yaml",
                                           "configs/cameras/kannala_brandt_example.yaml"};

@@ -1,6 +1,7 @@
 #include "command_helpers.hpp"
 
 #include <cstdlib>
+#include <filesystem>
 
 #include "eval_datasets.hpp"
 #include "mdbrief/camera/io.hpp"
@@ -27,6 +28,33 @@ void addOpencvDocFlag(CLI::App* cmd, std::string& dir) {
                   "Debian's opencv-doc package installs them)")
       ->envname("MDBRIEF_OPENCV_DOC")
       ->capture_default_str();
+}
+
+std::string CameraReference::label() const {
+  const std::string stem = std::filesystem::path(path).stem().string();
+  return cameraId.empty() ? stem : stem + "-" + cameraId;
+}
+
+CameraReference parseCameraReference(const std::string& value) {
+  const auto hash = value.rfind('#');
+  std::error_code ec;
+  if (hash == std::string::npos || std::filesystem::exists(value, ec)) return {value, ""};
+  if (hash == 0 || hash + 1 == value.size())
+    throw InputError(value + ": expected a calibration file, or file#id for one camera of a rig file");
+  return {value.substr(0, hash), value.substr(hash + 1)};
+}
+
+CameraPtr loadCameraOrThrow(const CameraReference& camera) {
+  try {
+    return loadCameraOrThrow(camera.path, camera.cameraId);
+  } catch (const InputError& e) {
+    // The library's refusal of a rig file without an id ends so; here the id is part of the value.
+    const std::string message = e.what();
+    const std::string ask = "choose one by its id";
+    if (message.size() >= ask.size() && message.compare(message.size() - ask.size(), ask.size(), ask) == 0)
+      throw InputError(message + " as " + camera.path + "#id");
+    throw;
+  }
 }
 
 CameraPtr loadCameraOrThrow(const std::string& path, const std::string& cameraId) {

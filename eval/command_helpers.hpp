@@ -19,8 +19,19 @@ std::string sharedData();
 // --opencv-doc-dir: Debian's opencv-doc sample photos, which the default textures come from.
 void addOpencvDocFlag(CLI::App* cmd, std::string& dir);
 
+// A calibration given as one value of a flag that takes several: "file", or "file#id" for one
+// camera of a rig file (the ids of --camera-id). A value that names an existing file is a path
+// even when it holds a '#'.
+struct CameraReference {
+  std::string path, cameraId;
+  // The file's stem, and "-id" for a rig's camera: the name of what it renders.
+  std::string label() const;
+};
+CameraReference parseCameraReference(const std::string& value);
+
 // loadCamera / loadEvaluationImage, throwing InputError.
 CameraPtr loadCameraOrThrow(const std::string& path, const std::string& cameraId = "");
+CameraPtr loadCameraOrThrow(const CameraReference& camera);
 // Adds `flag` (e.g. --camera-id), the camera of `cameraFlag`'s file that holds several.
 void addCameraIdFlag(CLI::App* cmd, std::string& id, const std::string& flag = "--camera-id",
                      const std::string& cameraFlag = "--camera");

@@ -22,17 +22,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// "name=path" pairs of the --camera flags; a name ending in "_rim" takes the camera's own
-// longest path (to the rim) instead of the shared one.
+// "name=path" (or "name=path#id", a rig's camera) pairs of the --camera flags; a name ending in
+// "_rim" takes the camera's own longest path (to the rim) instead of the shared one.
 std::vector<SimCamera> parseCameras(const std::vector<std::string>& specs) {
   std::vector<SimCamera> out;
   for (const auto& s : specs) {
     const auto eq = s.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == s.size())
-      throw InputError("--camera " + s + ": expected name=path");
+      throw InputError("--camera " + s + ": expected name=path or name=path#camera-id");
     const std::string name = s.substr(0, eq);
     const bool rim = name.size() > 4 && name.compare(name.size() - 4, 4, "_rim") == 0;
-    out.push_back({name, loadCameraOrThrow(s.substr(eq + 1)), rim ? -1.0 : 0.0});
+    out.push_back({name, loadCameraOrThrow(parseCameraReference(s.substr(eq + 1))), rim ? -1.0 : 0.0});
   }
   return out;
 }
@@ -56,10 +56,11 @@ void addSimCommand(CLI::App& app) {
   auto noProjected = std::make_shared<bool>(false), noDetected = std::make_shared<bool>(false);
   addOpencvDocFlag(cmd, *docDir);
   cmd->add_option("--texture", o->texturePath, "Plane texture (default: graf1.png of --opencv-doc-dir)");
-  cmd->add_option("--camera", *cams, "name=calibration.yaml, repeatable (default: pinhole, radial, fisheye "
-                                     "(lafida_fisheye0), fisheye_rim, double_sphere of configs/cameras in the "
-                                     "working directory); all share the pinhole's path, a name ending in _rim "
-                                     "runs to the rim of its lens");
+  cmd->add_option("--camera", *cams, "name=calibration.yaml, or name=calibration.yaml#id for one camera of a "
+                                     "rig file; repeatable (default: pinhole, radial, fisheye (lafida_fisheye0), "
+                                     "fisheye_rim, double_sphere of configs/cameras in the working directory); "
+                                     "all share the pinhole's path, a name ending in _rim runs to the rim of its "
+                                     "lens");
   cmd->add_option("--out", o->outDir, "Output folder for the CSVs and view images")->required();
   cmd->add_option("--views", o->views, "Positions of the distance-evolution path")->check(CLI::Range(2, 1000))->capture_default_str();
   cmd->add_option("--recognition-views", o->recognitionViews, "Views of the recognition sequence")->check(CLI::Range(2, 1000))->capture_default_str();
@@ -78,7 +79,7 @@ void addSimCommand(CLI::App& app) {
     o->runDetected = !*noDetected;
     // Every file sim writes is a "sim_*" in --out: an input of such a name there may be one.
     std::vector<std::string> inputs{o->texturePath}, outputs;
-    for (const auto& spec : *cams) inputs.push_back(spec.substr(spec.find('=') + 1));
+    for (const auto& spec : *cams) inputs.push_back(parseCameraReference(spec.substr(spec.find('=') + 1)).path);
     for (const auto& input : inputs)
       if (fs::path(input).filename().string().rfind("sim_", 0) == 0)
         outputs.push_back((fs::path(o->outDir) / fs::path(input).filename()).string());
@@ -115,8 +116,8 @@ void addDatasetFlags(CLI::App* cmd, DatasetFlags& d) {
       ->capture_default_str();
   cmd->add_option("--sequences", d.sequences, "Oxford sequences to use")->capture_default_str();
   cmd->add_option("--fisheye-camera", d.fisheyeCameras,
-                  "Calibrations to render the fisheye sequences with (default: three fisheye models of "
-                  "configs/cameras in the working directory)")
+                  "Calibrations to render the fisheye sequences with, file or file#id for one camera of "
+                  "a rig file (default: three fisheye models of configs/cameras in the working directory)")
       ->capture_default_str();
   cmd->add_option("--texture", d.textures, "Photos rendered as planes (default: img1 of every Oxford sequence "
                                            "found and six photos of --opencv-doc-dir)");
@@ -163,10 +164,11 @@ std::vector<EvalGroup> loadGroups(const DatasetFlags& d, std::vector<std::string
     }
     imagePaths.insert(imagePaths.end(), textures.begin(), textures.end());
     EvalGroup g{"fisheye", {}};
-    for (const auto& camPath : d.fisheyeCameras) {
-      const CameraPtr cam = loadCameraOrThrow(camPath);
+    for (const auto& value : d.fisheyeCameras) {
+      const CameraReference camera = parseCameraReference(value);
+      const CameraPtr cam = loadCameraOrThrow(camera);
       for (const auto& t : textures) {
-        const std::string name = fs::path(camPath).stem().string() + ":" + fs::path(t).parent_path().filename().string() +
+        const std::string name = camera.label() + ":" + fs::path(t).parent_path().filename().string() +
                                  "/" + fs::path(t).stem().string();
         g.sequences.push_back(renderedFisheyeSequence(name, loadGreyOrThrow(t), cam, d.poses));
       }
@@ -187,7 +189,7 @@ std::vector<EvalGroup> loadGroups(const DatasetFlags& d, std::vector<std::string
 // Every file the groups were read from, for the check that no output is one of them.
 std::vector<std::string> datasetInputs(const DatasetFlags& d, const std::vector<std::string>& imagePaths) {
   std::vector<std::string> inputs = imagePaths;
-  inputs.insert(inputs.end(), d.fisheyeCameras.begin(), d.fisheyeCameras.end());
+  for (const auto& value : d.fisheyeCameras) inputs.push_back(parseCameraReference(value).path);
   inputs.insert(inputs.end(), d.userHomographies.begin(), d.userHomographies.end());
   inputs.push_back(d.userCamera);
   return inputs;

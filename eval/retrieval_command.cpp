@@ -39,7 +39,7 @@ void addRetrievalCommand(CLI::App& app) {
                   "Only these data sets: poster-dev, oxford, rendered-fisheye (default: every one found; one "
                   "named here that cannot be read is an error)")
       ->check(CLI::IsMember(kRetrievalDatasets));
-  cmd->add_option("--fisheye-camera", a->paths.fisheyeCameras, "Calibrations the rendered fisheye sequences use")
+  cmd->add_option("--fisheye-camera", a->paths.fisheyeCameras, "Calibrations the rendered fisheye sequences use, file or file#id for one camera of a rig file")
       ->capture_default_str();
   cmd->add_option("--photos", a->photos,
                   "Photos, sorted by path: the first --training-count train the vocabularies, the rest are "
@@ -88,7 +88,7 @@ void addRetrievalCommand(CLI::App& app) {
     std::vector<EvalGroup> groups;
     std::vector<std::string> inputs(training.begin(), training.end());
     inputs.insert(inputs.end(), distractors.begin(), distractors.end());
-    inputs.insert(inputs.end(), a->paths.fisheyeCameras.begin(), a->paths.fisheyeCameras.end());
+    for (const auto& value : a->paths.fisheyeCameras) inputs.push_back(parseCameraReference(value).path);
     for (const auto& name : named ? a->datasets : kRetrievalDatasets) {
       std::vector<std::string> read;
       try {

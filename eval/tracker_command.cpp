@@ -113,7 +113,7 @@ void addTrackerCommand(CLI::App& app) {
   cmd->add_option("--ratios", a->options.ratios, "Ratio-test sweep (1 = mutual nearest neighbours only)")
       ->check(CLI::Range(0.05, 1.0))
       ->capture_default_str();
-  cmd->add_option("--fisheye-camera", a->paths.fisheyeCameras, "Calibrations the rendered fisheye sequences use")
+  cmd->add_option("--fisheye-camera", a->paths.fisheyeCameras, "Calibrations the rendered fisheye sequences use, file or file#id for one camera of a rig file")
       ->capture_default_str();
   cmd->add_option("--out", a->options.outDir, "Output folder for tracker_pairs.csv and tracker_summary.csv")->required();
   cmd->callback([a] {
@@ -140,7 +140,7 @@ void addTrackerCommand(CLI::App& app) {
     }
     if (groups.empty()) throw InputError("no data set could be read (see the messages above)");
     std::vector<std::string> inputs = images;
-    inputs.insert(inputs.end(), a->paths.fisheyeCameras.begin(), a->paths.fisheyeCameras.end());
+    for (const auto& value : a->paths.fisheyeCameras) inputs.push_back(parseCameraReference(value).path);
     for (const auto& spec : a->library) inputs.push_back(spec.substr(spec.find('=') + 1));
     checkOutputsApart(inputs, {a->options.outDir + "/tracker_pairs.csv", a->options.outDir + "/tracker_summary.csv"});
     std::vector<MethodSpec> methods;

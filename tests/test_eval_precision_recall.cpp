@@ -336,7 +336,7 @@ TEST(EvalCli, AnOutputThatIsAnInputIsRefused) {
 
 // A rig file's cameras are chosen by --camera-id in the evaluation too: the photo of cam1 is
 // turned with cam1's lens (its camera.yaml is cam1's), and a rig without a choice is refused
-// naming the ids.
+// naming the ids. Flags that take several calibrations take file#id.
 TEST(EvalCli, CameraIdChoosesTheCameraOfARigFile) {
   testing::TempDir dir("eval_rig");
   const fs::path rig = dir.path / "camchain.yaml", photo = dir.path / "photo.png", out = dir.path / "out";
@@ -359,6 +359,35 @@ TEST(EvalCli, CameraIdChoosesTheCameraOfARigFile) {
   CameraFileOptions cam1;
   cam1.cameraId = "cam1";
   EXPECT_EQ(cameraToYaml(*loadCamera((out / "camera.yaml").string())), cameraToYaml(*loadCamera(rig.string(), cam1)));
+
+  // Flags that take several calibrations name a rig's camera as file#id, and say so when it is
+  // missing; the rendered sequence is named after the camera.
+  const fs::path texture = dir.path / "texture.png";
+  cv::Mat smooth;
+  cv::GaussianBlur(pixels, smooth, cv::Size(0, 0), 2.0);
+  ASSERT_TRUE(cv::imwrite(texture.string(), smooth));
+  const auto evalFisheye = [&](const std::string& camera) {
+    return runEval({"eval", "--no-perspective", "--fisheye-camera", camera, "--texture", texture.string(), "--poses",
+                    "2", "--quick", "--out", (dir.path / "eval").string()});
+  };
+  const EvalRun noId = evalFisheye(rig.string());
+  EXPECT_EQ(noId.code, 2);
+  EXPECT_NE(noId.err.find("choose one by its id as " + rig.string() + "#id"), std::string::npos) << noId.err;
+  const EvalRun unknownId = evalFisheye(rig.string() + "#cam7");
+  EXPECT_EQ(unknownId.code, 2);
+  EXPECT_NE(unknownId.err.find("cam7"), std::string::npos) << unknownId.err;
+  const EvalRun withId = evalFisheye(rig.string() + "#cam1");
+  ASSERT_EQ(withId.code, 0) << withId.err;
+  EXPECT_NE(testing::readFile(dir.path / "eval" / "eval_summary.csv").find("fisheye,camchain-cam1:"), std::string::npos);
+  // sim's name=path pairs take the same form (no experiment run: the cameras load first).
+  const auto sim = [&](const std::string& camera) {
+    return runEval({"sim", "--camera", "fish=" + camera, "--texture", texture.string(), "--no-projected",
+                    "--no-detected", "--out", (dir.path / "sim").string()});
+  };
+  const EvalRun simUnknownId = sim(rig.string() + "#cam7");
+  EXPECT_EQ(simUnknownId.code, 2);
+  EXPECT_NE(simUnknownId.err.find("cam7"), std::string::npos) << simUnknownId.err;
+  EXPECT_EQ(sim(rig.string() + "#cam1").code, 0);
 }
 
 }  // namespace
