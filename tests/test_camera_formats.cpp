@@ -168,6 +168,41 @@ TEST(CameraFormats, ColmapPrincipalPointMovesByHalfAPixel) {
   EXPECT_EQ(axis, cv::Point2d(511.5, 383.5));  // COLMAP: cx, cy = 512, 384
 }
 
+// Kimera-VIO's omni camera as its documentation gives the back-projection: (x', y') =
+// [1 A0; A1 A2]^-1 ((u, v) - omni_distortion_center), z = a0 + a1 rho + ... (rho = |(x', y')|),
+// and the point at depth d is d (x'/z, y'/z, 1). A skewed affine tells each coefficient's place.
+// OCamCalib's a0 is negative, so that point lies opposite the pixel across the optical axis;
+// the library reads the lens as OCamCalib defines it (a pixel right of the centre sees to the
+// right, as the same lens's calib_results.txt gives): Kimera's x and y negated.
+TEST(CameraFormats, KimeraOmniBearingsAreKimerasDocumentedBackProjection) {
+  const fs::path file = fs::temp_directory_path() / ("mdbrief_kimera_omni_" + std::to_string(::getpid()) + ".yaml");
+  const double a[5] = {-209.2, 0.0, 0.0021, -4.2e-06, 1.77e-08};
+  const double a0 = 0.05, a1 = -0.03, a2 = 0.97, cu = 380.5, cv = 236.25;
+  std::ofstream(file) << "%YAML:1.0\ncamera_id: left_cam\nrate_hz: 20\nresolution: [754, 480]\ncamera_model: omni\n"
+                         "intrinsics: [240.0, 240.0, 377.5, 240.5]\ndistortion_model: omni\n"
+                         "distortion_coefficients: [-209.2, 0.0, 0.0021, -4.2e-06, 1.77e-08]\n"
+                         "omni_distortion_center: [380.5, 236.25]\nomni_affine: [0.05, -0.03, 0.97]\n";
+  const auto camera = loadCamera(file.string());
+  fs::remove(file);
+  const cv::Matx22d affineInverse = cv::Matx22d(1.0, a0, a1, a2).inv();
+  int checked = 0;
+  for (double v = 20; v < 480; v += 40)
+    for (double u = 20; u < 754; u += 40) {
+      const cv::Vec2d rectified = affineInverse * cv::Vec2d(u - cu, v - cv);
+      const double rho = cv::norm(rectified);
+      const double z = a[0] + rho * (a[1] + rho * (a[2] + rho * (a[3] + rho * a[4])));
+      if (!(z < 0)) continue;  // Kimera's division by z reaches only the forward half
+      const cv::Vec3d kimera = cv::normalize(cv::Vec3d(rectified[0] / z, rectified[1] / z, 1.0));
+      const cv::Vec3d lens(-kimera[0], -kimera[1], kimera[2]);
+      cv::Vec3d ours;
+      ASSERT_TRUE(camera->pixelToBearing({u, v}, ours)) << u << ", " << v;
+      EXPECT_LT(cv::norm(cv::normalize(ours) - lens), 1e-9) << u << ", " << v;
+      EXPECT_GT(ours[0] * rectified[0], 0.0) << u << ", " << v;  // right of the centre sees to the right
+      ++checked;
+    }
+  EXPECT_GT(checked, 100);
+}
+
 class CameraFileErrors : public ::testing::Test {
  protected:
   void SetUp() override {

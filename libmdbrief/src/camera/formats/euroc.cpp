@@ -11,7 +11,9 @@
 //    polynomial a0.. in distortion_coefficients, omni_distortion_center [x y] (pixels) and
 //    omni_affine [A0 A1 A2], which Kimera reads as (x, y) - centre = [1 A0; A1 A2] (x', y') with
 //    (x', y', f(rho)) the ray -> ocam (its inverse polynomial fitted; the intrinsics, Kimera's
-//    ideal pinhole for this model, are not read).
+//    ideal pinhole for this model, are not read). The lens is read as OCamCalib defines it: a
+//    pixel right of the centre sees to the right. Kimera divides by f(rho), which OCamCalib's
+//    negative a0 makes negative, so its rays are these turned 180 degrees about the axis.
 // The model names are read case-insensitively, as Kimera does. The pixels are OpenCV's.
 #include <algorithm>
 #include <cctype>
