@@ -32,9 +32,7 @@ EvalGroup loadBenchmarkDataset(const std::string& name, const BenchmarkDataPaths
     for (const auto& p : kDocFisheyeTextures) textures.push_back(paths.opencvDocDir + "/" + p);
     for (const auto& value : paths.fisheyeCameras) {
       const CameraReference reference = parseCameraReference(value);
-      CameraFileOptions options;
-      options.cameraId = reference.cameraId;
-      const CameraPtr camera = loadCamera(reference.path, options);
+      const CameraPtr camera = loadCameraOrThrow(reference);
       for (const auto& t : textures) {
         const std::string seqName = reference.label() + ":" + fs::path(t).parent_path().filename().string() +
                                     "/" + fs::path(t).stem().string();

@@ -46,14 +46,14 @@ CameraReference parseCameraReference(const std::string& value) {
 
 CameraPtr loadCameraOrThrow(const CameraReference& camera) {
   try {
-    return loadCameraOrThrow(camera.path, camera.cameraId);
-  } catch (const InputError& e) {
-    // The library's refusal of a rig file without an id ends so; here the id is part of the value.
-    const std::string message = e.what();
-    const std::string ask = "choose one by its id";
-    if (message.size() >= ask.size() && message.compare(message.size() - ask.size(), ask.size(), ask) == 0)
-      throw InputError(message + " as " + camera.path + "#id");
-    throw;
+    CameraFileOptions options;
+    options.cameraId = camera.cameraId;
+    return loadCamera(camera.path, options);
+  } catch (const CameraIdRequired& e) {
+    // Here the id is part of the value.
+    throw InputError(std::string(e.what()) + " as " + camera.path + "#id");
+  } catch (const std::exception& e) {
+    throw InputError(e.what());
   }
 }
 

@@ -243,6 +243,13 @@ TEST_F(CameraFileErrors, MultiCameraFilesNeedAChoiceAndOneCameraFilesRefuseIt) {
   EXPECT_NE(errorOf(sample("basalt_calib.json")).find("holds cameras 0, 1, 2, 3, 4: choose one"), std::string::npos);
   EXPECT_NE(errorOf(sample("orbslam3_kannala_brandt8_stereo.yaml")).find("holds cameras 1, 2"), std::string::npos);
   EXPECT_NE(errorOf(sample("colmap_cameras.txt")).find("holds cameras 1, 2, 3, 4, 5, 6, 7"), std::string::npos);
+  // The refusal has its own type, which lists the ids for a caller's own message.
+  try {
+    loadCamera(sample("basalt_calib.json").string());
+    ADD_FAILURE() << "a rig file loaded without an id";
+  } catch (const CameraIdRequired& e) {
+    EXPECT_EQ(e.ids(), (std::vector<std::string>{"0", "1", "2", "3", "4"}));
+  }
   EXPECT_NE(errorOf(sample("kalibr_camchain.yaml"), {CameraFormat::Auto, "cam9"}).find("has no camera 'cam9'"),
             std::string::npos);
   EXPECT_NE(errorOf(sample("colmap_cameras.txt"), {CameraFormat::Auto, "8"}).find("has no camera '8'"),

@@ -369,8 +369,8 @@ std::string chooseCamera(const std::string& path, const std::string& what, const
   for (const std::string& id : ids) list += (list.empty() ? "" : ", ") + id;
   if (wanted.empty()) {
     if (ids.size() == 1) return ids.front();
-    throw std::runtime_error(path + ": " + what + (ids.empty() ? " holds no camera" : " holds cameras " + list +
-                                                                                          ": choose one by its id"));
+    if (ids.empty()) throw std::runtime_error(path + ": " + what + " holds no camera");
+    throw CameraIdRequired(path + ": " + what + " holds cameras " + list + ": choose one by its id", ids);
   }
   if (std::find(ids.begin(), ids.end(), wanted) == ids.end())
     throw std::runtime_error(path + ": " + what + " has no camera '" + wanted + "' (it has " +

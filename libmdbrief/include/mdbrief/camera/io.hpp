@@ -5,7 +5,9 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -57,6 +59,19 @@ inline std::string toString(OpenCvModel model) { return nameOf(model, kOpenCvMod
 inline OpenCvModel parseOpenCvModel(const std::string& name) {
   return parseName(name, kOpenCvModelNames, "OpenCV model");
 }
+
+// Thrown when a file holds several cameras and CameraFileOptions::cameraId chooses none; the
+// message ends "choose one by its id", and ids() lists them so that a caller can say how its own
+// interface takes one.
+class CameraIdRequired : public std::runtime_error {
+ public:
+  CameraIdRequired(const std::string& message, std::vector<std::string> ids)
+      : std::runtime_error(message), ids_(std::move(ids)) {}
+  const std::vector<std::string>& ids() const noexcept { return ids_; }
+
+ private:
+  std::vector<std::string> ids_;
+};
 
 struct CameraFileOptions {
   CameraFormat format = CameraFormat::Auto;  // auto: recognised from the content
