@@ -101,12 +101,14 @@ uint64_t hessianDigest(const std::vector<float>& level) {
   for (int y = 1; y + 1 < kRows; ++y)
     k.responseRow(&level[(y - 1) * kCols], &level[y * kCols], &level[(y + 1) * kCols], kCols, 16.f, &response[y * kCols]);
   d.add(response);
+  std::vector<float> maxima(response.size(), 0.f);
+  for (int y = 0; y < kRows; ++y) k.rowMax3(&response[y * kCols], kCols, &maxima[y * kCols]);
   std::vector<int32_t> xs(kCols + 16);
   int64_t total = 0;
   for (const float threshold : {-1.f, 0.f, 1e-7f, 1e-5f}) {
     for (int y = 2; y + 2 < kRows; ++y) {
-      const int n = k.candidates(&response[(y - 1) * kCols], &response[y * kCols], &response[(y + 1) * kCols], 2,
-                                 kCols - 2, threshold, xs.data());
+      const int n = k.candidates(&response[y * kCols], &maxima[(y - 1) * kCols], &maxima[y * kCols],
+                                 &maxima[(y + 1) * kCols], 2, kCols - 2, threshold, xs.data());
       d.add(xs.data(), n * sizeof(int32_t));
       total += n;
     }

@@ -63,21 +63,45 @@ cv::Point2f blobPosition(const detail::Blob& b, const LevelGrid& grid) {
   return grid.toInput(cv::Point2d(b.x + b.dx, b.y + b.dy));
 }
 
-// Per pyramid level of a valid-area mask (255 = valid): the distance (level pixels) to the
-// nearest invalid pixel, so that detect() tests any margin with one lookup. The mask is
-// resampled like the image and a level pixel counts as valid only if everything it was
-// resampled from was (255 after resizing).
-std::vector<cv::Mat> distancesToInvalid(const cv::Mat& validMask, const PyramidOptions& pyramid) {
+}  // namespace
+
+// Per pyramid level of a valid-area mask (255 = valid): the pixels whose distance (level pixels)
+// to the nearest invalid pixel is at least `margin`. The mask is resampled like the image and a
+// level pixel counts as valid only if everything it was resampled from was (255 after resizing).
+std::vector<Detector::MarginRuns> Detector::keepingMargin(const cv::Mat& validMask, const PyramidOptions& pyramid,
+                                                          int margin) {
   const ImagePyramid area(validMask, pyramid);
-  std::vector<cv::Mat> distances;
+  std::vector<MarginRuns> kept(area.levels());
   for (int level = 0; level < area.levels(); ++level) {
     cv::Mat valid, distance;
     cv::compare(area.image(level), 255, valid, cv::CMP_EQ);
     cv::distanceTransform(valid, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
-    distances.push_back(distance);
+    MarginRuns& runs = kept[level];
+    runs.rowStart.assign(1, 0);
+    for (int y = 0; y < distance.rows; ++y) {
+      const float* row = distance.ptr<float>(y);
+      for (int x = 0; x < distance.cols;) {
+        if (!(row[x] >= margin)) {
+          ++x;
+          continue;
+        }
+        const int begin = x;
+        while (x < distance.cols && row[x] >= margin) ++x;
+        runs.runs.emplace_back(begin, x);
+      }
+      runs.rowStart.push_back(static_cast<int>(runs.runs.size()));
+    }
   }
-  return distances;
+  return kept;
 }
+
+bool Detector::MarginRuns::contains(int x, int y) const {
+  for (int i = rowStart[y]; i < rowStart[y + 1]; ++i)
+    if (x >= runs[i][0] && x < runs[i][1]) return true;
+  return false;
+}
+
+namespace {
 
 }  // namespace
 
@@ -121,10 +145,10 @@ Detector::Detector(CameraPtr camera, DetectorOptions options)
     : options_(std::move(options)), camera_(std::move(camera)) {
   validate(options_);
   if (!camera_) return;
-  validDistance_ = distancesToInvalid(validAreaMask(*camera_, camera_->imageSize()), options_.pyramid);
+  keepsMargin_ = keepingMargin(validAreaMask(*camera_, camera_->imageSize()), options_.pyramid, options_.borderMargin);
   if (options_.conformal) {
     conformal_ = std::make_shared<const detail::ConformalView>(camera_);
-    conformalDistance_ = distancesToInvalid(conformal_->validMask(), options_.pyramid);
+    conformalKeepsMargin_ = keepingMargin(conformal_->validMask(), options_.pyramid, options_.borderMargin);
   }
 }
 
@@ -158,11 +182,8 @@ std::vector<cv::KeyPoint> Detector::detect(const ImagePyramid& pyramid, const cv
   if (conformal_) {
     keypoints = detectConformal(pyramid, mask, measureAngles);
   } else {
-    const int margin = options_.borderMargin;
-    // A candidate at level pixel (x, y) keeps `margin` level pixels from the camera's invalid area.
-    const auto allowed = [&](int level, int x, int y) {
-      return !camera_ || validDistance_[level].at<float>(y, x) >= margin;
-    };
+    // A candidate at level pixel (x, y) keeps borderMargin level pixels from the camera's invalid area.
+    const auto allowed = [&](int level, int x, int y) { return !camera_ || keepsMargin_[level].contains(x, y); };
     keypoints = options_.method == DetectorMethod::Hessian
                     ? detectBlobs(pyramid, allowed, mask, options_.nfeatures, measureAngles)
                     : detectCorners(pyramid, allowed, mask, options_.nfeatures, measureAngles);
@@ -217,21 +238,22 @@ std::vector<cv::KeyPoint> Detector::detectCorners(const ImagePyramid& pyramid, c
 std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, const Allowed& allowed,
                                                 const cv::Mat& mask, int budget, bool measureAngles) const {
   const int levels = pyramid.levels();
-  std::vector<cv::Mat> responses(levels);
+  std::vector<detail::HessianLevel> responses(levels);
   std::vector<LevelGrid> grids(levels);
   for (int k = 0; k < levels; ++k) grids[k] = pyramid.grid(k);
   // The descriptors' smoothed levels when the sigmas and the kernel agree (the defaults): one
   // blur for detection and description.
   const PyramidOptions& po = pyramid.options();
   const bool shared = po.smoothingSigma == options_.hessianSigma &&
-                      po.smoothingKernel == 2 * static_cast<int>(std::ceil(3.0 * options_.hessianSigma)) + 1;
+                      po.smoothingKernel == detail::hessianTaps(options_.hessianSigma);
   tbb::parallel_for(0, levels, [&](int k) {
-    responses[k] = detail::hessianResponse(
-        shared ? pyramid.smoothedFloat(k) : detail::gaussianSmoothed(pyramid.image(k), options_.hessianSigma),
-        options_.hessianSigma);
+    // Maxima are searched for on the inner levels only (hessianMaxima).
+    responses[k] = detail::hessianLevel(pyramid.image(k), detail::hessianTaps(options_.hessianSigma),
+                                        options_.hessianSigma, options_.hessianSigma, k > 0 && k + 1 < levels,
+                                        static_cast<float>(options_.hessianThreshold), options_.borderMargin);
+    if (shared) pyramid.adoptSmoothed(k, responses[k].bytes);
   });
-  std::vector<detail::Blob> blobs = detail::hessianMaxima(
-      responses, grids, static_cast<float>(options_.hessianThreshold), options_.borderMargin, allowed);
+  std::vector<detail::Blob> blobs = detail::hessianMaxima(responses, grids, allowed);
   const double logFactor = std::log(options_.pyramid.scaleFactor);
   const auto refinedScale = [&](const detail::Blob& b) {
     return grids[b.level].scale * std::exp(b.dlevel * logFactor);
@@ -282,7 +304,7 @@ std::vector<cv::KeyPoint> Detector::detectConformal(const ImagePyramid& pyramid,
                                                     bool measureAngles) const {
   const int margin = options_.borderMargin;
   const ImagePyramid view(conformal_->remap(pyramid.image(pyramid.options().firstLevel)), options_.pyramid);
-  const auto inView = [&](int level, int x, int y) { return conformalDistance_[level].at<float>(y, x) >= margin; };
+  const auto inView = [&](int level, int x, int y) { return conformalKeepsMargin_[level].contains(x, y); };
   // Some keypoints are lost on the way back (the margin, in camera pixels, is wider where the view
   // magnifies): detect a quarter more, keep the strongest nfeatures of those that survive.
   const int budget = options_.nfeatures + (options_.nfeatures + 3) / 4;
@@ -308,7 +330,7 @@ std::vector<cv::KeyPoint> Detector::detectConformal(const ImagePyramid& pyramid,
     const int x = cvRound(onLevel.x), y = cvRound(onLevel.y);
     const cv::Mat& image = pyramid.image(level);
     if (x < margin || y < margin || x >= image.cols - margin || y >= image.rows - margin) continue;
-    if (validDistance_[level].at<float>(y, x) < margin) continue;
+    if (!keepsMargin_[level].contains(x, y)) continue;
     const cv::Point2f position(static_cast<float>(pixel.x), static_cast<float>(pixel.y));
     if (!maskAllows(mask, position)) continue;
     keypoints.emplace_back(position, static_cast<float>(size),

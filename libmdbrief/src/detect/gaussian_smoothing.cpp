@@ -43,48 +43,52 @@ std::vector<uint32_t> fixedWeights(int taps, double sigma, int bits) {
 
 }  // namespace
 
-Smoothing gaussianSmoothing(const cv::Mat& level8u, int taps, double sigma, bool withFloats) {
+GaussianRowSmoother::GaussianRowSmoother(const cv::Mat& level8u, int taps, double sigma) : level_(level8u) {
   if (level8u.type() != CV_8UC1 || level8u.empty())
     throw std::invalid_argument("gaussianSmoothing: needs a non-empty 8UC1 image");
   if (taps < 1 || taps % 2 == 0 || taps > kMaxSmoothingTaps || !(sigma > 0.0))
     throw std::invalid_argument("gaussianSmoothing: needs an odd width of at most 49 taps and a positive sigma");
-  const int rows = level8u.rows, cols = level8u.cols, radius = taps / 2, window = taps;
-  const std::vector<uint32_t> rowWeights = fixedWeights(taps, sigma, 8), columnWeights = fixedWeights(taps, sigma, 16);
-  const smoothing_kernels::SmoothingKernels kernels = smoothing_kernels::activeSmoothingKernels();
+  rows_ = level8u.rows, cols_ = level8u.cols, radius_ = taps / 2, window_ = taps;
+  rowWeights_ = fixedWeights(taps, sigma, 8), columnWeights_ = fixedWeights(taps, sigma, 16);
+  ring_.resize(static_cast<size_t>(window_) * cols_);
+  padded_.resize(cols_ + 2 * radius_);
+  leftColumn_.resize(radius_ + 1), rightColumn_.resize(radius_ + 1);
+  for (int i = 1; i <= radius_; ++i) {
+    leftColumn_[i] = cv::borderInterpolate(-i, cols_, cv::BORDER_REFLECT_101);
+    rightColumn_[i] = cv::borderInterpolate(cols_ - 1 + i, cols_, cv::BORDER_REFLECT_101);
+  }
+  source_.resize(rows_ + 2 * radius_);
+  for (int i = 0; i < rows_ + 2 * radius_; ++i)
+    source_[i] = cv::borderInterpolate(i - radius_, rows_, cv::BORDER_REFLECT_101);
+  taken_.resize(window_);
+  kernels_ = smoothing_kernels::activeSmoothingKernels();
+}
 
-  // Row-smoothed rows in a ring of `window` slots (source row s in slot s % window): every row
-  // an output row reads, reflections included, lies within `radius` rows of it, so the ring
-  // stays in the L1 cache instead of a level-sized intermediate image.
-  std::vector<uint16_t> ring(static_cast<size_t>(window) * cols), padded(cols + 2 * radius);
-  // The reflected columns of the padding, found once rather than per row.
-  std::vector<int> leftColumn(radius + 1), rightColumn(radius + 1);
-  for (int i = 1; i <= radius; ++i) {
-    leftColumn[i] = cv::borderInterpolate(-i, cols, cv::BORDER_REFLECT_101);
-    rightColumn[i] = cv::borderInterpolate(cols - 1 + i, cols, cv::BORDER_REFLECT_101);
+void GaussianRowSmoother::smoothSourceRow(int s) {
+  const uint8_t* in = level_.ptr<uint8_t>(s);
+  std::copy(in, in + cols_, padded_.begin() + radius_);
+  for (int i = 1; i <= radius_; ++i) {
+    padded_[radius_ - i] = in[leftColumn_[i]];
+    padded_[radius_ + cols_ - 1 + i] = in[rightColumn_[i]];
   }
-  const auto smoothSourceRow = [&](int s) {
-    const uint8_t* in = level8u.ptr<uint8_t>(s);
-    std::copy(in, in + cols, padded.begin() + radius);
-    for (int i = 1; i <= radius; ++i) {
-      padded[radius - i] = in[leftColumn[i]];
-      padded[radius + cols - 1 + i] = in[rightColumn[i]];
-    }
-    kernels.rows(padded.data() + radius, cols, rowWeights.data(), radius, &ring[static_cast<size_t>(s % window) * cols]);
-  };
-  Smoothing out{cv::Mat(rows, cols, CV_8U), withFloats ? cv::Mat(rows, cols, CV_32F) : cv::Mat()};
-  std::vector<const uint16_t*> taken(window);
-  // The source row of every row an output row reads (-radius .. rows - 1 + radius), reflected
-  // once here rather than per output row and tap.
-  std::vector<int> source(rows + 2 * radius);
-  for (int i = 0; i < rows + 2 * radius; ++i) source[i] = cv::borderInterpolate(i - radius, rows, cv::BORDER_REFLECT_101);
-  int smoothedRows = 0;
-  for (int y = 0; y < rows; ++y) {
-    for (; smoothedRows < rows && smoothedRows <= y + radius; ++smoothedRows) smoothSourceRow(smoothedRows);
-    for (int k = -radius; k <= radius; ++k)
-      taken[radius + k] = &ring[static_cast<size_t>(source[y + k + radius] % window) * cols];
-    kernels.columns(taken.data(), cols, columnWeights.data(), radius, out.bytes.ptr<uint8_t>(y),
-                    withFloats ? out.floats.ptr<float>(y) : nullptr);
-  }
+  kernels_.rows(padded_.data() + radius_, cols_, rowWeights_.data(), radius_, &ring_[static_cast<size_t>(s % window_) * cols_]);
+}
+
+void GaussianRowSmoother::next(uint8_t* bytes, float* floats) {
+  if (y_ >= rows_) throw std::out_of_range("GaussianRowSmoother::next: past the last row");
+  for (; smoothedRows_ < rows_ && smoothedRows_ <= y_ + radius_; ++smoothedRows_) smoothSourceRow(smoothedRows_);
+  for (int k = -radius_; k <= radius_; ++k)
+    taken_[radius_ + k] = &ring_[static_cast<size_t>(source_[y_ + k + radius_] % window_) * cols_];
+  kernels_.columns(taken_.data(), cols_, columnWeights_.data(), radius_, bytes, floats);
+  ++y_;
+}
+
+Smoothing gaussianSmoothing(const cv::Mat& level8u, int taps, double sigma, bool withFloats) {
+  GaussianRowSmoother smoother(level8u, taps, sigma);
+  Smoothing out{cv::Mat(level8u.rows, level8u.cols, CV_8U),
+                withFloats ? cv::Mat(level8u.rows, level8u.cols, CV_32F) : cv::Mat()};
+  for (int y = 0; y < level8u.rows; ++y)
+    smoother.next(out.bytes.ptr<uint8_t>(y), withFloats ? out.floats.ptr<float>(y) : nullptr);
   return out;
 }
 

@@ -2,7 +2,12 @@
 // The Gaussian smoothing of an 8-bit pyramid level in integer arithmetic: what the descriptors
 // sample (8 bits) and what the Hessian detector differentiates (float) are one result, the same
 // on every CPU and at every SIMD level.
+#include <cstdint>
+#include <vector>
+
 #include <opencv2/core.hpp>
+
+#include "detect/smoothing_kernels.hpp"
 
 namespace mdbrief::detail {
 
@@ -21,5 +26,34 @@ constexpr int kMaxSmoothingTaps = 49;
 // what rounding leaves so that they sum to one exactly (a flat image stays flat); the rows'
 // coarser weights halve the time, and keep the result within a grey level of the exact Gaussian.
 Smoothing gaussianSmoothing(const cv::Mat& level8u, int taps, double sigma, bool withFloats);
+
+// The same smoothing one output row at a time, top to bottom, for a consumer that uses each row
+// while it is in the cache (the Hessian response) instead of writing a level-sized image and
+// reading it back. The level must outlive the smoother.
+class GaussianRowSmoother {
+ public:
+  // Throws std::invalid_argument for what gaussianSmoothing refuses.
+  GaussianRowSmoother(const cv::Mat& level8u, int taps, double sigma);
+  // Row `row()` of both forms (cols bytes; cols floats unless floats is null), then the next.
+  void next(uint8_t* bytes, float* floats);
+  int row() const { return y_; }
+
+ private:
+  void smoothSourceRow(int s);
+
+  cv::Mat level_;
+  int rows_, cols_, radius_, window_;
+  std::vector<uint32_t> rowWeights_, columnWeights_;
+  // Row-smoothed rows in a ring of `window` slots (source row s in slot s % window): every row
+  // an output row reads, reflections included, lies within `radius` rows of it, so the ring
+  // stays in the L1 cache instead of a level-sized intermediate image.
+  std::vector<uint16_t> ring_, padded_;
+  // The reflected columns of the padding, and the source row of every row an output row reads
+  // (-radius .. rows - 1 + radius), found once rather than per row and tap.
+  std::vector<int> leftColumn_, rightColumn_, source_;
+  std::vector<const uint16_t*> taken_;
+  smoothing_kernels::SmoothingKernels kernels_;
+  int smoothedRows_ = 0, y_ = 0;
+};
 
 }  // namespace mdbrief::detail

@@ -12,39 +12,63 @@
 
 namespace mdbrief::detail {
 
-cv::Mat gaussianSmoothed(const cv::Mat& level, double sigma) {
-  // Truncated at 3 sigma: OpenCV's default for float images reaches 4 sigma, a third more taps
-  // for weights below 0.3 % of the total. The pyramid's own smoothing, at this detector's sigma.
-  const int taps = 2 * static_cast<int>(std::ceil(3.0 * sigma)) + 1;
-  return gaussianSmoothing(level, taps, sigma, true).floats;
-}
+int hessianTaps(double sigma) { return 2 * static_cast<int>(std::ceil(3.0 * sigma)) + 1; }
 
-cv::Mat hessianResponse(const cv::Mat& smooth, double sigma) {
-  // Central second differences and det * sigma^4 in one pass (hessian_kernels.hpp). Borders
-  // reflect as BORDER_REFLECT_101: the maxima of the neighbouring levels read them.
-  const int rows = smooth.rows, cols = smooth.cols;
-  const float scale = static_cast<float>(sigma * sigma * sigma * sigma);
+HessianLevel hessianLevel(const cv::Mat& level8u, int taps, double smoothingSigma, double hessianSigma,
+                          bool findCandidates, float threshold, int margin) {
+  GaussianRowSmoother smoother(level8u, taps, smoothingSigma);
+  const int rows = level8u.rows, cols = level8u.cols;
+  const float scale = static_cast<float>(hessianSigma * hessianSigma * hessianSigma * hessianSigma);
   const hessian_kernels::HessianKernels kernels = hessian_kernels::activeHessianKernels();
-  cv::Mat response(rows, cols, CV_32F);
+  HessianLevel out{cv::Mat(rows, cols, CV_8U), cv::Mat(rows, cols, CV_32F), {}};
+  // The smoothed rows y - 1, y and y + 1 in a ring of three.
+  std::vector<float> ring(3 * static_cast<size_t>(cols));
+  const auto smoothedRow = [&](int y) { return &ring[static_cast<size_t>(y % 3) * cols]; };
   const auto reflect = [](int i, int n) { return n == 1 ? 0 : i < 0 ? -i : i >= n ? 2 * n - 2 - i : i; };
-  for (int y = 0; y < rows; ++y) {
-    const float* a = smooth.ptr<float>(reflect(y - 1, rows));
-    const float* b = smooth.ptr<float>(y);
-    const float* c = smooth.ptr<float>(reflect(y + 1, rows));
-    float* out = response.ptr<float>(y);
+  // Central second differences and det * sigma^4 of row y, from the smoothed rows around it.
+  const auto respond = [&](int y) {
+    const float* a = smoothedRow(reflect(y - 1, rows));
+    const float* b = smoothedRow(y);
+    const float* c = smoothedRow(reflect(y + 1, rows));
+    float* r = out.response.ptr<float>(y);
     // The two border columns as the kernel does the others, with reflected neighbours.
     const auto at = [&](int x) {
-      const int l = reflect(x - 1, cols), r = reflect(x + 1, cols);
-      const float dxx = (b[l] + b[r]) - 2.f * b[x];
+      const int l = reflect(x - 1, cols), rt = reflect(x + 1, cols);
+      const float dxx = (b[l] + b[rt]) - 2.f * b[x];
       const float dyy = (a[x] + c[x]) - 2.f * b[x];
-      const float dxy = ((c[r] - c[l]) - (a[r] - a[l])) * 0.25f;
+      const float dxy = ((c[rt] - c[l]) - (a[rt] - a[l])) * 0.25f;
       return (dxx * dyy - dxy * dxy) * scale;
     };
-    out[0] = at(0);
-    kernels.responseRow(a, b, c, cols, scale, out);
-    if (cols > 1) out[cols - 1] = at(cols - 1);
+    r[0] = at(0);
+    kernels.responseRow(a, b, c, cols, scale, r);
+    if (cols > 1) r[cols - 1] = at(cols - 1);
+  };
+  const int edge = std::max(margin, 1);
+  const bool search = findCandidates && cols > 2 * edge && rows > 2 * edge;
+  std::vector<int32_t> xs(search ? cols : 0);
+  // The maxima of three along the response rows y - 1 .. y + 1, in a ring of three.
+  std::vector<float> maxRing(search ? 3 * static_cast<size_t>(cols) : 0);
+  const auto maxRow = [&](int y) { return &maxRing[static_cast<size_t>(y % 3) * cols]; };
+  // Row y of the response is done: its maxima of three, then the candidates of the row above it.
+  const auto searchUpTo = [&](int y) {
+    if (!search) return;
+    kernels.rowMax3(out.response.ptr<float>(y), cols, maxRow(y));
+    const int c = y - 1;
+    if (c < edge || c >= rows - edge) return;
+    const int found = kernels.candidates(out.response.ptr<float>(c), maxRow(c - 1), maxRow(c), maxRow(c + 1), edge,
+                                         cols - edge, threshold, xs.data());
+    for (int i = 0; i < found; ++i) out.candidates.emplace_back(xs[i], c);
+  };
+  for (int y = 0; y < rows; ++y) {
+    smoother.next(out.bytes.ptr<uint8_t>(y), smoothedRow(y));
+    if (y >= 1) {
+      respond(y - 1);
+      searchUpTo(y - 1);
+    }
   }
-  return response;
+  respond(rows - 1);
+  searchUpTo(rows - 1);
+  return out;
 }
 
 bool strongerBlob(const Blob& a, const Blob& b) {
@@ -115,58 +139,61 @@ void subPixelOffset(const float* above, const float* row, const float* below, fl
 namespace {
 
 // The maxima of level k (0 < k < levels - 1), in scan order.
-std::vector<Blob> levelMaxima(const std::vector<cv::Mat>& responses, const std::vector<LevelGrid>& grids, int k,
-                              float threshold, int margin, const std::function<bool(int, int, int)>& allowed) {
+std::vector<Blob> levelMaxima(const std::vector<HessianLevel>& levels, const std::vector<LevelGrid>& grids, int k,
+                              const std::function<bool(int, int, int)>& allowed) {
   std::vector<Blob> blobs;
-  const cv::Mat& r = responses[k];
-  if (r.cols <= 2 * margin || r.rows <= 2 * margin) return blobs;
-  // The pixels above the threshold that are maxima of their 3x3 neighbourhood, a row at a time.
-  const hessian_kernels::HessianKernels kernels = hessian_kernels::activeHessianKernels();
+  const cv::Mat& r = levels[k].response;
   const PixelMap finerPixel = pixelMap(grids[k], grids[k - 1], r.cols, r.rows);
   const PixelMap coarserPixel = pixelMap(grids[k], grids[k + 1], r.cols, r.rows);
-  std::vector<int32_t> xs(r.cols);
-  for (int y = margin; y < r.rows - margin; ++y) {
+  const std::vector<cv::Point>& candidates = levels[k].candidates;
+  const cv::Mat& finerResponse = levels[k - 1].response;
+  // The finer level's neighbourhoods are read a few candidates ahead: scattered over an image
+  // larger than the cache, each read would otherwise wait for memory.
+  constexpr size_t kAhead = 8;
+  const auto prefetchFiner = [&](size_t i) {
+    const int fx = finerPixel.column[candidates[i].x], fy = finerPixel.row[candidates[i].y];
+    if (fx < 1 || fy < 1 || fx >= finerResponse.cols - 1 || fy >= finerResponse.rows - 1) return;
+    for (int v = -1; v <= 1; ++v) __builtin_prefetch(finerResponse.ptr<float>(fy + v) + fx);
+  };
+  for (size_t i = 0; i < std::min(kAhead, candidates.size()); ++i) prefetchFiner(i);
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    if (i + kAhead < candidates.size()) prefetchFiner(i + kAhead);
+    const int x = candidates[i].x, y = candidates[i].y;
     const float* above = r.ptr<float>(y - 1);
     const float* row = r.ptr<float>(y);
     const float* below = r.ptr<float>(y + 1);
-    const int found = kernels.candidates(above, row, below, margin, r.cols - margin, threshold, xs.data());
-    for (int i = 0; i < found; ++i) {
-      const int x = xs[i];
-      const float value = row[x];
-      // Plateaus: keep the first pixel in scan order only.
-      if (row[x - 1] == value || above[x - 1] == value || above[x] == value || above[x + 1] == value) continue;
-      // Same point on the neighbouring levels.
-      float finer, coarser;
-      if (!exceedsNeighbourhood(responses[k - 1], finerPixel.column[x], finerPixel.row[y], value, finer) ||
-          !exceedsNeighbourhood(responses[k + 1], coarserPixel.column[x], coarserPixel.row[y], value, coarser))
-        continue;
-      if (!allowed(k, x, y)) continue;
-      Blob b;
-      b.level = k;
-      b.x = x;
-      b.y = y;
-      b.response = value;
-      subPixelOffset(above + x, row + x, below + x, b.dx, b.dy);
-      b.dlevel = parabolaOffset(finer, value, coarser);
-      blobs.push_back(b);
-    }
+    const float value = row[x];
+    // Plateaus: keep the first pixel in scan order only.
+    if (row[x - 1] == value || above[x - 1] == value || above[x] == value || above[x + 1] == value) continue;
+    // Same point on the neighbouring levels.
+    float finer, coarser;
+    if (!exceedsNeighbourhood(finerResponse, finerPixel.column[x], finerPixel.row[y], value, finer) ||
+        !exceedsNeighbourhood(levels[k + 1].response, coarserPixel.column[x], coarserPixel.row[y], value, coarser))
+      continue;
+    if (!allowed(k, x, y)) continue;
+    Blob b;
+    b.level = k;
+    b.x = x;
+    b.y = y;
+    b.response = value;
+    subPixelOffset(above + x, row + x, below + x, b.dx, b.dy);
+    b.dlevel = parabolaOffset(finer, value, coarser);
+    blobs.push_back(b);
   }
   return blobs;
 }
 
 }  // namespace
 
-std::vector<Blob> hessianMaxima(const std::vector<cv::Mat>& responses, const std::vector<LevelGrid>& grids,
-                                float threshold, int margin,
+std::vector<Blob> hessianMaxima(const std::vector<HessianLevel>& levels, const std::vector<LevelGrid>& grids,
                                 const std::function<bool(int, int, int)>& allowed) {
-  const int levels = static_cast<int>(responses.size());
+  const int count = static_cast<int>(levels.size());
   // Only the inner levels: a maximum on the first or last level may be one of a finer or
   // coarser structure, whose scale the pyramid cannot tell (measured: docs/RESULTS.md
   // "Whole pipelines"). Levels in parallel, concatenated in level order.
-  std::vector<std::vector<Blob>> perLevel(std::max(levels, 0));
-  if (levels >= 3)
-    tbb::parallel_for(1, levels - 1,
-                      [&](int k) { perLevel[k] = levelMaxima(responses, grids, k, threshold, margin, allowed); });
+  std::vector<std::vector<Blob>> perLevel(std::max(count, 0));
+  if (count >= 3)
+    tbb::parallel_for(1, count - 1, [&](int k) { perLevel[k] = levelMaxima(levels, grids, k, allowed); });
   std::vector<Blob> blobs;
   for (const auto& level : perLevel) blobs.insert(blobs.end(), level.begin(), level.end());
   return blobs;

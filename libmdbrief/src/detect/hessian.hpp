@@ -13,13 +13,26 @@
 
 namespace mdbrief::detail {
 
-// det(Hessian) * sigma^4 of a level already smoothed by a Gaussian of `sigma` level pixels
-// (CV_32F intensities in [0, 1]): CV_32F of the level's size.
-cv::Mat hessianResponse(const cv::Mat& smoothed, double sigma);
+// One level of the detector, from a single top-to-bottom pass: each row smoothed, differentiated
+// and searched while it is in the cache, without the level-sized float image that was written
+// and read back.
+struct HessianLevel {
+  cv::Mat bytes;     // CV_8U: the smoothed level (gaussian_smoothing.hpp), what the descriptors sample
+  cv::Mat response;  // CV_32F: det(Hessian) * sigma^4, borders reflected as BORDER_REFLECT_101
+  // Pixels at least `margin` from the border whose response exceeds the threshold and each of
+  // its 8 neighbours, in scan order (with findCandidates).
+  std::vector<cv::Point> candidates;
+};
 
-// A level (8UC1) smoothed by a Gaussian of `sigma` level pixels truncated at 3 sigma, as CV_32F
-// intensities in [0, 1]: what hessianResponse takes when the pyramid's own smoothing differs.
-cv::Mat gaussianSmoothed(const cv::Mat& level, double sigma);
+// level8u smoothed by a `taps`-wide Gaussian of `smoothingSigma` (the intensities in [0, 1]),
+// then the determinant of the Hessian from central second differences, scaled by
+// hessianSigma^4 so that responses compare across levels.
+HessianLevel hessianLevel(const cv::Mat& level8u, int taps, double smoothingSigma, double hessianSigma,
+                          bool findCandidates, float threshold, int margin);
+
+// The smoothing width of the Hessian detector's sigma: truncated at 3 sigma. OpenCV's default
+// for float images reaches 4 sigma, a third more taps for weights below 0.3 % of the total.
+int hessianTaps(double sigma);
 
 struct Blob {
   int level = 0;
@@ -32,12 +45,10 @@ struct Blob {
 // Strict order: stronger first, then level, y, x (output independent of the scan order).
 bool strongerBlob(const Blob& a, const Blob& b);
 
-// Maxima of responses[k], 0 < k < levels - 1, that exceed `threshold`, every 3x3 neighbour on
-// their level and the 3x3 neighbourhoods around their position on levels k - 1 and k + 1 (grids[k]:
-// where level k's pixels lie in the input). Only positions at least `margin` level pixels from
-// the level's border for which allowed(level, x, y) holds are considered.
-std::vector<Blob> hessianMaxima(const std::vector<cv::Mat>& responses, const std::vector<LevelGrid>& grids,
-                                float threshold, int margin,
+// Of the candidates of levels[k], 0 < k < levels - 1, those that also exceed the 3x3
+// neighbourhoods around their position on levels k - 1 and k + 1 (grids[k]: where level k's
+// pixels lie in the input) and for which allowed(level, x, y) holds, refined.
+std::vector<Blob> hessianMaxima(const std::vector<HessianLevel>& levels, const std::vector<LevelGrid>& grids,
                                 const std::function<bool(int, int, int)>& allowed);
 
 }  // namespace mdbrief::detail

@@ -12,11 +12,13 @@ struct HessianKernels {
   // dxx = (b[x-1] + b[x+1]) - 2 b[x], dyy = (a[x] + c[x]) - 2 b[x],
   // dxy = ((c[x+1] - c[x-1]) - (a[x+1] - a[x-1])) / 4 and out[x] = (dxx dyy - dxy^2) scale.
   void (*responseRow)(const float* a, const float* b, const float* c, int cols, float scale, float* out);
+  // out[x] = max(row[x - 1], row[x], row[x + 1]) for the columns 1 .. cols - 2.
+  void (*rowMax3)(const float* row, int cols, float* out);
   // The columns x in [begin, end) where row[x] > threshold and row[x] is at least each of its
-  // eight neighbours (above, row, below; columns begin - 1 .. end readable), in increasing order,
-  // into xs (room for end - begin entries). Returns how many.
-  int (*candidates)(const float* above, const float* row, const float* below, int begin, int end, float threshold,
-                    int32_t* xs);
+  // eight neighbours, in increasing order, into xs (room for end - begin entries); maxAbove,
+  // maxRow and maxBelow are rowMax3 of the rows above, at and below. Returns how many.
+  int (*candidates)(const float* row, const float* maxAbove, const float* maxRow, const float* maxBelow, int begin,
+                    int end, float threshold, int32_t* xs);
 };
 
 // The kernels of the active SIMD level.

@@ -97,6 +97,10 @@ const cv::Mat& ImagePyramid::smoothed(int level) const {
   return target;
 }
 
+void ImagePyramid::adoptSmoothed(int level, const cv::Mat& bytes) const {
+  std::call_once(smoothed_->byteOnce.at(level), [&] { smoothed_->bytes[level] = bytes; });
+}
+
 detail::Smoothing ImagePyramid::smooth(int level, bool withFloats) const {
   return detail::gaussianSmoothing(images_.at(level), options_.smoothingKernel, options_.smoothingSigma, withFloats);
 }

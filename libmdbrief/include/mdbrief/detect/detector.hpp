@@ -148,11 +148,20 @@ class Detector {
 
   DetectorOptions options_;
   CameraPtr camera_;
-  // Per level, with a camera: distance (level pixels) to the nearest invalid pixel.
-  std::vector<cv::Mat> validDistance_;
-  // With options.conformal and a camera: the view detected on, and its distances as above.
+  // The pixels of a level at least borderMargin level pixels from the nearest invalid pixel, as
+  // runs [begin, end) along each row: a lookup stays in the cache, where an image of distances
+  // missed it for most candidates.
+  struct MarginRuns {
+    std::vector<int> rowStart;    // rows + 1 offsets into runs
+    std::vector<cv::Vec2i> runs;
+    bool contains(int x, int y) const;
+  };
+  static std::vector<MarginRuns> keepingMargin(const cv::Mat& validMask, const PyramidOptions& pyramid, int margin);
+  // Per level, with a camera.
+  std::vector<MarginRuns> keepsMargin_;
+  // With options.conformal and a camera: the view detected on, and its pixels as above.
   std::shared_ptr<const detail::ConformalView> conformal_;
-  std::vector<cv::Mat> conformalDistance_;
+  std::vector<MarginRuns> conformalKeepsMargin_;
 
   std::vector<cv::KeyPoint> detectConformal(const ImagePyramid& pyramid, const cv::Mat& mask,
                                             bool measureAngles) const;

@@ -11,6 +11,7 @@
 #include "mdbrief/option_fields.hpp"
 
 namespace mdbrief {
+class Detector;
 namespace detail {
 struct Smoothing;
 }  // namespace detail
@@ -79,6 +80,10 @@ class ImagePyramid {
   struct SmoothedLevels;
   // One pass of the smoothing over a level: the bytes, and the floats if asked for.
   detail::Smoothing smooth(int level, bool withFloats) const;
+  // The Hessian detector smooths each level by the options' Gaussian on its way to the response:
+  // it hands the bytes over instead of the level being smoothed twice.
+  friend class Detector;
+  void adoptSmoothed(int level, const cv::Mat& bytes) const;
 
   PyramidOptions options_;
   cv::Size inputSize_;
