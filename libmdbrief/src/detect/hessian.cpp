@@ -79,18 +79,14 @@ bool strongerBlob(const Blob& a, const Blob& b) {
 namespace {
 
 // Whether `value` exceeds every response of `r` in the 3x3 neighbourhood of pixel (cx, cy) (NaN
-// responses aside), and if so their largest in `largest` (-inf when that pixel is outside the
-// level or on its border). Most candidates fail on a neighbouring level, and stop at the first
-// response as large.
+// responses aside), and their largest in `largest` (-inf when that pixel is outside the level or
+// on its border). Without a branch per response: where a candidate fails is unpredictable.
 bool exceedsNeighbourhood(const cv::Mat& r, int cx, int cy, float value, float& largest) {
   largest = -INFINITY;
   if (cx < 1 || cy < 1 || cx >= r.cols - 1 || cy >= r.rows - 1) return value > largest;
   for (int v = -1; v <= 1; ++v) {
     const float* row = r.ptr<float>(cy + v);
-    for (int u = -1; u <= 1; ++u) {
-      if (row[cx + u] >= value) return false;
-      largest = std::max(largest, row[cx + u]);
-    }
+    largest = std::max(std::max(largest, row[cx - 1]), std::max(row[cx], row[cx + 1]));
   }
   return value > largest;
 }
@@ -147,28 +143,35 @@ std::vector<Blob> levelMaxima(const std::vector<HessianLevel>& levels, const std
   const PixelMap coarserPixel = pixelMap(grids[k], grids[k + 1], r.cols, r.rows);
   const std::vector<cv::Point>& candidates = levels[k].candidates;
   const cv::Mat& finerResponse = levels[k - 1].response;
-  // The finer level's neighbourhoods are read a few candidates ahead: scattered over an image
-  // larger than the cache, each read would otherwise wait for memory.
+  const cv::Mat& coarserResponse = levels[k + 1].response;
+  // The neighbourhoods a candidate reads on its own and the neighbouring levels are fetched a few
+  // candidates ahead: scattered over images larger than the cache, each read would otherwise
+  // wait for memory.
   constexpr size_t kAhead = 8;
-  const auto prefetchFiner = [&](size_t i) {
-    const int fx = finerPixel.column[candidates[i].x], fy = finerPixel.row[candidates[i].y];
-    if (fx < 1 || fy < 1 || fx >= finerResponse.cols - 1 || fy >= finerResponse.rows - 1) return;
-    for (int v = -1; v <= 1; ++v) __builtin_prefetch(finerResponse.ptr<float>(fy + v) + fx);
+  const auto prefetchAround = [](const cv::Mat& image, int x, int y) {
+    if (x < 1 || y < 1 || x >= image.cols - 1 || y >= image.rows - 1) return;
+    for (int v = -1; v <= 1; ++v) __builtin_prefetch(image.ptr<float>(y + v) + x);
   };
-  for (size_t i = 0; i < std::min(kAhead, candidates.size()); ++i) prefetchFiner(i);
+  const auto prefetch = [&](size_t i) {
+    const int x = candidates[i].x, y = candidates[i].y;
+    prefetchAround(r, x, y);
+    prefetchAround(finerResponse, finerPixel.column[x], finerPixel.row[y]);
+    prefetchAround(coarserResponse, coarserPixel.column[x], coarserPixel.row[y]);
+  };
+  for (size_t i = 0; i < std::min(kAhead, candidates.size()); ++i) prefetch(i);
   for (size_t i = 0; i < candidates.size(); ++i) {
-    if (i + kAhead < candidates.size()) prefetchFiner(i + kAhead);
+    if (i + kAhead < candidates.size()) prefetch(i + kAhead);
     const int x = candidates[i].x, y = candidates[i].y;
     const float* above = r.ptr<float>(y - 1);
     const float* row = r.ptr<float>(y);
     const float* below = r.ptr<float>(y + 1);
     const float value = row[x];
     // Plateaus: keep the first pixel in scan order only.
-    if (row[x - 1] == value || above[x - 1] == value || above[x] == value || above[x + 1] == value) continue;
+    if ((row[x - 1] == value) | (above[x - 1] == value) | (above[x] == value) | (above[x + 1] == value)) continue;
     // Same point on the neighbouring levels.
     float finer, coarser;
     if (!exceedsNeighbourhood(finerResponse, finerPixel.column[x], finerPixel.row[y], value, finer) ||
-        !exceedsNeighbourhood(levels[k + 1].response, coarserPixel.column[x], coarserPixel.row[y], value, coarser))
+        !exceedsNeighbourhood(coarserResponse, coarserPixel.column[x], coarserPixel.row[y], value, coarser))
       continue;
     if (!allowed(k, x, y)) continue;
     Blob b;
