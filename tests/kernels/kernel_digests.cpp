@@ -4,6 +4,7 @@
 // came from x86-64: so a run on AArch64 (scripts/test-arm.sh, under qemu-user) shows the same bits
 // as on x86. Free of OpenCV and GoogleTest, so that it cross-builds with the compiler alone;
 // prints "N passed, N failed".
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -122,9 +123,9 @@ uint64_t descriptorDigest(const std::vector<uint8_t>& img) {
   Digest d;
   Sequence r{7};
   constexpr int nTests = 512;
-  std::vector<double> qa(2 * nTests), qb(2 * nTests);
-  for (auto& v : qa) v = (static_cast<int>(r.next() % 3001) - 1500) / 100.0;
-  for (auto& v : qb) v = (static_cast<int>(r.next() % 3001) - 1500) / 100.0;
+  std::vector<int32_t> qa(2 * nTests), qb(2 * nTests);
+  for (auto& v : qa) v = static_cast<int32_t>(r.next() % 33) - 16;
+  for (auto& v : qb) v = static_cast<int32_t>(r.next() % 33) - 16;
   std::vector<int> x(2 * nTests), y(2 * nTests), u(2 * nTests), v(2 * nTests);
   for (int i = 0; i < 2 * nTests; ++i) u[i] = static_cast<int>(r.next() % 31) - 15, v[i] = static_cast<int>(r.next() % 31) - 15;
   std::vector<uint8_t> bits(nTests / 8);
@@ -132,10 +133,15 @@ uint64_t descriptorDigest(const std::vector<uint8_t>& img) {
     // A rotation from a rational parameter: no sin or cos, whose last bit libm may round
     // differently on another CPU.
     const double cx = 30 + place * 2.37, cy = 25 + place * 1.71, t = place * 0.05 - 1.5;
-    const double c = (1 - t * t) / (1 + t * t), s = 2 * t / (1 + t * t);
-    const int n = 2 * nTests - (place % 7) * 8;  // lengths with every tail
-    k.affineCoordinate(cx, c, -s, qa.data(), qb.data(), x.data(), n);
-    k.affineCoordinate(cy, s, c, qa.data(), qb.data(), y.data(), n);
+    // Every tenth placement too large for the fixed-point form: the double one places it.
+    const double scale = place % 10 == 9 ? 90.0 : 1.0 + place * 0.013;
+    const double c = scale * (1 - t * t) / (1 + t * t), s = scale * 2 * t / (1 + t * t);
+    // Lengths with every tail of 4, 8 and 16 lanes.
+    k.affinePoints(cx, cy, c, -s, s, c, qa.data(), qb.data(), 2 * nTests - 1 - place % 15, x.data(), y.data());
+    d.add(x);
+    d.add(y);
+    const int n = 2 * nTests - (place % 7) * 8;
+    k.affinePoints(cx, cy, c, -s, s, c, qa.data(), qb.data(), n, x.data(), y.data());
     d.add(x);
     d.add(y);
     const bool inside = k.allInside(x.data(), y.data(), n, kCols, kRows);
@@ -156,6 +162,36 @@ uint64_t descriptorDigest(const std::vector<uint8_t>& img) {
     d.add(int64_t{m01});
   }
   return d.h;
+}
+
+// How many points of the integer offset grid the affine placement rounds otherwise than the
+// double expression it stands for (toFixed), over placements of every kind: scales from a
+// hundredth to beyond the fixed-point range, any rotation, and centres on the rounding
+// boundaries of sample units (where the fixed-point estimate is ambiguous).
+uint64_t affineMismatches() {
+  const auto k = descriptor_kernels::activeSamplingKernels();
+  using descriptor_kernels::kMaxOffset;
+  std::vector<int32_t> qa, qb;
+  for (int j = -kMaxOffset; j <= kMaxOffset; ++j)
+    for (int i = -kMaxOffset; i <= kMaxOffset; ++i) qa.push_back(i), qb.push_back(j);
+  const int n = static_cast<int>(qa.size());
+  std::vector<int> x(n), y(n);
+  Sequence r{5};
+  uint64_t mismatches = 0;
+  for (int place = 0; place < 3000; ++place) {
+    const auto uniform = [&] { return r.next() / 4294967296.0; };
+    double m[4];
+    for (double& v : m) v = (uniform() - 0.5) * (place % 50 == 0 ? 300.0 : place % 3 == 0 ? 0.02 : 4.0);
+    if (place % 4 == 1) m[1] = m[2] = 0.0, m[0] = m[3] = (place % 7 + 1) / 8.0;  // exact ratios: ties
+    // Centres anywhere, or on a multiple of 1/64 px: a half sample unit, a rounding boundary.
+    double cx = uniform() * 4000 - 100, cy = uniform() * 3000 - 100;
+    if (place % 2) cx = std::floor(cx * 64) / 64, cy = std::floor(cy * 64) / 64;
+    k.affinePoints(cx, cy, m[0], m[1], m[2], m[3], qa.data(), qb.data(), n - place % 9, x.data(), y.data());
+    for (int i = 0; i < n - place % 9; ++i)
+      mismatches += (x[i] != descriptor_kernels::toFixed(cx + m[0] * qa[i] + m[1] * qb[i])) +
+                    (y[i] != descriptor_kernels::toFixed(cy + m[2] * qa[i] + m[3] * qb[i]));
+  }
+  return mismatches;
 }
 
 uint64_t matcherDigest() {
@@ -220,7 +256,7 @@ uint64_t maskWeightDigest() {
 
 // Recorded on x86-64 (every level gives them).
 constexpr uint64_t kSmoothing = 0x035e1da41e92902cull, kHessian = 0xe238f8e09b5da087ull,
-                   kDescriptor = 0x4d88e70ee44c2b01ull, kMatcher = 0xff9176c19ebb9f4aull,
+                   kDescriptor = 0x8ee3f96fc7f86082ull, kMatcher = 0xff9176c19ebb9f4aull,
                    kMaskWeights = 0x4bc4bc6c1deb2075ull;
 
 }  // namespace
@@ -236,6 +272,7 @@ int main(int argc, char** argv) {
         {"smoothing", {smoothingDigest(img, &smoothed), kSmoothing}},
         {"hessian", {hessianDigest(smoothed), kHessian}},
         {"descriptor", {descriptorDigest(img), kDescriptor}},
+        {"affine exact", {affineMismatches(), 0}},
         {"matcher", {matcherDigest(), kMatcher}},
         {"mask weights", {maskWeightDigest(), kMaskWeights}}};
     for (const auto& [name, digests] : checks) {

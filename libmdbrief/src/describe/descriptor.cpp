@@ -41,7 +41,7 @@ void sampleDescriptor(const cv::Mat& img, const int* x, const int* y, int nTests
 // The tests' first points, then their second points.
 Offsets offsetsOf(const TestSet& tests) {
   const size_t n = tests.tests.size();
-  std::vector<double> x(2 * n), y(2 * n);
+  std::vector<int32_t> x(2 * n), y(2 * n);
   for (size_t d = 0; d < n; ++d) {
     const TestPair& t = tests.tests[d];
     x[d] = t.x1, y[d] = t.y1, x[n + d] = t.x2, y[n + d] = t.y2;

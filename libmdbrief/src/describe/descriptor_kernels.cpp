@@ -8,6 +8,9 @@
 
 #include <hwy/highway.h>
 
+#include <cmath>
+#include <cstdlib>
+
 #include "describe/descriptor_kernels.hpp"
 #include "mdbrief/internal/simd_dispatch.hpp"
 
@@ -17,20 +20,74 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 using DI = hn::ScalableTag<int32_t>;
 
-// The same rounded operations as toFixed(c + a * qa + b * qb): scaling c, a and b by kSub (a
-// power of two) scales every product and sum exactly, and floor() of an integral value
-// converts exactly.
-void AffineCoordinate(double c, double a, double b, const double* qa, const double* qb, int* out, int n) {
-  const hn::ScalableTag<double> d;
-  const hn::Rebind<int32_t, decltype(d)> di;
+// One coordinate of the affine placement in 32-bit fixed point, with kFixedBits fractional bits of
+// a sample unit (1/kSub px): integer lanes are twice as many as doubles, and a product is one
+// multiplication. The offsets are integers, so the estimate is within 0.5 + 0.5 |qa| + 0.5 |qb|
+// <= 16.5 fixed units of the exact value, and the double expression within 1/8 unit of it: the two
+// round alike unless the estimate lies within kAmbiguous units of a rounding boundary, and those
+// coordinates (one in 4000) are recomputed in double. Footprints wider than about 250 px take
+// the double form throughout.
+constexpr int kFixedBits = 18;
+constexpr int32_t kAmbiguous = 32;
+struct FixedAffine {
+  int32_t whole;  // floor(c kSub)
+  int32_t start;  // the rest of c kSub, plus one half, in fixed units
+  int32_t a, b;   // a kSub, b kSub in fixed units
+};
+
+// Whether a coordinate with these coefficients stays inside 32-bit lanes (otherwise the double
+// form places it): |start + a qa + b qb| < 2^31 and |c kSub| < 2^30.
+bool FitsFixed(double c, double a, double b) {
+  constexpr double unit = double{kSub} * (1 << kFixedBits);
+  return std::abs(c) * kSub < 0x1p30 && (std::abs(a) + std::abs(b)) * unit * kMaxOffset < 0x1p30;
+}
+
+FixedAffine ToFixedAffine(double c, double a, double b) {
+  constexpr double unit = double{kSub} * (1 << kFixedBits);
+  const double scaled = c * kSub, whole = std::floor(scaled);
+  return {static_cast<int32_t>(whole),
+          static_cast<int32_t>(std::llround((scaled - whole) * (1 << kFixedBits))) + (1 << (kFixedBits - 1)),
+          static_cast<int32_t>(std::llround(a * unit)), static_cast<int32_t>(std::llround(b * unit))};
+}
+
+// The double form, for coefficients too large for the fixed point.
+void AffineCoordinateDouble(double c, double a, double b, const int32_t* qa, const int32_t* qb, int* out, int n) {
+  for (int i = 0; i < n; ++i) out[i] = toFixed(c + a * qa[i] + b * qb[i]);
+}
+
+void AffinePoints(double cx, double cy, double m00, double m01, double m10, double m11, const int32_t* qa,
+                  const int32_t* qb, int n, int* x, int* y) {
+  if (!FitsFixed(cx, m00, m01) || !FitsFixed(cy, m10, m11)) {
+    AffineCoordinateDouble(cx, m00, m01, qa, qb, x, n);
+    AffineCoordinateDouble(cy, m10, m11, qa, qb, y, n);
+    return;
+  }
+  const DI d;
   const int lanes = static_cast<int>(hn::Lanes(d));
-  const auto vc = hn::Set(d, c * kSub), va = hn::Set(d, a * kSub), vb = hn::Set(d, b * kSub), half = hn::Set(d, 0.5);
+  const FixedAffine fx = ToFixedAffine(cx, m00, m01), fy = ToFixedAffine(cy, m10, m11);
+  const auto xStart = hn::Set(d, fx.start), xa = hn::Set(d, fx.a), xb = hn::Set(d, fx.b), xWhole = hn::Set(d, fx.whole);
+  const auto yStart = hn::Set(d, fy.start), ya = hn::Set(d, fy.a), yb = hn::Set(d, fy.b), yWhole = hn::Set(d, fy.whole);
+  const auto shift = hn::Set(d, kAmbiguous), fraction = hn::Set(d, (1 << kFixedBits) - 1),
+             near = hn::Set(d, 2 * kAmbiguous);
   int i = 0;
   for (; i + lanes <= n; i += lanes) {
-    const auto v = hn::Add(hn::Add(vc, hn::Mul(va, hn::LoadU(d, qa + i))), hn::Mul(vb, hn::LoadU(d, qb + i)));
-    hn::StoreU(hn::DemoteTo(di, hn::Floor(hn::Add(v, half))), di, out + i);
+    const auto a = hn::LoadU(d, qa + i), b = hn::LoadU(d, qb + i);
+    const auto vx = hn::Add(hn::Add(xStart, hn::Mul(xa, a)), hn::Mul(xb, b));
+    const auto vy = hn::Add(hn::Add(yStart, hn::Mul(ya, a)), hn::Mul(yb, b));
+    hn::StoreU(hn::Add(xWhole, hn::ShiftRight<kFixedBits>(vx)), d, x + i);
+    hn::StoreU(hn::Add(yWhole, hn::ShiftRight<kFixedBits>(vy)), d, y + i);
+    // Within kAmbiguous units of a boundary: (v + kAmbiguous) mod 2^kFixedBits < 2 kAmbiguous.
+    const auto ambiguous = hn::Or(hn::Lt(hn::And(hn::Add(vx, shift), fraction), near),
+                                  hn::Lt(hn::And(hn::Add(vy, shift), fraction), near));
+    if (HWY_UNLIKELY(!hn::AllFalse(d, ambiguous))) {
+      for (int j = 0; j < lanes; ++j) {
+        x[i + j] = toFixed(cx + m00 * qa[i + j] + m01 * qb[i + j]);
+        y[i + j] = toFixed(cy + m10 * qa[i + j] + m11 * qb[i + j]);
+      }
+    }
   }
-  for (; i < n; ++i) out[i] = toFixed(c + a * qa[i] + b * qb[i]);
+  AffineCoordinateDouble(cx, m00, m01, qa + i, qb + i, x + i, n - i);
+  AffineCoordinateDouble(cy, m10, m11, qa + i, qb + i, y + i, n - i);
 }
 
 // Bilinear samples of one vector of positions, with two 32-bit reads per sample that stay inside
@@ -128,7 +185,7 @@ void CentroidMoments(const uint8_t* data, size_t step, const int* x, const int* 
   }
 }
 
-SamplingKernels Kernels() { return {AffineCoordinate, PackBitsBilinear, AllInside, CentroidMoments}; }
+SamplingKernels Kernels() { return {AffinePoints, PackBitsBilinear, AllInside, CentroidMoments}; }
 
 }  // namespace mdbrief::descriptor_kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();

@@ -13,11 +13,15 @@ namespace mdbrief::descriptor_kernels {
 // bits, which makes dBRIEF with a distortion-free pinhole equal BRIEF bit for bit.
 constexpr int kSubBits = 5;
 constexpr int kSub = 1 << kSubBits;
+// The largest offset the affine placement takes (test sets and the orientation disc: 16).
+constexpr int kMaxOffset = 16;
 
 // The kernels of one SIMD level, resolved once per call.
 struct SamplingKernels {
-  // out[i] = toFixed(c + a * qa[i] + b * qb[i]).
-  void (*affineCoordinate)(double c, double a, double b, const double* qa, const double* qb, int* out, int n);
+  // x[i] = toFixed(cx + m00 qa[i] + m01 qb[i]) and y[i] = toFixed(cy + m10 qa[i] + m11 qb[i])
+  // for integer offsets |qa|, |qb| <= kMaxOffset, exactly as those double expressions round.
+  void (*affinePoints)(double cx, double cy, double m00, double m01, double m10, double m11, const int32_t* qa,
+                       const int32_t* qb, int n, int* x, int* y);
   // Bit d of out (d < nTests, a multiple of 32 as DescriptorOptions::bits) = bilinear sample
   // (x[d], y[d]) < sample (x[nTests + d], y[nTests + d]). Every position inside the image
   // (descriptor.cpp allInside).

@@ -15,7 +15,7 @@ using namespace placement;
 
 // Every offset of the patch, row-major: (i - 16, j - 16) for pixel (i, j).
 Offsets patchGrid() {
-  std::vector<double> x, y;
+  std::vector<int32_t> x, y;
   for (int j = 0; j < kPatchSize; ++j)
     for (int i = 0; i < kPatchSize; ++i) {
       x.push_back(i - kPatchHalf);

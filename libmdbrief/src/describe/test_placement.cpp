@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "mdbrief/internal/patch_sampling.hpp"
@@ -40,8 +42,8 @@ bool affineInside(const Placement& pl, const Offsets& q, const SamplingKernels& 
                   int width, int height) {
   const auto& m = pl.map;
   int cx[4], cy[4];
-  kernels.affineCoordinate(pl.centre.x, m(0, 0), m(0, 1), q.boxX.data(), q.boxY.data(), cx, 4);
-  kernels.affineCoordinate(pl.centre.y, m(1, 0), m(1, 1), q.boxX.data(), q.boxY.data(), cy, 4);
+  kernels.affinePoints(pl.centre.x, pl.centre.y, m(0, 0), m(0, 1), m(1, 0), m(1, 1), q.boxX.data(), q.boxY.data(), 4,
+                       cx, cy);
   return kernels.allInside(cx, cy, 4, width, height) ||
          kernels.allInside(x, y, static_cast<int>(q.x.size()), width, height);
 }
@@ -56,8 +58,7 @@ bool placeOffsets(const Placement& pl, const Camera* camera, const Offsets& q, c
     const double reach = (std::abs(m(0, 0)) + std::abs(m(0, 1)) + std::abs(m(1, 0)) + std::abs(m(1, 1))) * kPatchHalf;
     if (!(std::abs(pl.centre.x) + reach < kCoordinateLimit && std::abs(pl.centre.y) + reach < kCoordinateLimit))
       return false;
-    kernels.affineCoordinate(pl.centre.x, m(0, 0), m(0, 1), q.x.data(), q.y.data(), x, n);
-    kernels.affineCoordinate(pl.centre.y, m(1, 0), m(1, 1), q.x.data(), q.y.data(), y, n);
+    kernels.affinePoints(pl.centre.x, pl.centre.y, m(0, 0), m(0, 1), m(1, 0), m(1, 1), q.x.data(), q.y.data(), n, x, y);
     return true;
   }
   for (int i = 0; i < n; ++i) {
@@ -102,8 +103,8 @@ constexpr int kDiscStep = 2;
 std::optional<double> centroidAngle(const cv::Mat& img, const cv::Point2d& centre, const cv::Matx22d& map,
                                     const Disc& disc, const SamplingKernels& kernels, int* xs, int* ys) {
   const int n = static_cast<int>(disc.u.size());
-  kernels.affineCoordinate(centre.x, map(0, 0), map(0, 1), disc.offsets.x.data(), disc.offsets.y.data(), xs, n);
-  kernels.affineCoordinate(centre.y, map(1, 0), map(1, 1), disc.offsets.x.data(), disc.offsets.y.data(), ys, n);
+  kernels.affinePoints(centre.x, centre.y, map(0, 0), map(0, 1), map(1, 0), map(1, 1), disc.offsets.x.data(),
+                       disc.offsets.y.data(), n, xs, ys);
   if (!kernels.allInside(xs, ys, n, img.cols, img.rows)) return std::nullopt;
   long long m10, m01;
   kernels.centroidMoments(img.data, img.step[0], xs, ys, disc.u.data(), disc.v.data(), n, m10, m01);
@@ -192,7 +193,10 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
 
 }  // namespace
 
-Offsets::Offsets(std::vector<double> xs, std::vector<double> ys) : x(std::move(xs)), y(std::move(ys)) {
+Offsets::Offsets(std::vector<int32_t> xs, std::vector<int32_t> ys) : x(std::move(xs)), y(std::move(ys)) {
+  const auto beyond = [](int32_t v) { return v < -kMaxOffset || v > kMaxOffset; };
+  if (std::any_of(x.begin(), x.end(), beyond) || std::any_of(y.begin(), y.end(), beyond))
+    throw std::invalid_argument("Offsets: an offset lies beyond +-" + std::to_string(kMaxOffset));
   if (x.empty()) return;
   const auto [x0, x1] = std::minmax_element(x.begin(), x.end());
   const auto [y0, y1] = std::minmax_element(y.begin(), y.end());

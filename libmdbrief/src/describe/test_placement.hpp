@@ -5,6 +5,7 @@
 // (the Paper form), and the checks that drop a keypoint. compute(), testPositions() and the
 // training patches (mdbrief/internal/patch_sampling.hpp) all place through placeChecked().
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -16,15 +17,16 @@
 
 namespace mdbrief::placement {
 
-// Points of the offset frame (test_set.hpp) as doubles, structure of arrays.
+// Points of the offset frame (test_set.hpp), integers, structure of arrays.
 struct Offsets {
   Offsets() = default;
-  Offsets(std::vector<double> x, std::vector<double> y);
-  std::vector<double> x, y;
+  // Throws std::invalid_argument for an offset beyond descriptor_kernels::kMaxOffset.
+  Offsets(std::vector<int32_t> x, std::vector<int32_t> y);
+  std::vector<int32_t> x, y;
   // The corners of the points' bounding box. An affine placement, rounded as the kernels round
   // it, is monotonic in each offset coordinate, so when the corners land inside the level every
   // point does: four points decide the bounds check of almost every keypoint.
-  std::array<double, 4> boxX{}, boxY{};
+  std::array<int32_t, 4> boxX{}, boxY{};
 };
 
 // Where a keypoint is sampled: the pyramid level whose scale is nearest (in log) to the
