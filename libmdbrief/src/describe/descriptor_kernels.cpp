@@ -44,10 +44,12 @@ bool FitsFixed(double c, double a, double b) {
 
 FixedAffine ToFixedAffine(double c, double a, double b) {
   constexpr double unit = double{kSub} * (1 << kFixedBits);
+  // Any rounding to the nearest unit will do (the error bound above): floor(v + 0.5) inlines,
+  // std::llround is a library call.
+  const auto nearest = [](double v) { return static_cast<int32_t>(std::floor(v + 0.5)); };
   const double scaled = c * kSub, whole = std::floor(scaled);
-  return {static_cast<int32_t>(whole),
-          static_cast<int32_t>(std::llround((scaled - whole) * (1 << kFixedBits))) + (1 << (kFixedBits - 1)),
-          static_cast<int32_t>(std::llround(a * unit)), static_cast<int32_t>(std::llround(b * unit))};
+  return {static_cast<int32_t>(whole), nearest((scaled - whole) * (1 << kFixedBits)) + (1 << (kFixedBits - 1)),
+          nearest(a * unit), nearest(b * unit)};
 }
 
 // The double form, for coefficients too large for the fixed point.
