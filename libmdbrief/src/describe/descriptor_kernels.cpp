@@ -52,7 +52,7 @@ FixedAffine ToFixedAffine(double c, double a, double b) {
           nearest(a * unit), nearest(b * unit)};
 }
 
-// The double form, for coefficients too large for the fixed point.
+// The double form: coefficients too large for the fixed point, ambiguous vectors, the tail.
 void AffineCoordinateDouble(double c, double a, double b, const int32_t* qa, const int32_t* qb, int* out, int n) {
   for (int i = 0; i < n; ++i) out[i] = toFixed(c + a * qa[i] + b * qb[i]);
 }
@@ -82,10 +82,8 @@ void AffinePoints(double cx, double cy, double m00, double m01, double m10, doub
     const auto ambiguous = hn::Or(hn::Lt(hn::And(hn::Add(vx, shift), fraction), near),
                                   hn::Lt(hn::And(hn::Add(vy, shift), fraction), near));
     if (HWY_UNLIKELY(!hn::AllFalse(d, ambiguous))) {
-      for (int j = 0; j < lanes; ++j) {
-        x[i + j] = toFixed(cx + m00 * qa[i + j] + m01 * qb[i + j]);
-        y[i + j] = toFixed(cy + m10 * qa[i + j] + m11 * qb[i + j]);
-      }
+      AffineCoordinateDouble(cx, m00, m01, qa + i, qb + i, x + i, lanes);
+      AffineCoordinateDouble(cy, m10, m11, qa + i, qb + i, y + i, lanes);
     }
   }
   AffineCoordinateDouble(cx, m00, m01, qa + i, qb + i, x + i, n - i);

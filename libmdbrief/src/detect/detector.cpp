@@ -101,10 +101,6 @@ bool Detector::MarginRuns::contains(int x, int y) const {
   return false;
 }
 
-namespace {
-
-}  // namespace
-
 std::vector<int> featuresPerLevel(int nfeatures, int levels, double scaleFactor) {
   if (nfeatures < 0) throw std::invalid_argument("featuresPerLevel: nfeatures must be >= 0");
   if (levels < 1) throw std::invalid_argument("featuresPerLevel: levels must be >= 1");

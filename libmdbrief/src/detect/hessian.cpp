@@ -86,7 +86,7 @@ bool exceedsNeighbourhood(const cv::Mat& r, int cx, int cy, float value, float& 
   if (cx < 1 || cy < 1 || cx >= r.cols - 1 || cy >= r.rows - 1) return value > largest;
   for (int v = -1; v <= 1; ++v) {
     const float* row = r.ptr<float>(cy + v);
-    largest = std::max(std::max(largest, row[cx - 1]), std::max(row[cx], row[cx + 1]));
+    largest = std::max(std::max(std::max(largest, row[cx - 1]), row[cx]), row[cx + 1]);
   }
   return value > largest;
 }
