@@ -244,8 +244,7 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
                       po.smoothingKernel == detail::hessianTaps(options_.hessianSigma);
   tbb::parallel_for(0, levels, [&](int k) {
     // Maxima are searched for on the inner levels only (hessianMaxima).
-    responses[k] = detail::hessianLevel(pyramid.image(k), detail::hessianTaps(options_.hessianSigma),
-                                        options_.hessianSigma, options_.hessianSigma, k > 0 && k + 1 < levels,
+    responses[k] = detail::hessianLevel(pyramid.image(k), options_.hessianSigma, k > 0 && k + 1 < levels,
                                         static_cast<float>(options_.hessianThreshold), options_.borderMargin);
     if (shared) pyramid.adoptSmoothed(k, responses[k].bytes);
   });

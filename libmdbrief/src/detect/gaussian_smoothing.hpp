@@ -34,9 +34,8 @@ class GaussianRowSmoother {
  public:
   // Throws std::invalid_argument for what gaussianSmoothing refuses.
   GaussianRowSmoother(const cv::Mat& level8u, int taps, double sigma);
-  // Row `row()` of both forms (cols bytes; cols floats unless floats is null), then the next.
+  // The next row of both forms, from the top (cols bytes; cols floats unless floats is null).
   void next(uint8_t* bytes, float* floats);
-  int row() const { return y_; }
 
  private:
   void smoothSourceRow(int s);

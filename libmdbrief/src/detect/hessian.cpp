@@ -14,11 +14,10 @@ namespace mdbrief::detail {
 
 int hessianTaps(double sigma) { return 2 * static_cast<int>(std::ceil(3.0 * sigma)) + 1; }
 
-HessianLevel hessianLevel(const cv::Mat& level8u, int taps, double smoothingSigma, double hessianSigma,
-                          bool findCandidates, float threshold, int margin) {
-  GaussianRowSmoother smoother(level8u, taps, smoothingSigma);
+HessianLevel hessianLevel(const cv::Mat& level8u, double sigma, bool findCandidates, float threshold, int margin) {
+  GaussianRowSmoother smoother(level8u, hessianTaps(sigma), sigma);
   const int rows = level8u.rows, cols = level8u.cols;
-  const float scale = static_cast<float>(hessianSigma * hessianSigma * hessianSigma * hessianSigma);
+  const float scale = static_cast<float>(sigma * sigma * sigma * sigma);
   const hessian_kernels::HessianKernels kernels = hessian_kernels::activeHessianKernels();
   HessianLevel out{cv::Mat(rows, cols, CV_8U), cv::Mat(rows, cols, CV_32F), {}};
   // The smoothed rows y - 1, y and y + 1 in a ring of three.

@@ -24,11 +24,10 @@ struct HessianLevel {
   std::vector<cv::Point> candidates;
 };
 
-// level8u smoothed by a `taps`-wide Gaussian of `smoothingSigma` (the intensities in [0, 1]),
-// then the determinant of the Hessian from central second differences, scaled by
-// hessianSigma^4 so that responses compare across levels.
-HessianLevel hessianLevel(const cv::Mat& level8u, int taps, double smoothingSigma, double hessianSigma,
-                          bool findCandidates, float threshold, int margin);
+// level8u smoothed by a Gaussian of `sigma` level pixels (hessianTaps wide; the intensities in
+// [0, 1]), then the determinant of the Hessian from central second differences, scaled by sigma^4
+// so that responses compare across levels.
+HessianLevel hessianLevel(const cv::Mat& level8u, double sigma, bool findCandidates, float threshold, int margin);
 
 // The smoothing width of the Hessian detector's sigma: truncated at 3 sigma. OpenCV's default
 // for float images reaches 4 sigma, a third more taps for weights below 0.3 % of the total.
