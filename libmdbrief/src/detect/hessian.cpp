@@ -145,13 +145,14 @@ std::vector<Blob> levelMaxima(const std::vector<HessianLevel>& levels, const std
   const cv::Mat& coarserResponse = levels[k + 1].response;
   // The neighbourhoods a candidate reads on its own and the neighbouring levels are fetched a few
   // candidates ahead: scattered over images larger than the cache, each read would otherwise
-  // wait for memory.
+  // wait for memory. Both lambdas are inlined on purpose: GCC finds an out-of-line function that
+  // only prefetches free of side effects and drops the calls to it.
   constexpr size_t kAhead = 8;
-  const auto prefetchAround = [](const cv::Mat& image, int x, int y) {
+  const auto prefetchAround = [](const cv::Mat& image, int x, int y) __attribute__((always_inline)) {
     if (x < 1 || y < 1 || x >= image.cols - 1 || y >= image.rows - 1) return;
     for (int v = -1; v <= 1; ++v) __builtin_prefetch(image.ptr<float>(y + v) + x);
   };
-  const auto prefetch = [&](size_t i) {
+  const auto prefetch = [&](size_t i) __attribute__((always_inline)) {
     const int x = candidates[i].x, y = candidates[i].y;
     prefetchAround(r, x, y);
     prefetchAround(finerResponse, finerPixel.column[x], finerPixel.row[y]);
