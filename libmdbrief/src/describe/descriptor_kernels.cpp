@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 
 #include "describe/descriptor_kernels.hpp"
 #include "mdbrief/internal/simd_dispatch.hpp"
@@ -90,22 +91,50 @@ void AffinePoints(double cx, double cy, double m00, double m01, double m10, doub
   AffineCoordinateDouble(cy, m10, m11, qa + i, qb + i, y + i, n - i);
 }
 
-// Bilinear samples of one vector of positions, with two 32-bit reads per sample that stay inside
-// the image buffer: the top row is read at x0 (pixels x0, x0 + 1 in the low bytes; the two
-// bytes past them are at worst the start of row y0 + 1, which exists since allInside() keeps
-// y0 + 1 <= height - 1); the bottom row, possibly the last one, is read at x0 - 2 (pixels in the
-// high bytes; x0 - 2 is at worst the end of row y0 >= 0).
+// The four pixels around each position: x0 and x0 + 1 of row y0 in the low two bytes of `top`'s
+// lanes, of row y0 + 1 in the high two bytes of `bottom`'s. Reads stay inside the image buffer
+// (allInside() keeps x0 + 1 <= width - 1 and y0 + 1 <= height - 1).
+#if HWY_TARGET == HWY_AVX2 || HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL
+// Two hardware gathers of 32 bits: the top row at x0 (the two bytes past its pixels are at worst
+// the start of row y0 + 1), the bottom row at x0 - 2 (x0 - 2 is at worst the end of row y0 >= 0).
+HWY_INLINE void Corners(const uint8_t* data, int step, hn::Vec<DI> offset, hn::Vec<DI>& top, hn::Vec<DI>& bottom) {
+  const DI d;
+  const auto* base = reinterpret_cast<const int32_t*>(data);
+  top = hn::GatherOffset(d, base, offset);
+  bottom = hn::GatherOffset(d, base, hn::Add(offset, hn::Set(d, step - 2)));
+}
+#else
+// Without a gather instruction: two 16-bit reads per lane joined in one lane, which serves as
+// both, and inserted in the register (the loop unrolls to constant lanes). Highway's emulated
+// gather goes through memory, once per row.
+HWY_INLINE void Corners(const uint8_t* data, int step, hn::Vec<DI> offset, hn::Vec<DI>& top, hn::Vec<DI>& bottom) {
+  const DI d;
+  const hn::RebindToUnsigned<DI> du;
+  HWY_ALIGN int32_t at[hn::MaxLanes(d)];
+  hn::Store(offset, d, at);
+  auto corners = hn::Zero(du);
+#pragma GCC unroll 16
+  for (size_t i = 0; i < hn::MaxLanes(d); ++i) {
+    uint16_t upper, lower;
+    std::memcpy(&upper, data + at[i], 2);
+    std::memcpy(&lower, data + at[i] + step, 2);
+    corners = hn::InsertLane(corners, i, static_cast<uint32_t>(upper | uint32_t{lower} << 16));
+  }
+  top = bottom = hn::BitCast(d, corners);
+}
+#endif
+
+// Bilinear samples of one vector of positions.
 HWY_INLINE hn::Vec<DI> Bilinear(const uint8_t* data, int step, const int* px, const int* py) {
   const DI d;
   const auto x = hn::LoadU(d, px), y = hn::LoadU(d, py);
   const auto mask = hn::Set(d, kSub - 1), lo = hn::Set(d, 0xff);
   const auto fx = hn::And(x, mask), fy = hn::And(y, mask);
   const auto offset = hn::Add(hn::Mul(hn::ShiftRight<kSubBits>(y), hn::Set(d, step)), hn::ShiftRight<kSubBits>(x));
-  const auto* base = reinterpret_cast<const int32_t*>(data);
-  const auto w0 = hn::GatherOffset(d, base, offset);
-  const auto w1 = hn::GatherOffset(d, base, hn::Add(offset, hn::Set(d, step - 2)));
   // Logical shifts of the high bytes: the lanes are signed, the pixels are not.
   const hn::RebindToUnsigned<DI> du;
+  hn::Vec<DI> w0, w1;
+  Corners(data, step, offset, w0, w1);
   const auto w1u = hn::BitCast(du, w1);
   const auto p00 = hn::And(w0, lo), p01 = hn::And(hn::ShiftRight<8>(w0), lo);
   const auto p10 = hn::And(hn::BitCast(d, hn::ShiftRight<16>(w1u)), lo), p11 = hn::BitCast(d, hn::ShiftRight<24>(w1u));
