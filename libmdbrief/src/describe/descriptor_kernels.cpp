@@ -131,10 +131,10 @@ HWY_INLINE hn::Vec<DI> Bilinear(const uint8_t* data, int step, const int* px, co
   const auto mask = hn::Set(d, kSub - 1), lo = hn::Set(d, 0xff);
   const auto fx = hn::And(x, mask), fy = hn::And(y, mask);
   const auto offset = hn::Add(hn::Mul(hn::ShiftRight<kSubBits>(y), hn::Set(d, step)), hn::ShiftRight<kSubBits>(x));
-  // Logical shifts of the high bytes: the lanes are signed, the pixels are not.
-  const hn::RebindToUnsigned<DI> du;
   hn::Vec<DI> w0, w1;
   Corners(data, step, offset, w0, w1);
+  // Logical shifts of the high bytes: the lanes are signed, the pixels are not.
+  const hn::RebindToUnsigned<DI> du;
   const auto w1u = hn::BitCast(du, w1);
   const auto p00 = hn::And(w0, lo), p01 = hn::And(hn::ShiftRight<8>(w0), lo);
   const auto p10 = hn::And(hn::BitCast(d, hn::ShiftRight<16>(w1u)), lo), p11 = hn::BitCast(d, hn::ShiftRight<24>(w1u));
