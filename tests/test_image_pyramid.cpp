@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <functional>
@@ -189,6 +190,27 @@ TEST(ImagePyramid, SmoothingKeepsFlatImagesFlatAndRampsStraight) {
       EXPECT_GT(ramped.smoothedFloat(0).at<float>(0, 0), ramp.at<uchar>(0, 0) / 255.f + 1e-4f) << what;
     }
   }
+}
+
+// The descriptors' layout of the smoothed bytes: each pixel beside the one below it, the last
+// row beside itself, at every level (odd widths leave the vector loops a tail), made once.
+TEST(ImagePyramid, SmoothedPairsHoldEachPixelAndTheOneBelowIt) {
+  const ImagePyramid pyramid(noiseImage({93, 71}), PyramidOptions{});
+  for (int level = 0; level < pyramid.levels(); ++level) {
+    const cv::Mat& bytes = pyramid.smoothed(level);
+    const cv::Mat& pairs = pyramid.smoothedPairs(level);
+    ASSERT_EQ(pairs.type(), CV_8UC2);
+    ASSERT_EQ(pairs.size(), bytes.size());
+    int wrong = 0;
+    for (int y = 0; y < bytes.rows; ++y)
+      for (int x = 0; x < bytes.cols; ++x) {
+        const cv::Vec2b p = pairs.at<cv::Vec2b>(y, x);
+        wrong += p[0] != bytes.at<uchar>(y, x) || p[1] != bytes.at<uchar>(std::min(y + 1, bytes.rows - 1), x);
+      }
+    EXPECT_EQ(wrong, 0) << "level " << level;
+    EXPECT_EQ(pyramid.smoothedPairs(level).data, pairs.data);
+  }
+  EXPECT_THROW(pyramid.smoothedPairs(pyramid.levels()), std::out_of_range);
 }
 
 TEST(ImagePyramid, PrepareSmoothedFillsTheLevelsUpToMaxLevel) {

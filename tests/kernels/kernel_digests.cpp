@@ -4,6 +4,7 @@
 // came from x86-64: so a run on AArch64 (scripts/test-arm.sh, under qemu-user) shows the same bits
 // as on x86. Free of OpenCV and GoogleTest, so that it cross-builds with the compiler alone;
 // prints "N passed, N failed".
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -128,6 +129,11 @@ uint64_t descriptorDigest(const std::vector<uint8_t>& img) {
   for (auto& v : qb) v = static_cast<int32_t>(r.next() % 33) - 16;
   std::vector<int> x(2 * nTests), y(2 * nTests), u(2 * nTests), v(2 * nTests);
   for (int i = 0; i < 2 * nTests; ++i) u[i] = static_cast<int>(r.next() % 31) - 15, v[i] = static_cast<int>(r.next() % 31) - 15;
+  // The samplers read the image's row pairs: digests of the plain image's samples check them too.
+  const auto pairRows = smoothing_kernels::activeSmoothingKernels().pairRows;
+  std::vector<uint8_t> pairs(2 * kCols * kRows);
+  for (int row = 0; row < kRows; ++row)
+    pairRows(&img[row * kCols], &img[std::min(row + 1, kRows - 1) * kCols], kCols, &pairs[2 * kCols * row]);
   std::vector<uint8_t> bits(nTests / 8);
   for (int place = 0; place < 60; ++place) {
     // A rotation from a rational parameter: no sin or cos, whose last bit libm may round
@@ -153,11 +159,11 @@ uint64_t descriptorDigest(const std::vector<uint8_t>& img) {
       std::vector<int> px(x.begin(), x.begin() + tests), py(y.begin(), y.begin() + tests);
       px.insert(px.end(), x.begin() + nTests, x.begin() + nTests + tests);
       py.insert(py.end(), y.begin() + nTests, y.begin() + nTests + tests);
-      k.packBitsBilinear(img.data(), kCols, px.data(), py.data(), tests, bits.data());
+      k.packBitsBilinear(pairs.data(), 2 * kCols, px.data(), py.data(), tests, bits.data());
       d.add(bits.data(), tests / 8);
     }
     long long m10 = 0, m01 = 0;
-    k.centroidMoments(img.data(), kCols, x.data(), y.data(), u.data(), v.data(), 2 * nTests - 8 * (place % 5), m10, m01);
+    k.centroidMoments(pairs.data(), 2 * kCols, x.data(), y.data(), u.data(), v.data(), 2 * nTests - 8 * (place % 5), m10, m01);
     d.add(int64_t{m10});
     d.add(int64_t{m01});
   }

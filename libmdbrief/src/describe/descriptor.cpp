@@ -32,10 +32,11 @@ void packBitsNearest(const uint8_t* data, size_t step, const int* x, const int* 
 }
 
 // Bits of one placement: x, y hold the first points of the tests, then their second points.
-void sampleDescriptor(const cv::Mat& img, const int* x, const int* y, int nTests, Sampling sampling,
-                      const SamplingKernels& kernels, uchar* out) {
+// img is the smoothed level, pairs its row pairs.
+void sampleDescriptor(const cv::Mat& img, const cv::Mat& pairs, const int* x, const int* y, int nTests,
+                      Sampling sampling, const SamplingKernels& kernels, uchar* out) {
   if (sampling == Sampling::Nearest) return packBitsNearest(img.data, img.step[0], x, y, nTests, out);
-  kernels.packBitsBilinear(img.data, img.step[0], x, y, nTests, out);
+  kernels.packBitsBilinear(pairs.data, pairs.step[0], x, y, nTests, out);
 }
 
 // The tests' first points, then their second points.
@@ -81,7 +82,8 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
     supports[i] = supportOf(keypoints[i].size, options_.supportScale, scales);
     maxLevel = std::max(maxLevel, supports[i].level);
   }
-  if (maxLevel >= 0) pyramid.prepareSmoothed(maxLevel);
+  // Each level once, in parallel ahead of parallel sampling.
+  tbb::parallel_for(0, maxLevel + 1, [&](int level) { pyramid.smoothedPairs(level); });
 
   cv::Mat desc(n, bytes, CV_8U, cv::Scalar(0)), mask(wantMasks ? n : 0, bytes, CV_8U, cv::Scalar(0));
   std::vector<uchar> ok(n, 0);
@@ -99,12 +101,13 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
       const Support& support = supports[i];
       if (support.level < 0) continue;  // no usable size
       const cv::Mat& img = pyramid.smoothed(support.level);
-      const int count = placeChecked(options_, camera, offsets, disc, kernels, keypoints[i], img,
+      const cv::Mat& pairs = pyramid.smoothedPairs(support.level);
+      const int count = placeChecked(options_, camera, offsets, disc, kernels, keypoints[i], pairs,
                                      pyramid.grid(support.level), support, points, angles[i]);
       if (count == 0) continue;
       for (int r = 0; r < count; ++r)
-        sampleDescriptor(img, &points.x[2 * nTests * r], &points.y[2 * nTests * r], nTests, options_.sampling,
-                         kernels, bits[r].data());
+        sampleDescriptor(img, pairs, &points.x[2 * nTests * r], &points.y[2 * nTests * r], nTests,
+                         options_.sampling, kernels, bits[r].data());
       std::copy_n(bits[0].data(), bytes, desc.ptr<uchar>(i));
       if (wantMasks) {
         uchar* m = mask.ptr<uchar>(i);
@@ -164,7 +167,7 @@ std::vector<std::pair<cv::Point2f, cv::Point2f>> DescriptorExtractor::testPositi
   PlacedPoints points(offsets.x.size(), disc.u.size());
   float imageAngle;
   if (placeChecked(options_, camera_.get(), offsets, disc, activeSamplingKernels(), keypoint,
-                   pyramid.smoothed(support.level), grid, support, points, imageAngle) == 0)
+                   pyramid.smoothedPairs(support.level), grid, support, points, imageAngle) == 0)
     return {};
   std::vector<std::pair<cv::Point2f, cv::Point2f>> out(nTests);
   const auto input = [&](int i) { return cv::Point2f(grid.toInput(cv::Point2d(points.x[i], points.y[i]) / kSub)); };

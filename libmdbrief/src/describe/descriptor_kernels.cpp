@@ -91,53 +91,46 @@ void AffinePoints(double cx, double cy, double m00, double m01, double m10, doub
   AffineCoordinateDouble(cy, m10, m11, qa + i, qb + i, y + i, n - i);
 }
 
-// The four pixels around each position: x0 and x0 + 1 of row y0 in the low two bytes of `top`'s
-// lanes, of row y0 + 1 in the high two bytes of `bottom`'s. Reads stay inside the image buffer
-// (allInside() keeps x0 + 1 <= width - 1 and y0 + 1 <= height - 1).
+// The four pixels around each position, from the row pairs (ImagePyramid::smoothedPairs): the 32
+// bits at byte 2 x0 of pair row y0 hold I(x0, y0), I(x0, y0 + 1), I(x0 + 1, y0) and
+// I(x0 + 1, y0 + 1), low byte first. One read per sample where the plain level takes two rows.
 #if HWY_TARGET == HWY_AVX2 || HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL
-// Two hardware gathers of 32 bits: the top row at x0 (the two bytes past its pixels are at worst
-// the start of row y0 + 1), the bottom row at x0 - 2 (x0 - 2 is at worst the end of row y0 >= 0).
-HWY_INLINE void Corners(const uint8_t* data, int step, hn::Vec<DI> offset, hn::Vec<DI>& top, hn::Vec<DI>& bottom) {
-  const DI d;
-  const auto* base = reinterpret_cast<const int32_t*>(data);
-  top = hn::GatherOffset(d, base, offset);
-  bottom = hn::GatherOffset(d, base, hn::Add(offset, hn::Set(d, step - 2)));
+HWY_INLINE hn::Vec<DI> Quads(const uint8_t* pairs, hn::Vec<DI> offset) {
+  return hn::GatherOffset(DI(), reinterpret_cast<const int32_t*>(pairs), offset);
 }
 #else
-// Without a gather instruction: two 16-bit reads per lane joined in one lane, which serves as
-// both, and inserted in the register (the loop unrolls to constant lanes). Highway's emulated
-// gather goes through memory, once per row.
-HWY_INLINE void Corners(const uint8_t* data, int step, hn::Vec<DI> offset, hn::Vec<DI>& top, hn::Vec<DI>& bottom) {
+// Without a gather instruction: one 32-bit read per lane inserted in the register (the loop
+// unrolls to constant lanes). Highway's emulated gather goes through memory.
+HWY_INLINE hn::Vec<DI> Quads(const uint8_t* pairs, hn::Vec<DI> offset) {
   const DI d;
   const hn::RebindToUnsigned<DI> du;
   HWY_ALIGN int32_t at[hn::MaxLanes(d)];
   hn::Store(offset, d, at);
-  auto corners = hn::Zero(du);
+  auto quads = hn::Zero(du);
 #pragma GCC unroll 16
   for (size_t i = 0; i < hn::MaxLanes(d); ++i) {
-    uint16_t upper, lower;
-    std::memcpy(&upper, data + at[i], 2);
-    std::memcpy(&lower, data + at[i] + step, 2);
-    corners = hn::InsertLane(corners, i, static_cast<uint32_t>(upper | uint32_t{lower} << 16));
+    uint32_t quad;
+    std::memcpy(&quad, pairs + at[i], 4);
+    quads = hn::InsertLane(quads, i, quad);
   }
-  top = bottom = hn::BitCast(d, corners);
+  return hn::BitCast(d, quads);
 }
 #endif
 
 // Bilinear samples of one vector of positions.
-HWY_INLINE hn::Vec<DI> Bilinear(const uint8_t* data, int step, const int* px, const int* py) {
+HWY_INLINE hn::Vec<DI> Bilinear(const uint8_t* pairs, int pairStep, const int* px, const int* py) {
   const DI d;
   const auto x = hn::LoadU(d, px), y = hn::LoadU(d, py);
   const auto mask = hn::Set(d, kSub - 1), lo = hn::Set(d, 0xff);
   const auto fx = hn::And(x, mask), fy = hn::And(y, mask);
-  const auto offset = hn::Add(hn::Mul(hn::ShiftRight<kSubBits>(y), hn::Set(d, step)), hn::ShiftRight<kSubBits>(x));
-  hn::Vec<DI> w0, w1;
-  Corners(data, step, offset, w0, w1);
-  // Logical shifts of the high bytes: the lanes are signed, the pixels are not.
+  const auto offset = hn::Add(hn::Mul(hn::ShiftRight<kSubBits>(y), hn::Set(d, pairStep)),
+                              hn::ShiftLeft<1>(hn::ShiftRight<kSubBits>(x)));
+  const auto quads = Quads(pairs, offset);
+  // A logical shift for the top byte: the lanes are signed, the pixels are not.
   const hn::RebindToUnsigned<DI> du;
-  const auto w1u = hn::BitCast(du, w1);
-  const auto p00 = hn::And(w0, lo), p01 = hn::And(hn::ShiftRight<8>(w0), lo);
-  const auto p10 = hn::And(hn::BitCast(d, hn::ShiftRight<16>(w1u)), lo), p11 = hn::BitCast(d, hn::ShiftRight<24>(w1u));
+  const auto p00 = hn::And(quads, lo), p10 = hn::And(hn::ShiftRight<8>(quads), lo);
+  const auto p01 = hn::And(hn::ShiftRight<16>(quads), lo);
+  const auto p11 = hn::BitCast(d, hn::ShiftRight<24>(hn::BitCast(du, quads)));
   // a (kSub - f) + b f = a kSub + f (b - a) in integers: sampleBilinear's value with one
   // multiplication per interpolation instead of two.
   const auto top = hn::Add(hn::ShiftLeft<kSubBits>(p00), hn::Mul(fx, hn::Sub(p01, p00)));
@@ -148,15 +141,15 @@ HWY_INLINE hn::Vec<DI> Bilinear(const uint8_t* data, int step, const int* px, co
 // Test d's bit is sample 1 < sample 2, bit d % 8 of byte d / 8. The mask bits of successive
 // vectors gather in a 64-bit word written out byte by byte (the lanes divide 64, and nTests is a
 // multiple of 32).
-void PackBitsBilinear(const uint8_t* data, size_t step, const int* x, const int* y, int nTests, uint8_t* out) {
+void PackBitsBilinear(const uint8_t* pairs, size_t pairStep, const int* x, const int* y, int nTests, uint8_t* out) {
   const DI d;
   const int lanes = static_cast<int>(hn::Lanes(d));
-  const int s = static_cast<int>(step);
+  const int s = static_cast<int>(pairStep);
   uint64_t word = 0;
   int gathered = 0;
   for (int t = 0; t < nTests; t += lanes) {
     uint8_t bits[8] = {};
-    hn::StoreMaskBits(d, hn::Lt(Bilinear(data, s, x + t, y + t), Bilinear(data, s, x + nTests + t, y + nTests + t)),
+    hn::StoreMaskBits(d, hn::Lt(Bilinear(pairs, s, x + t, y + t), Bilinear(pairs, s, x + nTests + t, y + nTests + t)),
                       bits);
     for (int b = 0; 8 * b < lanes; ++b) word |= uint64_t{bits[b]} << (gathered + 8 * b);
     gathered += lanes;
@@ -188,17 +181,17 @@ bool AllInside(const int* x, const int* y, int n, int width, int height) {
 
 // Each product is at most 255 * 32^2 * 15 (radius 15); 32-bit lanes take 256 vectors of them
 // before they move to 64-bit sums, so even one lane (the portable level) never overflows.
-void CentroidMoments(const uint8_t* data, size_t step, const int* x, const int* y, const int* u, const int* v,
+void CentroidMoments(const uint8_t* pairs, size_t pairStep, const int* x, const int* y, const int* u, const int* v,
                      int n, long long& m10, long long& m01) {
   const DI d;
   const int lanes = static_cast<int>(hn::Lanes(d));
-  const int s = static_cast<int>(step);
+  const int s = static_cast<int>(pairStep);
   m10 = m01 = 0;
   int i = 0;
   while (i + lanes <= n) {
     auto a10 = hn::Zero(d), a01 = hn::Zero(d);
     for (int steps = 0; steps < 256 && i + lanes <= n; ++steps, i += lanes) {
-      const auto val = Bilinear(data, s, x + i, y + i);
+      const auto val = Bilinear(pairs, s, x + i, y + i);
       a10 = hn::Add(a10, hn::Mul(val, hn::LoadU(d, u + i)));
       a01 = hn::Add(a01, hn::Mul(val, hn::LoadU(d, v + i)));
     }
@@ -208,7 +201,7 @@ void CentroidMoments(const uint8_t* data, size_t step, const int* x, const int* 
     for (int k = 0; k < lanes; ++k) m10 += l10[k], m01 += l01[k];
   }
   for (; i < n; ++i) {
-    const long long val = sampleBilinear(data, step, x[i], y[i]);
+    const long long val = sampleBilinearPairs(pairs, pairStep, x[i], y[i]);
     m10 += val * u[i];
     m01 += val * v[i];
   }

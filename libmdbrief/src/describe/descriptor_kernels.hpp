@@ -23,14 +23,18 @@ struct SamplingKernels {
   void (*affinePoints)(double cx, double cy, double m00, double m01, double m10, double m11, const int32_t* qa,
                        const int32_t* qb, int n, int* x, int* y);
   // Bit d of out (d < nTests, a multiple of 32 as DescriptorOptions::bits) = bilinear sample
-  // (x[d], y[d]) < sample (x[nTests + d], y[nTests + d]). Every position inside the image
+  // (x[d], y[d]) < sample (x[nTests + d], y[nTests + d]), read from the image's row pairs
+  // (ImagePyramid::smoothedPairs: bytes 2 x and 2 x + 1 of pair row y are pixels (x, y) and
+  // (x, y + 1), so a sample's four pixels are one 32-bit read). Every position inside the image
   // (descriptor.cpp allInside).
-  void (*packBitsBilinear)(const uint8_t* data, size_t step, const int* x, const int* y, int nTests, uint8_t* out);
+  void (*packBitsBilinear)(const uint8_t* pairs, size_t pairStep, const int* x, const int* y, int nTests,
+                           uint8_t* out);
   // Whether every position can be sampled bilinearly in a width x height image (x0 + 1 <=
   // width - 1, y0 + 1 <= height - 1); nearest sampling reads a subset of those pixels.
   bool (*allInside)(const int* x, const int* y, int n, int width, int height);
-  // Intensity moments sum(value * u), sum(value * v) of n bilinear samples (n a multiple of 8).
-  void (*centroidMoments)(const uint8_t* data, size_t step, const int* x, const int* y, const int* u,
+  // Intensity moments sum(value * u), sum(value * v) of n bilinear samples (row pairs, as
+  // packBitsBilinear).
+  void (*centroidMoments)(const uint8_t* pairs, size_t pairStep, const int* x, const int* y, const int* u,
                           const int* v, int n, long long& m10, long long& m01);
 };
 
@@ -46,6 +50,13 @@ inline int sampleBilinear(const uint8_t* data, size_t step, int px, int py) {
   const uint8_t* r0 = data + (py >> kSubBits) * step + (px >> kSubBits);
   const uint8_t* r1 = r0 + step;
   return (r0[0] * (kSub - fx) + r0[1] * fx) * (kSub - fy) + (r1[0] * (kSub - fx) + r1[1] * fx) * fy;
+}
+
+// sampleBilinear's value from the row pairs (packBitsBilinear).
+inline int sampleBilinearPairs(const uint8_t* pairs, size_t pairStep, int px, int py) {
+  const int fx = px & (kSub - 1), fy = py & (kSub - 1);
+  const uint8_t* q = pairs + (py >> kSubBits) * pairStep + 2 * (px >> kSubBits);
+  return (q[0] * (kSub - fx) + q[2] * fx) * (kSub - fy) + (q[1] * (kSub - fx) + q[3] * fx) * fy;
 }
 
 inline int sampleNearest(const uint8_t* data, size_t step, int px, int py) {

@@ -45,8 +45,8 @@ bool samplePatch(const DescriptorOptions& options, const Camera* camera, const I
   PlacedPoints points(grid.x.size(), disc.u.size());
   const cv::Mat& img = pyramid.smoothed(support.level);
   float imageAngle;
-  if (placeChecked(o, camera, grid, disc, activeSamplingKernels(), keypoint, img, pyramid.grid(support.level),
-                   support, points, imageAngle) == 0)
+  if (placeChecked(o, camera, grid, disc, activeSamplingKernels(), keypoint, pyramid.smoothedPairs(support.level),
+                   pyramid.grid(support.level), support, points, imageAngle) == 0)
     return false;
   for (size_t i = 0; i < grid.x.size(); ++i)
     out[i] = o.sampling == Sampling::Nearest

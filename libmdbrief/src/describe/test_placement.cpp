@@ -100,22 +100,22 @@ constexpr int kDiscStep = 2;
 
 // Intensity-centroid angle (degrees, in the offset frame) of the disc mapped by `map` around
 // `centre` (level coordinates). Empty if the disc leaves the image.
-std::optional<double> centroidAngle(const cv::Mat& img, const cv::Point2d& centre, const cv::Matx22d& map,
+std::optional<double> centroidAngle(const cv::Mat& pairs, const cv::Point2d& centre, const cv::Matx22d& map,
                                     const Disc& disc, const SamplingKernels& kernels, int* xs, int* ys) {
   const int n = static_cast<int>(disc.u.size());
   kernels.affinePoints(centre.x, centre.y, map(0, 0), map(0, 1), map(1, 0), map(1, 1), disc.offsets.x.data(),
                        disc.offsets.y.data(), n, xs, ys);
-  if (!kernels.allInside(xs, ys, n, img.cols, img.rows)) return std::nullopt;
+  if (!kernels.allInside(xs, ys, n, pairs.cols, pairs.rows)) return std::nullopt;
   long long m10, m01;
-  kernels.centroidMoments(img.data, img.step[0], xs, ys, disc.u.data(), disc.v.data(), n, m10, m01);
+  kernels.centroidMoments(pairs.data, pairs.step[0], xs, ys, disc.u.data(), disc.v.data(), n, m10, m01);
   if (m10 == 0 && m01 == 0) return 0.0;
   return std::atan2(static_cast<double>(m01), static_cast<double>(m10)) * 180.0 / CV_PI;
 }
 
-// What placementsFor needs to re-measure the orientation on the tangent plane; null image =
+// What placementsFor needs to re-measure the orientation on the tangent plane; null pairs =
 // use the keypoint's angle.
 struct OrientationInput {
-  const cv::Mat* image = nullptr;
+  const cv::Mat* pairs = nullptr;  // the level's row pairs (ImagePyramid::smoothedPairs)
   const SamplingKernels* kernels = nullptr;
   const Disc* disc = nullptr;
   int* xs = nullptr;
@@ -133,7 +133,7 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
   if (!std::isfinite(kp.pt.x) || !std::isfinite(kp.pt.y)) return 0;
   // A NaN angle is no direction, as an infinite one (whose rotation fails below); without this it
   // failed `angle >= 0` and was described unrotated, as OpenCV's -1 ("none") is.
-  const bool remeasured = usesCamera(o.kind) && o.orientation == OrientationSource::TangentPlane && measure.image;
+  const bool remeasured = usesCamera(o.kind) && o.orientation == OrientationSource::TangentPlane && measure.pairs;
   if (o.useOrientation && !remeasured && std::isnan(kp.angle)) return 0;
   const int count = hasMasks(o.kind) ? 3 : 1;
   const double deltas[3] = {0.0, o.maskRotationDeg, -o.maskRotationDeg};
@@ -162,8 +162,8 @@ int placementsFor(const DescriptorOptions& o, const Camera* camera, const cv::Ke
                                  : frame.jacobian) *
                             fraction;
   double planeAngle = 0.0;
-  if (o.useOrientation && o.orientation == OrientationSource::TangentPlane && measure.image) {
-    const auto a = centroidAngle(*measure.image, centre, shape, *measure.disc, *measure.kernels, measure.xs, measure.ys);
+  if (o.useOrientation && o.orientation == OrientationSource::TangentPlane && measure.pairs) {
+    const auto a = centroidAngle(*measure.pairs, centre, shape, *measure.disc, *measure.kernels, measure.xs, measure.ys);
     if (!a) return 0;
     planeAngle = *a;
     const double rad = planeAngle * CV_PI / 180.0;
@@ -254,10 +254,10 @@ Disc orientationDisc(const DescriptorOptions& o) {
 }
 
 int placeChecked(const DescriptorOptions& o, const Camera* camera, const Offsets& offsets, const Disc& disc,
-                 const SamplingKernels& kernels, const cv::KeyPoint& kp, const cv::Mat& img, const LevelGrid& grid,
+                 const SamplingKernels& kernels, const cv::KeyPoint& kp, const cv::Mat& pairs, const LevelGrid& grid,
                  const Support& support, PlacedPoints& points, float& imageAngle) {
   const int n = static_cast<int>(offsets.x.size());
-  const OrientationInput in{disc.u.empty() ? nullptr : &img, &kernels, &disc, points.discX.data(),
+  const OrientationInput in{disc.u.empty() ? nullptr : &pairs, &kernels, &disc, points.discX.data(),
                             points.discY.data()};
   TangentPlaneFrame frame;
   std::array<Placement, 3> placements;
@@ -267,8 +267,8 @@ int placeChecked(const DescriptorOptions& o, const Camera* camera, const Offsets
     int* y = &points.y[static_cast<size_t>(n) * r];
     const Placement& pl = placements[r];
     if (!placeOffsets(pl, camera, offsets, kernels, x, y) ||
-        !(pl.affine ? affineInside(pl, offsets, kernels, x, y, img.cols, img.rows)
-                    : kernels.allInside(x, y, n, img.cols, img.rows)) ||
+        !(pl.affine ? affineInside(pl, offsets, kernels, x, y, pairs.cols, pairs.rows)
+                    : kernels.allInside(x, y, n, pairs.cols, pairs.rows)) ||
         (camera && !cornersValid(pl, *camera)))
       return 0;
   }

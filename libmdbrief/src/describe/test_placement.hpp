@@ -59,14 +59,14 @@ struct PlacedPoints {
   std::vector<int> x, y, discX, discY;
 };
 
-// Places every rotation of `offsets` for `kp` on `img` (the smoothed level of `support`, placed
-// in the input by `grid`): rotation 0, then (masked kinds) +maskRotationDeg and -maskRotationDeg.
+// Places every rotation of `offsets` for `kp` on `pairs` (ImagePyramid::smoothedPairs of the
+// level of `support`, placed in the input by `grid`): rotation 0, then (masked kinds) +maskRotationDeg and -maskRotationDeg.
 // Returns the number of placements, 0 when the keypoint cannot be described: a point that
 // cannot be projected, leaves the level or, with a camera, the valid area (the corners of the
 // 32x32 offset square are checked there). imageAngle receives the image direction (degrees) of
 // a re-measured orientation, else -1. `camera` may be null only for kinds without one.
 int placeChecked(const DescriptorOptions& options, const Camera* camera, const Offsets& offsets, const Disc& disc,
-                 const descriptor_kernels::SamplingKernels& kernels, const cv::KeyPoint& kp, const cv::Mat& img,
+                 const descriptor_kernels::SamplingKernels& kernels, const cv::KeyPoint& kp, const cv::Mat& pairs,
                  const LevelGrid& grid, const Support& support, PlacedPoints& points, float& imageAngle);
 
 }  // namespace mdbrief::placement

@@ -10,13 +10,15 @@
 #include <tbb/parallel_for.h>
 
 #include "detect/gaussian_smoothing.hpp"
+#include "detect/smoothing_kernels.hpp"
 
 namespace mdbrief {
 
 struct ImagePyramid::SmoothedLevels {
-  explicit SmoothedLevels(size_t levels) : bytes(levels), floats(levels), byteOnce(levels), floatOnce(levels) {}
-  std::vector<cv::Mat> bytes, floats;
-  std::vector<std::once_flag> byteOnce, floatOnce;
+  explicit SmoothedLevels(size_t levels)
+      : bytes(levels), floats(levels), pairs(levels), byteOnce(levels), floatOnce(levels), pairOnce(levels) {}
+  std::vector<cv::Mat> bytes, floats, pairs;
+  std::vector<std::once_flag> byteOnce, floatOnce, pairOnce;
 };
 
 cv::Mat toGrey(const cv::Mat& image) {
@@ -94,6 +96,18 @@ const cv::Mat& ImagePyramid::smoothedFloat(int level) const {
 const cv::Mat& ImagePyramid::smoothed(int level) const {
   cv::Mat& target = smoothed_->bytes.at(level);
   std::call_once(smoothed_->byteOnce[level], [&] { target = smooth(level, false).bytes; });
+  return target;
+}
+
+const cv::Mat& ImagePyramid::smoothedPairs(int level) const {
+  cv::Mat& target = smoothed_->pairs.at(level);
+  std::call_once(smoothed_->pairOnce[level], [&] {
+    const cv::Mat& bytes = smoothed(level);
+    const auto pairRows = smoothing_kernels::activeSmoothingKernels().pairRows;
+    target.create(bytes.size(), CV_8UC2);
+    for (int y = 0; y < bytes.rows; ++y)
+      pairRows(bytes.ptr(y), bytes.ptr(std::min(y + 1, bytes.rows - 1)), bytes.cols, target.ptr(y));
+  });
   return target;
 }
 

@@ -101,7 +101,15 @@ void Columns(const uint16_t* const* rows, int cols, const uint32_t* w, int radiu
   ColumnsOf(rows, cols, w, radius, bytes, floats, std::make_integer_sequence<int, kMaxRadius + 1>());
 }
 
-SmoothingKernels Kernels() { return {Rows, Columns}; }
+void PairRows(const uint8_t* upper, const uint8_t* lower, int cols, uint8_t* HWY_RESTRICT out) {
+  const hn::ScalableTag<uint8_t> d;
+  const int n = static_cast<int>(hn::Lanes(d));
+  int x = 0;
+  for (; x + n <= cols; x += n) hn::StoreInterleaved2(hn::LoadU(d, upper + x), hn::LoadU(d, lower + x), d, out + 2 * x);
+  for (; x < cols; ++x) out[2 * x] = upper[x], out[2 * x + 1] = lower[x];
+}
+
+SmoothingKernels Kernels() { return {Rows, Columns, PairRows}; }
 
 }  // namespace mdbrief::smoothing_kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();

@@ -1,5 +1,6 @@
 #pragma once
-// The two passes of the pyramid's fixed-point Gaussian (gaussian_smoothing.cpp), written once
+// The two passes of the pyramid's fixed-point Gaussian (gaussian_smoothing.cpp) and the layout of
+// its bytes for the descriptors' sampling (image_pyramid.cpp), written once
 // with Highway in smoothing_kernels.cpp and compiled for every SIMD level (simd_level.hpp). The
 // arithmetic is integer, so every level gives the same values.
 #include <cstdint>
@@ -20,6 +21,9 @@ struct SmoothingKernels {
   // floats[x] it / (256 x 255).
   void (*columns)(const uint16_t* const* rows, int cols, const uint32_t* w, int radius, uint8_t* bytes,
                   float* floats);
+  // Two rows of the smoothed bytes side by side, as the descriptors sample them
+  // (ImagePyramid::smoothedPairs): out[2 x] = upper[x], out[2 x + 1] = lower[x].
+  void (*pairRows)(const uint8_t* upper, const uint8_t* lower, int cols, uint8_t* out);
 };
 
 // The kernels of the active SIMD level.

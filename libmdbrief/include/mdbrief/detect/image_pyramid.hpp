@@ -73,6 +73,10 @@ class ImagePyramid {
   const cv::Mat& smoothedFloat(int level) const;
   const cv::Mat& smoothed(int level) const;
   void prepareSmoothed(int maxLevel) const;
+  // The 8-bit smoothed level as the descriptors' bilinear sampling reads it (CV_8UC2, the level's
+  // size): pixel (x, y) holds smoothed (x, y) and (x, y + 1), the last row itself twice, so that
+  // a sample's four pixels are four consecutive bytes. Made once, on first use, as smoothed().
+  const cv::Mat& smoothedPairs(int level) const;
 
  private:
   // The smoothed forms of every level, made on first use (image_pyramid.cpp); shared by copies
