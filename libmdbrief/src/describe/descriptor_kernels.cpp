@@ -138,20 +138,26 @@ HWY_INLINE hn::Vec<DI> Bilinear(const uint8_t* pairs, int pairStep, const int* p
   return hn::Add(hn::ShiftLeft<kSubBits>(top), hn::Mul(fy, hn::Sub(bottom, top)));
 }
 
-// Test d's bit is sample 1 < sample 2, bit d % 8 of byte d / 8. The mask bits of successive
-// vectors gather in a 64-bit word written out byte by byte (the lanes divide 64, and nTests is a
-// multiple of 32).
+// Test d's bit is sample 1 < sample 2, bit d % 8 of byte d / 8: a vector of 8 or more lanes
+// stores its mask bits as whole bytes. Narrower vectors gather theirs in a 64-bit word written
+// out byte by byte (the lanes divide 64, and nTests is a multiple of 32).
 void PackBitsBilinear(const uint8_t* pairs, size_t pairStep, const int* x, const int* y, int nTests, uint8_t* out) {
   const DI d;
   const int lanes = static_cast<int>(hn::Lanes(d));
   const int s = static_cast<int>(pairStep);
+  const auto less = [&](int t) {
+    return hn::Lt(Bilinear(pairs, s, x + t, y + t), Bilinear(pairs, s, x + nTests + t, y + nTests + t));
+  };
+  if (lanes % 8 == 0) {
+    for (int t = 0; t < nTests; t += lanes) hn::StoreMaskBits(d, less(t), out + t / 8);
+    return;
+  }
   uint64_t word = 0;
   int gathered = 0;
   for (int t = 0; t < nTests; t += lanes) {
     uint8_t bits[8] = {};
-    hn::StoreMaskBits(d, hn::Lt(Bilinear(pairs, s, x + t, y + t), Bilinear(pairs, s, x + nTests + t, y + nTests + t)),
-                      bits);
-    for (int b = 0; 8 * b < lanes; ++b) word |= uint64_t{bits[b]} << (gathered + 8 * b);
+    hn::StoreMaskBits(d, less(t), bits);
+    word |= uint64_t{bits[0]} << gathered;
     gathered += lanes;
     if (gathered == 64 || t + lanes == nTests) {
       uint8_t* bytes = out + (t + lanes - gathered) / 8;
