@@ -57,10 +57,10 @@ GaussianRowSmoother::GaussianRowSmoother(const cv::Mat& level8u, int taps, doubl
     leftColumn_[i] = cv::borderInterpolate(-i, cols_, cv::BORDER_REFLECT_101);
     rightColumn_[i] = cv::borderInterpolate(cols_ - 1 + i, cols_, cv::BORDER_REFLECT_101);
   }
-  source_.resize(rows_ + 2 * radius_);
+  slots_.resize(rows_ + 2 * radius_);
   for (int i = 0; i < rows_ + 2 * radius_; ++i)
-    source_[i] = cv::borderInterpolate(i - radius_, rows_, cv::BORDER_REFLECT_101);
-  taken_.resize(window_);
+    slots_[i] = &ring_[static_cast<size_t>(cv::borderInterpolate(i - radius_, rows_, cv::BORDER_REFLECT_101) % window_) *
+                       cols_];
   kernels_ = smoothing_kernels::activeSmoothingKernels();
 }
 
@@ -77,9 +77,7 @@ void GaussianRowSmoother::smoothSourceRow(int s) {
 void GaussianRowSmoother::next(uint8_t* bytes, float* floats) {
   if (y_ >= rows_) throw std::out_of_range("GaussianRowSmoother::next: past the last row");
   for (; smoothedRows_ < rows_ && smoothedRows_ <= y_ + radius_; ++smoothedRows_) smoothSourceRow(smoothedRows_);
-  for (int k = -radius_; k <= radius_; ++k)
-    taken_[radius_ + k] = &ring_[static_cast<size_t>(source_[y_ + k + radius_] % window_) * cols_];
-  kernels_.columns(taken_.data(), cols_, columnWeights_.data(), radius_, bytes, floats);
+  kernels_.columns(&slots_[y_], cols_, columnWeights_.data(), radius_, bytes, floats);
   ++y_;
 }
 

@@ -47,10 +47,11 @@ class GaussianRowSmoother {
   // an output row reads, reflections included, lies within `radius` rows of it, so the ring
   // stays in the L1 cache instead of a level-sized intermediate image.
   std::vector<uint16_t> ring_, padded_;
-  // The reflected columns of the padding, and the source row of every row an output row reads
-  // (-radius .. rows - 1 + radius), found once rather than per row and tap.
-  std::vector<int> leftColumn_, rightColumn_, source_;
-  std::vector<const uint16_t*> taken_;
+  // The reflected columns of the padding, and the ring slot of every row an output row reads
+  // (-radius .. rows - 1 + radius, reflected), found once rather than per row and tap: output
+  // row y reads slots_[y .. y + 2 radius].
+  std::vector<int> leftColumn_, rightColumn_;
+  std::vector<const uint16_t*> slots_;
   smoothing_kernels::SmoothingKernels kernels_;
   int smoothedRows_ = 0, y_ = 0;
 };
