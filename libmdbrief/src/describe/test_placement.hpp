@@ -60,7 +60,8 @@ struct PlacedPoints {
 };
 
 // Places every rotation of `offsets` for `kp` on `pairs` (ImagePyramid::smoothedPairs of the
-// level of `support`, placed in the input by `grid`): rotation 0, then (masked kinds) +maskRotationDeg and -maskRotationDeg.
+// level of `support`, placed in the input by `grid`): rotation 0, then (masked kinds)
+// +maskRotationDeg and -maskRotationDeg.
 // Returns the number of placements, 0 when the keypoint cannot be described: a point that
 // cannot be projected, leaves the level or, with a camera, the valid area (the corners of the
 // 32x32 offset square are checked there). imageAngle receives the image direction (degrees) of
