@@ -192,6 +192,32 @@ TEST(ImagePyramid, SmoothingKeepsFlatImagesFlatAndRampsStraight) {
   }
 }
 
+// The borders reflect (BORDER_REFLECT_101): smoothing a level equals smoothing it padded with its
+// reflection, whose rows and columns then need none, and keeping the middle. Levels from one pixel
+// (reflected again and again) to wider than the kernel, odd and even heights (the column pass
+// takes rows in pairs), and kernels whose centre weight (above one half) takes several terms.
+TEST(ImagePyramid, SmoothedBordersAreTheReflectedLevelSmoothed) {
+  for (const auto& [taps, sigma] : {std::pair{1, 0.3}, {3, 0.3}, {5, 0.6}, {13, 2.0}, {21, 3.0}, {31, 8.0}}) {
+    PyramidOptions options;
+    options.levels = 1;
+    options.smoothingKernel = taps;
+    options.smoothingSigma = sigma;
+    const int r = taps / 2;
+    for (const cv::Size size : {cv::Size(1, 1), cv::Size(3, 2), cv::Size(4, 5), cv::Size(13, 7), cv::Size(30, 14),
+                                cv::Size(37, 29), cv::Size(80, 61)}) {
+      const cv::Mat level = noiseImage(size);
+      cv::Mat padded;
+      cv::copyMakeBorder(level, padded, r, r, r, r, cv::BORDER_REFLECT_101);
+      const ImagePyramid direct(level, options), reflected(padded, options);
+      const cv::Rect middle(r, r, size.width, size.height);
+      const std::string what = std::to_string(taps) + " taps, " + std::to_string(size.width) + "x" +
+                               std::to_string(size.height);
+      EXPECT_EQ(cv::norm(direct.smoothed(0), reflected.smoothed(0)(middle), cv::NORM_INF), 0.0) << what;
+      EXPECT_EQ(cv::norm(direct.smoothedFloat(0), reflected.smoothedFloat(0)(middle), cv::NORM_INF), 0.0) << what;
+    }
+  }
+}
+
 // The descriptors' layout of the smoothed bytes: each pixel beside the one below it, the last
 // row beside itself, at every level (odd widths leave the vector loops a tail), made once.
 TEST(ImagePyramid, SmoothedPairsHoldEachPixelAndTheOneBelowIt) {

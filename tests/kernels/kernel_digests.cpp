@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -69,25 +70,41 @@ uint64_t smoothingDigest(const std::vector<uint8_t>& img, std::vector<float>* le
       left8 -= 2 * wr[i], left16 -= 2 * wc[i];
     }
     wr[0] = left8, wc[0] = left16;
-    std::vector<std::vector<uint16_t>> rows(kRows, std::vector<uint16_t>(kCols));
-    std::vector<uint16_t> padded(kCols + 2 * radius);
-    for (int y = 0; y < kRows; ++y) {
-      for (int x = 0; x < kCols + 2 * radius; ++x) {
-        const int s = x - radius < 0 ? radius - x : x - radius >= kCols ? 2 * kCols - 2 - (x - radius) : x - radius;
-        padded[x] = img[y * kCols + s];
+    // Rows two at a time, as the pyramid smooths them; the digest takes each row's values.
+    std::vector<std::vector<uint16_t>> pairs((kRows + 1) / 2, std::vector<uint16_t>(2 * kCols));
+    std::vector<uint16_t> padded(2 * (kCols + 2 * radius)), row(kCols);
+    for (int q = 0; q < (kRows + 1) / 2; ++q) {
+      for (int half = 0; half < 2; ++half) {
+        const int y = std::min(2 * q + half, kRows - 1);
+        for (int x = 0; x < kCols + 2 * radius; ++x) {
+          const int s = x - radius < 0 ? radius - x : x - radius >= kCols ? 2 * kCols - 2 - (x - radius) : x - radius;
+          padded[half * (kCols + 2 * radius) + x] = img[y * kCols + s];
+        }
       }
-      k.rows(padded.data() + radius, kCols, wr.data(), radius, rows[y].data());
-      d.add(rows[y]);
+      k.rowPair(padded.data() + radius, padded.data() + kCols + 3 * radius, kCols, wr.data(), radius, pairs[q].data());
+      for (int half = 0; half < 2 && 2 * q + half < kRows; ++half) {
+        for (int x = 0; x < kCols; ++x) row[x] = pairs[q][2 * x + half] ^ 0x8000u;
+        d.add(row);
+      }
     }
     std::vector<uint8_t> bytes(kCols);
     std::vector<float> floats(kCols);
-    std::vector<const uint16_t*> taken(2 * radius + 1);
     for (int y = 0; y < kRows; ++y) {
+      // Each row's weight, reflections folded, by pair; weights above 32767 split over terms.
+      std::vector<uint32_t> lanes(2 * pairs.size(), 0);
       for (int i = -radius; i <= radius; ++i) {
         const int s = y + i < 0 ? -(y + i) : y + i >= kRows ? 2 * kRows - 2 - (y + i) : y + i;
-        taken[radius + i] = rows[s].data();
+        lanes[s] += wc[std::abs(i)];
       }
-      k.columns(taken.data(), kCols, wc.data(), radius, bytes.data(), floats.data());
+      std::vector<const uint16_t*> terms;
+      std::vector<uint32_t> weights;
+      for (size_t q = 0; q < pairs.size(); ++q)
+        for (uint32_t upper = lanes[2 * q], lower = lanes[2 * q + 1]; upper || lower;) {
+          const uint32_t u = std::min(upper, 32767u), l = std::min(lower, 32767u);
+          terms.push_back(pairs[q].data()), weights.push_back(u | l << 16);
+          upper -= u, lower -= l;
+        }
+      k.columns(terms.data(), weights.data(), static_cast<int>(terms.size()), kCols, bytes.data(), floats.data());
       d.add(bytes);
       d.add(floats);
       if (radius == 6 && level) level->insert(level->end(), floats.begin(), floats.end());

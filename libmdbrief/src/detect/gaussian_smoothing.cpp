@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -48,36 +49,85 @@ GaussianRowSmoother::GaussianRowSmoother(const cv::Mat& level8u, int taps, doubl
     throw std::invalid_argument("gaussianSmoothing: needs a non-empty 8UC1 image");
   if (taps < 1 || taps % 2 == 0 || taps > kMaxSmoothingTaps || !(sigma > 0.0))
     throw std::invalid_argument("gaussianSmoothing: needs an odd width of at most 49 taps and a positive sigma");
-  rows_ = level8u.rows, cols_ = level8u.cols, radius_ = taps / 2, window_ = taps;
+  rows_ = level8u.rows, cols_ = level8u.cols, radius_ = taps / 2;
   rowWeights_ = fixedWeights(taps, sigma, 8), columnWeights_ = fixedWeights(taps, sigma, 16);
-  ring_.resize(static_cast<size_t>(window_) * cols_);
-  padded_.resize(cols_ + 2 * radius_);
+  const int slots = radius_ + 1;
+  ring_.resize(static_cast<size_t>(slots) * 2 * cols_);
+  for (int i = 0; i < 2 * slots; ++i) slots_.push_back(&ring_[static_cast<size_t>(i % slots) * 2 * cols_]);
+  padded_.resize(2 * static_cast<size_t>(cols_ + 2 * radius_));
   leftColumn_.resize(radius_ + 1), rightColumn_.resize(radius_ + 1);
   for (int i = 1; i <= radius_; ++i) {
     leftColumn_[i] = cv::borderInterpolate(-i, cols_, cv::BORDER_REFLECT_101);
     rightColumn_[i] = cv::borderInterpolate(cols_ - 1 + i, cols_, cv::BORDER_REFLECT_101);
   }
-  slots_.resize(rows_ + 2 * radius_);
-  for (int i = 0; i < rows_ + 2 * radius_; ++i)
-    slots_[i] = &ring_[static_cast<size_t>(cv::borderInterpolate(i - radius_, rows_, cv::BORDER_REFLECT_101) % window_) *
-                       cols_];
+  // Rows y - radius .. y + radius reflected, for the rows that reflect; the others read 2 radius
+  // + 1 rows in a run, from an even or an odd row.
+  std::vector<int> read(taps);
+  const auto reflects = [&](int y) { return y < radius_ || y + radius_ >= rows_; };
+  int reflecting = 0;
+  for (int y = 0; y < rows_; ++y) reflecting += reflects(y);
+  terms_.reserve(reflecting + 2);
+  for (int parity = 0; parity < 2; ++parity) {
+    for (int k = 0; k < taps; ++k) read[k] = parity + k;
+    terms_.push_back(foldTerms(read.data(), 0));
+  }
+  termsOfRow_.resize(rows_);
+  for (int y = 0; y < rows_; ++y) {
+    if (!reflects(y)) {
+      termsOfRow_[y] = &terms_[(y - radius_) & 1];
+      continue;
+    }
+    for (int k = 0; k < taps; ++k) read[k] = cv::borderInterpolate(y - radius_ + k, rows_, cv::BORDER_REFLECT_101);
+    terms_.push_back(foldTerms(read.data(), std::max(0, y - radius_) / 2));
+    termsOfRow_[y] = &terms_.back();
+  }
+  for (const RowTerms& t : terms_) termCount_ = std::max(termCount_, t.count);
+  termPairs_.resize(termCount_), termWeights_.resize(termCount_);
   kernels_ = smoothing_kernels::activeSmoothingKernels();
 }
 
-void GaussianRowSmoother::smoothSourceRow(int s) {
-  const uint8_t* in = level_.ptr<uint8_t>(s);
-  std::copy(in, in + cols_, padded_.begin() + radius_);
-  for (int i = 1; i <= radius_; ++i) {
-    padded_[radius_ - i] = in[leftColumn_[i]];
-    padded_[radius_ + cols_ - 1 + i] = in[rightColumn_[i]];
+GaussianRowSmoother::RowTerms GaussianRowSmoother::foldTerms(const int* read, int first) const {
+  // The rows read lie in [max(0, y - radius), min(rows - 1, y + radius)]: radius + 1 pairs at most.
+  uint32_t lanes[2 * (smoothing_kernels::kMaxRadius + 1)] = {};
+  for (int k = 0; k <= 2 * radius_; ++k) lanes[read[k] - 2 * first] += columnWeights_[std::abs(k - radius_)];
+  // A weight above 32767 (all of them sum to 65536) takes several terms: two more in all at most.
+  RowTerms terms;
+  for (int q = 0; q <= radius_; ++q)
+    for (uint32_t upper = lanes[2 * q], lower = lanes[2 * q + 1]; upper || lower;) {
+      const uint32_t u = std::min(upper, 32767u), l = std::min(lower, 32767u);
+      terms.offsets[terms.count] = q, terms.weights[terms.count++] = u | l << 16;
+      upper -= u, lower -= l;
+    }
+  return terms;
+}
+
+void GaussianRowSmoother::smoothPair(int pair) {
+  const int width = cols_ + 2 * radius_;
+  for (int half = 0; half < 2; ++half) {
+    // A level of odd height pairs its last row with itself; no term weighs the copy.
+    const uint8_t* in = level_.ptr<uint8_t>(std::min(2 * pair + half, rows_ - 1));
+    uint16_t* padded = &padded_[static_cast<size_t>(half) * width];
+    std::copy(in, in + cols_, padded + radius_);
+    for (int i = 1; i <= radius_; ++i) {
+      padded[radius_ - i] = in[leftColumn_[i]];
+      padded[radius_ + cols_ - 1 + i] = in[rightColumn_[i]];
+    }
   }
-  kernels_.rows(padded_.data() + radius_, cols_, rowWeights_.data(), radius_, &ring_[static_cast<size_t>(s % window_) * cols_]);
+  kernels_.rowPair(padded_.data() + radius_, padded_.data() + width + radius_, cols_, rowWeights_.data(), radius_,
+                   &ring_[static_cast<size_t>(pair % (radius_ + 1)) * 2 * cols_]);
 }
 
 void GaussianRowSmoother::next(uint8_t* bytes, float* floats) {
   if (y_ >= rows_) throw std::out_of_range("GaussianRowSmoother::next: past the last row");
-  for (; smoothedRows_ < rows_ && smoothedRows_ <= y_ + radius_; ++smoothedRows_) smoothSourceRow(smoothedRows_);
-  kernels_.columns(&slots_[y_], cols_, columnWeights_.data(), radius_, bytes, floats);
+  for (const int needed = std::min(rows_ - 1, y_ + radius_) / 2; smoothedPairs_ <= needed; ++smoothedPairs_)
+    smoothPair(smoothedPairs_);
+  const RowTerms& terms = *termsOfRow_[y_];
+  const int first = (std::max(0, y_ - radius_) / 2) % (radius_ + 1);
+  for (int t = 0; t < termCount_; ++t) {
+    const bool used = t < terms.count;
+    termPairs_[t] = slots_[first + (used ? terms.offsets[t] : 0)], termWeights_[t] = used ? terms.weights[t] : 0;
+  }
+  kernels_.columns(termPairs_.data(), termWeights_.data(), termCount_, cols_, bytes, floats);
   ++y_;
 }
 

@@ -38,22 +38,38 @@ class GaussianRowSmoother {
   void next(uint8_t* bytes, float* floats);
 
  private:
-  void smoothSourceRow(int s);
+  // The column pass's terms of an output row (smoothing_kernels.hpp): the weight of every row its
+  // taps read, reflections folded in, by pair of rows; each pair an offset from the first pair
+  // the row reads.
+  struct RowTerms {
+    int count = 0;
+    int offsets[smoothing_kernels::kMaxTerms];
+    uint32_t weights[smoothing_kernels::kMaxTerms];
+  };
+  // The terms of a row whose taps read rows read[0 .. 2 radius], from pair `first` on.
+  RowTerms foldTerms(const int* read, int first) const;
+  void smoothPair(int pair);
 
   cv::Mat level_;
-  int rows_, cols_, radius_, window_;
+  int rows_, cols_, radius_;
   std::vector<uint32_t> rowWeights_, columnWeights_;
-  // Row-smoothed rows in a ring of `window` slots (source row s in slot s % window): every row
-  // an output row reads, reflections included, lies within `radius` rows of it, so the ring
-  // stays in the L1 cache instead of a level-sized intermediate image.
+  // Row-smoothed rows in pairs (rows 2 q and 2 q + 1 interleaved, pair q in slot q % (radius +
+  // 1)): every row an output row reads, reflections included, lies within `radius` rows of it,
+  // so the ring stays in the L1 cache instead of a level-sized intermediate image. slots_[i] is
+  // slot i % (radius + 1), for i up to twice that, so that no term takes a modulo.
   std::vector<uint16_t> ring_, padded_;
-  // The reflected columns of the padding, and the ring slot of every row an output row reads
-  // (-radius .. rows - 1 + radius, reflected), found once rather than per row and tap: output
-  // row y reads slots_[y .. y + 2 radius].
-  std::vector<int> leftColumn_, rightColumn_;
   std::vector<const uint16_t*> slots_;
+  // The reflected columns of the padding.
+  std::vector<int> leftColumn_, rightColumn_;
+  // The terms of every output row: rows whose taps reflect have their own, the others share one
+  // of two by the parity of their first row.
+  std::vector<RowTerms> terms_;
+  std::vector<const RowTerms*> termsOfRow_;
+  int termCount_ = 0;  // the most terms any output row takes; rows with fewer add zero weights
+  std::vector<const uint16_t*> termPairs_;
+  std::vector<uint32_t> termWeights_;
   smoothing_kernels::SmoothingKernels kernels_;
-  int smoothedRows_ = 0, y_ = 0;
+  int smoothedPairs_ = 0, y_ = 0;
 };
 
 }  // namespace mdbrief::detail

@@ -17,88 +17,105 @@ HWY_BEFORE_NAMESPACE();
 namespace mdbrief::smoothing_kernels::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// The radius is a template parameter, so that the taps unroll and the row pointers and weights
-// stay in registers (a run-time radius took twice as long); Rows and Columns pick the
-// instantiation of theirs.
+// The radius (rows) and the number of terms (columns) are template parameters, so that the taps
+// unroll and the row pointers and weights stay in registers (a run-time radius took twice as
+// long); RowPair and Columns pick the instantiation of theirs.
 
-// Sums stay below 2^16 (weights sum to 256, pixels <= 255): 16-bit lanes wrap never.
+// Sums stay below 2^16 (weights sum to 256, pixels <= 255): 16-bit lanes wrap never. Two rows
+// at once, stored less 32768 and interleaved (see smoothing_kernels.hpp): the column pass then
+// multiplies and adds two rows per instruction where the CPU has one (pmaddwd).
 template <int R>
-void RowsR(const uint16_t* centre, int cols, const uint32_t* w, uint16_t* HWY_RESTRICT out) {
+void RowPairR(const uint16_t* upper, const uint16_t* lower, int cols, const uint32_t* w,
+              uint16_t* HWY_RESTRICT out) {
   const hn::ScalableTag<uint16_t> d;
   const int n = static_cast<int>(hn::Lanes(d));
   uint16_t wk[R + 1];
   for (int k = 0; k <= R; ++k) wk[k] = static_cast<uint16_t>(w[k]);
-  int x = 0;
-  for (; x + n <= cols; x += n) {
+  const auto row = [&](const uint16_t* centre, int x) {
     auto sum = hn::Mul(hn::Set(d, wk[0]), hn::LoadU(d, centre + x));
     for (int k = 1; k <= R; ++k)
       sum = hn::Add(sum, hn::Mul(hn::Set(d, wk[k]), hn::Add(hn::LoadU(d, centre + x - k), hn::LoadU(d, centre + x + k))));
-    hn::StoreU(sum, d, out + x);
-  }
+    return hn::Xor(sum, hn::Set(d, uint16_t{0x8000}));
+  };
+  int x = 0;
+  for (; x + n <= cols; x += n) hn::StoreInterleaved2(row(upper, x), row(lower, x), d, out + 2 * x);
   for (; x < cols; ++x) {
-    uint16_t sum = static_cast<uint16_t>(wk[0] * centre[x]);
-    for (int k = 1; k <= R; ++k) sum = static_cast<uint16_t>(sum + wk[k] * (centre[x - k] + centre[x + k]));
-    out[x] = sum;
+    for (int half = 0; half < 2; ++half) {
+      const uint16_t* centre = half ? lower : upper;
+      uint16_t sum = static_cast<uint16_t>(wk[0] * centre[x]);
+      for (int k = 1; k <= R; ++k) sum = static_cast<uint16_t>(sum + wk[k] * (centre[x - k] + centre[x + k]));
+      out[2 * x + half] = static_cast<uint16_t>(sum ^ 0x8000u);
+    }
   }
 }
 
-// Sums below 65280 x 65536 + 2^15 < 2^32 in 32-bit lanes; the rounded value (<= 65280) then
-// fits signed lanes, which narrow to bytes and convert to floats.
-template <int R>
-void ColumnsR(const uint16_t* const* rows, int cols, const uint32_t* w, uint8_t* HWY_RESTRICT bytes,
+// Each term's lane is we r'_even + wo r'_odd, with r' = r - 32768 in [-32768, 32512] and
+// we, wo <= 32767 summing to at most 65536 over all terms: every partial sum lies in
+// [-2^31, 2^31), so the signed 32-bit lanes never wrap, and adding back 32768 x the weights'
+// sum (modulo 2^32) gives the unsigned sum below 65280 x 65536 + 2^15 < 2^32 exactly. The
+// rounded value (<= 65280) then fits signed lanes, which narrow to bytes and convert to floats.
+template <int T>
+void ColumnsT(const uint16_t* const* pairs, const uint32_t* weights, int cols, uint8_t* HWY_RESTRICT bytes,
               float* HWY_RESTRICT floats) {
-  const hn::ScalableTag<uint32_t> d;
-  const hn::Rebind<uint16_t, decltype(d)> d16;
-  const hn::Rebind<int32_t, decltype(d)> di;
+  const int16_t* p[T];
+  uint32_t offset = 1u << 15;  // the rounding, plus 32768 x every weight (below)
+  for (int t = 0; t < T; ++t) {
+    p[t] = reinterpret_cast<const int16_t*>(pairs[t]);
+    offset += 32768u * ((weights[t] & 0xffffu) + (weights[t] >> 16));
+  }
+  const float toUnit = 1.f / (256.f * 255.f);
+  int x = 0;
+#if HWY_TARGET != HWY_SCALAR  // one lane cannot hold a pair: the scalar loop below does it all
+  const hn::ScalableTag<int32_t> d;
+  const hn::Repartition<int16_t, decltype(d)> d16;
+  const hn::Rebind<uint32_t, decltype(d)> du;
   const hn::Rebind<uint8_t, decltype(d)> d8;
   const hn::Rebind<float, decltype(d)> df;
   const int n = static_cast<int>(hn::Lanes(d));
-  const uint16_t* r[2 * R + 1];
-  uint32_t wk[R + 1];
-  for (int k = 0; k <= 2 * R; ++k) r[k] = rows[k];
-  for (int k = 0; k <= R; ++k) wk[k] = w[k];
-  const auto load = [&](const uint16_t* row, int x) { return hn::PromoteTo(d, hn::LoadU(d16, row + x)); };
-  const float toUnit = 1.f / (256.f * 255.f);
-  int x = 0;
+  hn::Vec<decltype(d16)> wv[T];
+  for (int t = 0; t < T; ++t) wv[t] = hn::BitCast(d16, hn::Set(du, weights[t]));
   for (; x + n <= cols; x += n) {
-    auto sum = hn::Mul(hn::Set(d, wk[0]), load(r[R], x));
-    for (int k = 1; k <= R; ++k)
-      sum = hn::Add(sum, hn::Mul(hn::Set(d, wk[k]), hn::Add(load(r[R - k], x), load(r[R + k], x))));
-    const auto fixed = hn::BitCast(di, hn::ShiftRight<16>(hn::Add(sum, hn::Set(d, 1u << 15))));
-    hn::StoreU(hn::DemoteTo(d8, hn::ShiftRight<8>(hn::Add(fixed, hn::Set(di, 128)))), d8, bytes + x);
+    auto sum0 = hn::Zero(d), sum1 = hn::Zero(d);
+    for (int t = 0; t < T; ++t) sum0 = hn::ReorderWidenMulAccumulate(d, hn::LoadU(d16, p[t] + 2 * x), wv[t], sum0, sum1);
+    const auto sum = hn::Add(hn::BitCast(du, hn::RearrangeToOddPlusEven(sum0, sum1)), hn::Set(du, offset));
+    const auto fixed = hn::BitCast(d, hn::ShiftRight<16>(sum));
+    hn::StoreU(hn::DemoteTo(d8, hn::ShiftRight<8>(hn::Add(fixed, hn::Set(d, 128)))), d8, bytes + x);
     if (floats) hn::StoreU(hn::Mul(hn::ConvertTo(df, fixed), hn::Set(df, toUnit)), df, floats + x);
   }
+#endif
   for (; x < cols; ++x) {
-    uint32_t sum = wk[0] * r[R][x];
-    for (int k = 1; k <= R; ++k) sum += wk[k] * (uint32_t{r[R - k][x]} + r[R + k][x]);
-    const uint32_t fixed = (sum + (1u << 15)) >> 16;
+    int32_t acc = 0;
+    for (int t = 0; t < T; ++t)
+      acc += static_cast<int32_t>(weights[t] & 0xffffu) * p[t][2 * x] + static_cast<int32_t>(weights[t] >> 16) * p[t][2 * x + 1];
+    const uint32_t fixed = (static_cast<uint32_t>(acc) + offset) >> 16;
     bytes[x] = static_cast<uint8_t>((fixed + 128u) >> 8);
     if (floats) floats[x] = static_cast<float>(static_cast<int>(fixed)) * toUnit;
   }
 }
 
 template <int... R>
-void RowsOf(const uint16_t* centre, int cols, const uint32_t* w, int radius, uint16_t* out,
-            std::integer_sequence<int, R...>) {
-  using Row = void (*)(const uint16_t*, int, const uint32_t*, uint16_t*);
-  static constexpr Row forRadius[] = {RowsR<R>...};
-  forRadius[radius](centre, cols, w, out);
-}
-
-template <int... R>
-void ColumnsOf(const uint16_t* const* rows, int cols, const uint32_t* w, int radius, uint8_t* bytes, float* floats,
+void RowPairOf(const uint16_t* upper, const uint16_t* lower, int cols, const uint32_t* w, int radius, uint16_t* out,
                std::integer_sequence<int, R...>) {
-  using Columns = void (*)(const uint16_t* const*, int, const uint32_t*, uint8_t*, float*);
-  static constexpr Columns forRadius[] = {ColumnsR<R>...};
-  forRadius[radius](rows, cols, w, bytes, floats);
+  using RowPair = void (*)(const uint16_t*, const uint16_t*, int, const uint32_t*, uint16_t*);
+  static constexpr RowPair forRadius[] = {RowPairR<R>...};
+  forRadius[radius](upper, lower, cols, w, out);
 }
 
-void Rows(const uint16_t* centre, int cols, const uint32_t* w, int radius, uint16_t* out) {
-  RowsOf(centre, cols, w, radius, out, std::make_integer_sequence<int, kMaxRadius + 1>());
+template <int... T>
+void ColumnsOf(const uint16_t* const* pairs, const uint32_t* weights, int terms, int cols, uint8_t* bytes,
+               float* floats, std::integer_sequence<int, T...>) {
+  using Columns = void (*)(const uint16_t* const*, const uint32_t*, int, uint8_t*, float*);
+  static constexpr Columns forTerms[] = {ColumnsT<T + 1>...};
+  forTerms[terms - 1](pairs, weights, cols, bytes, floats);
 }
 
-void Columns(const uint16_t* const* rows, int cols, const uint32_t* w, int radius, uint8_t* bytes, float* floats) {
-  ColumnsOf(rows, cols, w, radius, bytes, floats, std::make_integer_sequence<int, kMaxRadius + 1>());
+void RowPair(const uint16_t* upper, const uint16_t* lower, int cols, const uint32_t* w, int radius, uint16_t* out) {
+  RowPairOf(upper, lower, cols, w, radius, out, std::make_integer_sequence<int, kMaxRadius + 1>());
+}
+
+void Columns(const uint16_t* const* pairs, const uint32_t* weights, int terms, int cols, uint8_t* bytes,
+             float* floats) {
+  ColumnsOf(pairs, weights, terms, cols, bytes, floats, std::make_integer_sequence<int, kMaxTerms>());
 }
 
 void PairRows(const uint8_t* upper, const uint8_t* lower, int cols, uint8_t* HWY_RESTRICT out) {
@@ -109,7 +126,7 @@ void PairRows(const uint8_t* upper, const uint8_t* lower, int cols, uint8_t* HWY
   for (; x < cols; ++x) out[2 * x] = upper[x], out[2 * x + 1] = lower[x];
 }
 
-SmoothingKernels Kernels() { return {Rows, Columns, PairRows}; }
+SmoothingKernels Kernels() { return {RowPair, Columns, PairRows}; }
 
 }  // namespace mdbrief::smoothing_kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();

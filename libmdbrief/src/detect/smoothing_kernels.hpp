@@ -9,17 +9,26 @@ namespace mdbrief::smoothing_kernels {
 
 constexpr int kMaxRadius = 24;  // gaussian_smoothing.hpp kMaxSmoothingTaps
 
+// Most terms a column pass may take: one per pair of rows within the radius, and two more for
+// the weights above 32767 split in parts (at most 65536 in all, so at most two such rows).
+constexpr int kMaxTerms = kMaxRadius + 3;
+
 struct SmoothingKernels {
-  // radius <= kMaxRadius; centre[-radius .. cols - 1 + radius] readable. With weights
-  // w[0..radius] in 1/256, of 8-bit pixels (widened to 16 bits): out[x] = sum over |k| <= radius
-  // of w[|k|] * centre[x + k], 256 x the row-smoothed intensity, exactly (at most 255 x 256:
-  // 16-bit lanes, twice as many as 32-bit ones).
-  void (*rows)(const uint16_t* centre, int cols, const uint32_t* w, int radius, uint16_t* out);
-  // With weights in 1/65536, over the row-smoothed rows rows[0..2 radius] (rows[radius] the
-  // centre): the weighted sum / 65536, rounded, is 256 x the smoothed intensity, in 8
-  // fractional bits; bytes[x] is it rounded to a whole grey level and, unless floats is null,
-  // floats[x] it / (256 x 255).
-  void (*columns)(const uint16_t* const* rows, int cols, const uint32_t* w, int radius, uint8_t* bytes,
+  // Two rows at once. radius <= kMaxRadius; upper[-radius .. cols - 1 + radius] and lower's
+  // readable. With weights w[0..radius] in 1/256, of 8-bit pixels (widened to 16 bits): the
+  // row-smoothed value of upper at x, sum over |k| <= radius of w[|k|] * upper[x + k], is 256 x
+  // the row-smoothed intensity exactly (at most 255 x 256: 16-bit lanes, twice as many as 32-bit
+  // ones). out[2 x] is it less 32768 (so that it fits a signed 16-bit lane) and out[2 x + 1]
+  // lower's: a pair of rows as the column pass reads them.
+  void (*rowPair)(const uint16_t* upper, const uint16_t* lower, int cols, const uint32_t* w, int radius,
+                  uint16_t* out);
+  // The column pass over 1 <= terms <= kMaxTerms pairs of rows (rowPair's layout). Term t
+  // weighs pairs[t]'s upper row by weights[t] & 0xffff and its lower one by weights[t] >> 16, in
+  // 1/65536, each at most 32767 and all summing to at most 65536 (a row within the radius twice,
+  // or with a larger weight, takes several terms). The weighted sum of the row-smoothed values /
+  // 65536, rounded, is 256 x the smoothed intensity, in 8 fractional bits; bytes[x] is it
+  // rounded to a whole grey level and, unless floats is null, floats[x] it / (256 x 255).
+  void (*columns)(const uint16_t* const* pairs, const uint32_t* weights, int terms, int cols, uint8_t* bytes,
                   float* floats);
   // Two rows of the smoothed bytes side by side, as the descriptors sample them
   // (ImagePyramid::smoothedPairs): out[2 x] = upper[x], out[2 x + 1] = lower[x].
