@@ -107,7 +107,7 @@ void GaussianRowSmoother::smoothPair(int pair) {
     // A level of odd height pairs its last row with itself; no term weighs the copy.
     const uint8_t* in = level_.ptr<uint8_t>(std::min(2 * pair + half, rows_ - 1));
     uint16_t* padded = &padded_[static_cast<size_t>(half) * width];
-    std::copy(in, in + cols_, padded + radius_);
+    kernels_.widen(in, cols_, padded + radius_);
     for (int i = 1; i <= radius_; ++i) {
       padded[radius_ - i] = in[leftColumn_[i]];
       padded[radius_ + cols_ - 1 + i] = in[rightColumn_[i]];

@@ -118,6 +118,15 @@ void Columns(const uint16_t* const* pairs, const uint32_t* weights, int terms, i
   ColumnsOf(pairs, weights, terms, cols, bytes, floats, std::make_integer_sequence<int, kMaxTerms>());
 }
 
+void Widen(const uint8_t* in, int n, uint16_t* HWY_RESTRICT out) {
+  const hn::ScalableTag<uint16_t> d;
+  const hn::Rebind<uint8_t, decltype(d)> d8;
+  const int lanes = static_cast<int>(hn::Lanes(d));
+  int x = 0;
+  for (; x + lanes <= n; x += lanes) hn::StoreU(hn::PromoteTo(d, hn::LoadU(d8, in + x)), d, out + x);
+  for (; x < n; ++x) out[x] = in[x];
+}
+
 void PairRows(const uint8_t* upper, const uint8_t* lower, int cols, uint8_t* HWY_RESTRICT out) {
   const hn::ScalableTag<uint8_t> d;
   const int n = static_cast<int>(hn::Lanes(d));
@@ -126,7 +135,7 @@ void PairRows(const uint8_t* upper, const uint8_t* lower, int cols, uint8_t* HWY
   for (; x < cols; ++x) out[2 * x] = upper[x], out[2 * x + 1] = lower[x];
 }
 
-SmoothingKernels Kernels() { return {RowPair, Columns, PairRows}; }
+SmoothingKernels Kernels() { return {Widen, RowPair, Columns, PairRows}; }
 
 }  // namespace mdbrief::smoothing_kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();

@@ -14,6 +14,8 @@ constexpr int kMaxRadius = 24;  // gaussian_smoothing.hpp kMaxSmoothingTaps
 constexpr int kMaxTerms = kMaxRadius + 3;
 
 struct SmoothingKernels {
+  // out[x] = in[x] for x < n: a row widened for rowPair.
+  void (*widen)(const uint8_t* in, int n, uint16_t* out);
   // Two rows at once. radius <= kMaxRadius; upper[-radius .. cols - 1 + radius] and lower's
   // readable. With weights w[0..radius] in 1/256, of 8-bit pixels (widened to 16 bits): the
   // row-smoothed value of upper at x, sum over |k| <= radius of w[|k|] * upper[x + k], is 256 x
