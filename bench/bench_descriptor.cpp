@@ -135,6 +135,19 @@ BENCHMARK(BM_MdBriefKeypointAnglePrebuiltPyramid)->Unit(benchmark::kMillisecond)
 BENCHMARK(BM_DBriefPrebuiltPyramid)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MdBriefPrebuiltPyramid)->Unit(benchmark::kMillisecond);
 
+// The 8-level pyramid's levels alone (the bilinear reductions), one thread.
+void BM_Pyramid(benchmark::State& state) {
+  const Frame& f = fisheyeFrame();
+  if (f.image.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
+  cv::setNumThreads(1);
+  for (auto _ : state) {
+    const mdbrief::ImagePyramid pyramid(f.image, mdbrief::PyramidOptions{});
+    benchmark::DoNotOptimize(pyramid.image(pyramid.levels() - 1).data);
+  }
+  cv::setNumThreads(-1);
+}
+BENCHMARK(BM_Pyramid)->Unit(benchmark::kMicrosecond)->UseRealTime();
+
 // The part of every description that does not depend on the descriptor: the 8-level pyramid
 // and its smoothing (shared with the detector in a whole-frame pipeline).
 void BM_PyramidAndSmoothing(benchmark::State& state) {

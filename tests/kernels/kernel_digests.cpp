@@ -1,8 +1,8 @@
 // Digests of every SIMD kernel's output on fixed inputs (smoothing, Hessian response and maxima,
 // descriptor placement, test bits and centroid, matching and the guided matcher's distances, mask
-// weights), at every level this CPU runs. Each level must give the digests recorded below, which
-// came from x86-64: so a run on AArch64 (scripts/test-arm.sh, under qemu-user) shows the same bits
-// as on x86. Free of OpenCV and GoogleTest, so that it cross-builds with the compiler alone;
+// weights, the pyramid's bilinear reduction), at every level this CPU runs. Each level must give
+// the digests recorded below, which came from x86-64: so a run on AArch64 (scripts/test-arm.sh,
+// under qemu-user) shows the same bits as on x86. Free of OpenCV and GoogleTest, so that it cross-builds with the compiler alone;
 // prints "N passed, N failed".
 #include <algorithm>
 #include <cmath>
@@ -18,6 +18,7 @@
 #include "detect/hessian_kernels.hpp"
 #include "describe/mask_weight_kernels.hpp"
 #include "match/matcher_kernels.hpp"
+#include "detect/resize_kernels.hpp"
 #include "mdbrief/simd_level.hpp"
 #include "detect/smoothing_kernels.hpp"
 
@@ -277,10 +278,39 @@ uint64_t maskWeightDigest() {
   return d.h;
 }
 
+uint64_t resizeDigest(const std::vector<uint8_t>& img) {
+  Digest d;
+  // The pyramid's chain at 1.2 (each level from the one before), then single reductions: nearly
+  // and exactly half, the same size, one axis kept, a few pixels; on the texture and on 0 / 255
+  // stripes (every sum's extremes).
+  std::vector<uint8_t> stripes(img.size());
+  for (size_t i = 0; i < stripes.size(); ++i) stripes[i] = (i / 3 + i / kCols) % 2 ? 255 : 0;
+  const std::vector<uint8_t>* sources[] = {&img, &stripes};
+  for (const std::vector<uint8_t>* source : sources) {
+    std::vector<uint8_t> level = *source;
+    int cols = kCols, rows = kRows;
+    double scale = 1;
+    for (int l = 1; l < 8; ++l) {
+      scale *= 1.2;  // not std::pow, which libm may round differently on another CPU
+      const int c = static_cast<int>(std::lround(kCols / scale)), r = static_cast<int>(std::lround(kRows / scale));
+      std::vector<uint8_t> out(c * r);
+      resize_kernels::resizeLinear(level.data(), cols, cols, rows, out.data(), c, c, r);
+      d.add(out);
+      level = out, cols = c, rows = r;
+    }
+    for (const auto& [c, r] : {std::pair{102, 79}, {101, 78}, {kCols, kRows}, {kCols, 100}, {60, kRows}, {5, 3}}) {
+      std::vector<uint8_t> out(c * r);
+      resize_kernels::resizeLinear(source->data(), kCols, kCols, kRows, out.data(), c, c, r);
+      d.add(out);
+    }
+  }
+  return d.h;
+}
+
 // Recorded on x86-64 (every level gives them).
 constexpr uint64_t kSmoothing = 0x035e1da41e92902cull, kHessian = 0xe238f8e09b5da087ull,
                    kDescriptor = 0x8ee3f96fc7f86082ull, kMatcher = 0xff9176c19ebb9f4aull,
-                   kMaskWeights = 0x4bc4bc6c1deb2075ull;
+                   kMaskWeights = 0x4bc4bc6c1deb2075ull, kResize = 0xd1e90b4367e98a08ull;
 
 }  // namespace
 
@@ -297,7 +327,8 @@ int main(int argc, char** argv) {
         {"descriptor", {descriptorDigest(img), kDescriptor}},
         {"affine exact", {affineMismatches(), 0}},
         {"matcher", {matcherDigest(), kMatcher}},
-        {"mask weights", {maskWeightDigest(), kMaskWeights}}};
+        {"mask weights", {maskWeightDigest(), kMaskWeights}},
+        {"resize", {resizeDigest(img), kResize}}};
     for (const auto& [name, digests] : checks) {
       const bool ok = digests.first == digests.second;
       ok ? ++passed : ++failed;

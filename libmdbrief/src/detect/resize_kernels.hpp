@@ -1,0 +1,50 @@
+#pragma once
+// The pyramid's bilinear reduction (image_pyramid.cpp), written once with Highway in
+// resize_kernels.cpp and compiled for every SIMD level (simd_level.hpp): the bits of OpenCV
+// 4.6's cv::resize(INTER_LINEAR) on 8-bit grey images, whose fixed point this reproduces. The
+// arithmetic is integer, so every level gives the same values.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace mdbrief::resize_kernels {
+
+// OpenCV's weights are in 1/2048 (11 bits); the horizontal pass keeps each sum / 16, as OpenCV's
+// vertical pass takes it.
+constexpr int kWeightOne = 2048;
+
+// Where each output column of a level takes its pixels: source columns first[x] and second[x]
+// (the next one, or the same at the last column) weighted a0[x] and a1[x]. For the vector pass,
+// each weight split as a = 16 high + low, and blocks of 8 columns (8 b .. 8 b + 7; the last
+// block, when 8 does not divide cols, the last 8 columns) whose pixels lie in 16 bytes from
+// window[b]: byte firstIndex[16 b + 2 i] of the window is column i's first pixel (the next
+// byte 0x80: zero, the pixel widened to 16 bits), secondIndex its second. run[b] counts the
+// blocks of consecutive columns from b on that fit their windows (0: b does not).
+struct ColumnPlan {
+  int cols = 0;
+  std::vector<int32_t> first, second;
+  std::vector<int16_t> a0, a1, high0, low0, high1, low1;
+  std::vector<int32_t> window, run;
+  std::vector<uint8_t> firstIndex, secondIndex;
+};
+
+struct ResizeKernels {
+  // out[x] = (src[first] a0 + src[second] a1) / 16, rounded down (at most 255 x 2049 / 16).
+  void (*columns)(const uint8_t* src, const ColumnPlan& plan, int16_t* out);
+  // out[x] = ((upper[x] b0) / 2^16 + (lower[x] b1) / 2^16 + 2) / 4, each division rounded down.
+  void (*rows)(const int16_t* upper, const int16_t* lower, int16_t b0, int16_t b1, int cols, uint8_t* out);
+};
+
+// The kernels of the active SIMD level.
+ResizeKernels activeResizeKernels();
+
+// Whether resizeLinear gives cv::resize's bits for these sizes: a reduction along both axes (or
+// the same size), not an enlargement.
+bool reproducesOpenCv(int srcCols, int srcRows, int dstCols, int dstRows);
+
+// cv::resize(src, dst, {dstCols, dstRows}, 0, 0, INTER_LINEAR) for sizes where
+// reproducesOpenCv holds; rows `stride` bytes apart.
+void resizeLinear(const uint8_t* src, size_t srcStride, int srcCols, int srcRows, uint8_t* dst, size_t dstStride,
+                  int dstCols, int dstRows);
+
+}  // namespace mdbrief::resize_kernels

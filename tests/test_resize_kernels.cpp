@@ -1,0 +1,152 @@
+// The pyramid's bilinear reduction (detect/resize_kernels.hpp): the same bits at every SIMD level
+// the CPU runs, and, against the OpenCV it was measured on, cv::resize(INTER_LINEAR)'s bits.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <opencv2/core/version.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "detect/resize_kernels.hpp"
+#include "mdbrief/detect/image_pyramid.hpp"
+#include "mdbrief/simd_level.hpp"
+
+namespace {
+
+using mdbrief::SimdLevel;
+namespace rk = mdbrief::resize_kernels;
+
+// The kernel reproduces OpenCV 4.6's fixed point (its weights, the vertical pass's rounding),
+// which another release may change: the comparison with cv::resize holds for 4.6 only.
+constexpr bool kOpenCv46 = CV_VERSION_MAJOR == 4 && CV_VERSION_MINOR == 6;
+
+struct LevelCap {
+  explicit LevelCap(SimdLevel level) { mdbrief::limitSimdLevel(level); }
+  ~LevelCap() { mdbrief::limitSimdLevel(SimdLevel::Avx512); }
+};
+
+cv::Mat kernelResize(const cv::Mat& src, cv::Size size) {
+  cv::Mat dst(size, CV_8UC1);
+  rk::resizeLinear(src.data, src.step, src.cols, src.rows, dst.data, dst.step, size.width, size.height);
+  return dst;
+}
+
+// Noise, noise with runs of 0 and 255 (the extremes of every sum), or all white.
+cv::Mat content(cv::Size size, int kind, std::mt19937& rng) {
+  cv::Mat image(size, CV_8UC1);
+  if (kind == 2) return image.setTo(255);
+  cv::randu(image, 0, 256);
+  if (kind == 1)
+    for (int y = 0; y < size.height; ++y)
+      for (int x = 0; x < size.width; ++x)
+        if (rng() % 3 != 0) image.at<uchar>(y, x) = ((x / 5 + y / 3) & 1) ? 255 : 0;
+  return image;
+}
+
+struct Case {
+  cv::Size src, dst;
+};
+
+// Each level of ImagePyramid's chain: the size from the input's, the pixels from the level before.
+std::vector<Case> pyramidChain(cv::Size input, double factor, int levels) {
+  std::vector<Case> cases;
+  cv::Size previous = input;
+  for (int level = 1; level < levels; ++level) {
+    const double scale = std::pow(factor, level);
+    const cv::Size size(static_cast<int>(std::lround(input.width / scale)),
+                        static_cast<int>(std::lround(input.height / scale)));
+    if (size.width < 1 || size.height < 1) break;
+    cases.push_back({previous, size});
+    previous = size;
+  }
+  return cases;
+}
+
+std::vector<Case> allCases() {
+  std::vector<Case> cases;
+  for (const cv::Size input : {cv::Size(754, 480), cv::Size(752, 480), cv::Size(640, 480)})
+    for (const double factor : {1.2, 1.5, 1.1, 2.0})
+      for (const Case& c : pyramidChain(input, factor, 12)) cases.push_back(c);
+  std::mt19937 rng(11);
+  for (int i = 0; i < 300; ++i) {
+    const cv::Size src(1 + static_cast<int>(rng() % 1200), 1 + static_cast<int>(rng() % (i % 10 == 0 ? 1200 : 200)));
+    // Half of them at the pyramid's ratios (up to 2), the rest anywhere down to one pixel.
+    const double ratio = i % 2 ? 1 + (rng() % 1001) / 1000.0 : 0;
+    const auto reduce = [&](int n) {
+      return ratio > 0 ? std::max(1, static_cast<int>(std::lround(n / ratio))) : 1 + static_cast<int>(rng() % n);
+    };
+    const int width = reduce(src.width), height = reduce(src.height);
+    cases.push_back({src, {width, height}});
+  }
+  // Exactly half (OpenCV's INTER_AREA, the same rounded mean of four), the same size, one axis
+  // kept, and one pixel.
+  for (const Case& c : std::vector<Case>{{{754, 480}, {377, 240}}, {{34, 18}, {17, 9}}, {{100, 60}, {100, 60}},
+                                         {{100, 60}, {100, 45}}, {{100, 60}, {37, 60}}, {{1, 1}, {1, 1}},
+                                         {{300, 7}, {1, 1}}, {{7, 300}, {7, 1}}})
+    cases.push_back(c);
+  return cases;
+}
+
+TEST(ResizeKernels, ReproducesReductionsOnly) {
+  EXPECT_TRUE(rk::reproducesOpenCv(754, 480, 628, 400));
+  EXPECT_TRUE(rk::reproducesOpenCv(754, 480, 377, 240));
+  EXPECT_TRUE(rk::reproducesOpenCv(5, 5, 5, 5));
+  EXPECT_FALSE(rk::reproducesOpenCv(628, 400, 754, 480));
+  EXPECT_FALSE(rk::reproducesOpenCv(100, 100, 101, 50));
+  EXPECT_FALSE(rk::reproducesOpenCv(100, 100, 0, 50));
+}
+
+TEST(ResizeKernels, EveryLevelGivesThePortableBitsAndOpenCvs) {
+  if (!kOpenCv46) std::printf("OpenCV %s: the comparison with cv::resize is skipped\n", CV_VERSION);
+  const std::vector<SimdLevel> levels = mdbrief::supportedSimdLevels();
+  ASSERT_EQ(levels.front(), SimdLevel::Portable);
+  std::mt19937 rng(5);
+  int compared = 0;
+  for (const Case& c : allCases()) {
+    ASSERT_TRUE(rk::reproducesOpenCv(c.src.width, c.src.height, c.dst.width, c.dst.height));
+    const cv::Mat src = content(c.src, compared % 3, rng);
+    const std::string what = std::to_string(c.src.width) + "x" + std::to_string(c.src.height) + " -> " +
+                             std::to_string(c.dst.width) + "x" + std::to_string(c.dst.height);
+    cv::Mat portable;
+    {
+      const LevelCap cap(SimdLevel::Portable);
+      portable = kernelResize(src, c.dst);
+    }
+    if (kOpenCv46) {
+      cv::Mat expected;
+      cv::resize(src, expected, c.dst, 0, 0, cv::INTER_LINEAR);
+      ASSERT_EQ(cv::norm(portable, expected, cv::NORM_INF), 0) << what;
+    }
+    for (const SimdLevel level : levels) {
+      const LevelCap cap(level);
+      ASSERT_EQ(cv::norm(kernelResize(src, c.dst), portable, cv::NORM_INF), 0)
+          << what << " at " << mdbrief::toString(level);
+    }
+    ++compared;
+  }
+  EXPECT_GT(compared, 350);
+}
+
+// The pyramid's levels, reduced by the kernel and enlarged by cv::resize, are cv::resize's chain.
+TEST(ResizeKernels, PyramidLevelsAreOpenCvsChain) {
+  if (!kOpenCv46) GTEST_SKIP() << "the kernel reproduces OpenCV 4.6, this is " CV_VERSION;
+  std::mt19937 rng(3);
+  const cv::Mat input = content({754, 480}, 0, rng);
+  mdbrief::PyramidOptions options;
+  options.firstLevel = 1;
+  const mdbrief::ImagePyramid pyramid(input, options);
+  cv::Mat expected;
+  cv::resize(input, expected, pyramid.image(0).size(), 0, 0, cv::INTER_LINEAR);
+  EXPECT_EQ(cv::norm(pyramid.image(0), expected, cv::NORM_INF), 0);
+  cv::Mat previous = input;
+  for (int level = 2; level < pyramid.levels(); ++level) {
+    cv::resize(previous, expected, pyramid.image(level).size(), 0, 0, cv::INTER_LINEAR);
+    EXPECT_EQ(cv::norm(pyramid.image(level), expected, cv::NORM_INF), 0) << "level " << level;
+    previous = expected;
+  }
+}
+
+}  // namespace
