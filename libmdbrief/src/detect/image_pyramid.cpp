@@ -11,8 +11,8 @@
 
 #include "detect/gaussian_smoothing.hpp"
 #include "detect/resize_kernels.hpp"
-#include "mdbrief/simd_level.hpp"
 #include "detect/smoothing_kernels.hpp"
+#include "mdbrief/simd_level.hpp"
 
 namespace mdbrief {
 
