@@ -34,6 +34,9 @@ class GaussianRowSmoother {
  public:
   // Throws std::invalid_argument for what gaussianSmoothing refuses.
   GaussianRowSmoother(const cv::Mat& level8u, int taps, double sigma);
+  // It points into its own ring: a copy would read the original's.
+  GaussianRowSmoother(const GaussianRowSmoother&) = delete;
+  GaussianRowSmoother& operator=(const GaussianRowSmoother&) = delete;
   // The next row of both forms, from the top (cols bytes; cols floats unless floats is null).
   void next(uint8_t* bytes, float* floats);
 
