@@ -121,20 +121,39 @@ HWY_INLINE hn::Vec<DI> Quads(const uint8_t* pairs, hn::Vec<DI> offset) {
 HWY_INLINE hn::Vec<DI> Bilinear(const uint8_t* pairs, int pairStep, const int* px, const int* py) {
   const DI d;
   const auto x = hn::LoadU(d, px), y = hn::LoadU(d, py);
-  const auto mask = hn::Set(d, kSub - 1), lo = hn::Set(d, 0xff);
+  const auto mask = hn::Set(d, kSub - 1);
   const auto fx = hn::And(x, mask), fy = hn::And(y, mask);
   const auto offset = hn::Add(hn::Mul(hn::ShiftRight<kSubBits>(y), hn::Set(d, pairStep)),
                               hn::ShiftLeft<1>(hn::ShiftRight<kSubBits>(x)));
   const auto quads = Quads(pairs, offset);
-  // A logical shift for the top byte: the lanes are signed, the pixels are not.
+#if HWY_TARGET == HWY_SCALAR
+  // One lane holds no pair of 16-bit values: each corner on its own. A logical shift for the top
+  // byte: the lanes are signed, the pixels are not.
   const hn::RebindToUnsigned<DI> du;
+  const auto lo = hn::Set(d, 0xff);
   const auto p00 = hn::And(quads, lo), p10 = hn::And(hn::ShiftRight<8>(quads), lo);
   const auto p01 = hn::And(hn::ShiftRight<16>(quads), lo);
   const auto p11 = hn::BitCast(d, hn::ShiftRight<24>(hn::BitCast(du, quads)));
-  // a (kSub - f) + b f = a kSub + f (b - a) in integers: sampleBilinear's value with one
-  // multiplication per interpolation instead of two.
+  // a (kSub - f) + b f = a kSub + f (b - a): one multiplication per interpolation.
   const auto top = hn::Add(hn::ShiftLeft<kSubBits>(p00), hn::Mul(fx, hn::Sub(p01, p00)));
   const auto bottom = hn::Add(hn::ShiftLeft<kSubBits>(p10), hn::Mul(fx, hn::Sub(p11, p10)));
+#else
+  // Bytes 0 and 2 of each lane (I(x0, y0), I(x0 + 1, y0)) as two 16-bit values, and bytes 1 and 3
+  // (the row below): each row's interpolation p0 (kSub - fx) + p1 fx is then one pairwise
+  // multiply-add (pmaddwd on x86) against the weights (kSub - fx, fx), exactly the integers of
+  // sampleBilinear. The products and their sums stay below 2^15.
+  const hn::Repartition<int16_t, DI> d16;
+  const auto bytes02 = hn::Set(d, 0x00ff00ff);
+  const auto upper = hn::BitCast(d16, hn::And(quads, bytes02));
+  const auto lower = hn::BitCast(d16, hn::And(hn::ShiftRight<8>(quads), bytes02));
+  const auto weights = hn::BitCast(d16, hn::Add(hn::Sub(hn::Set(d, kSub), fx), hn::ShiftLeft<16>(fx)));
+  const auto pairwise = [&](hn::Vec<decltype(d16)> p) {
+    auto sum1 = hn::Zero(d);
+    const auto sum0 = hn::ReorderWidenMulAccumulate(d, p, weights, hn::Zero(d), sum1);
+    return hn::RearrangeToOddPlusEven(sum0, sum1);
+  };
+  const auto top = pairwise(upper), bottom = pairwise(lower);
+#endif
   return hn::Add(hn::ShiftLeft<kSubBits>(top), hn::Mul(fy, hn::Sub(bottom, top)));
 }
 
