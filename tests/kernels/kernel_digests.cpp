@@ -1,6 +1,6 @@
-// Digests of every SIMD kernel's output on fixed inputs (smoothing, Hessian response and maxima,
-// descriptor placement, test bits and centroid, matching and the guided matcher's distances, mask
-// weights, the pyramid's bilinear reduction), at every level this CPU runs. Each level must give
+// Digests of every SIMD kernel's output on fixed inputs (smoothing and its 5x5 blocks, Hessian
+// response and maxima, descriptor placement, test bits and centroid, matching and the guided
+// matcher's distances, mask weights, the pyramid's bilinear reduction), at every level this CPU runs. Each level must give
 // the digests recorded below, which came from x86-64: so a run on AArch64 (scripts/test-arm.sh,
 // under qemu-user) shows the same bits as on x86. Free of OpenCV and GoogleTest, so that it cross-builds with the compiler alone;
 // prints "N passed, N failed".
@@ -59,18 +59,28 @@ std::vector<uint8_t> texture() {
   return img;
 }
 
-uint64_t smoothingDigest(const std::vector<uint8_t>& img, std::vector<float>* level) {
+constexpr int kRadii[] = {0, 1, 3, 6, 13, 24};
+
+// Row and column weights summing to 256 and 65536 (their shape does not matter to the arithmetic).
+std::pair<std::vector<uint32_t>, std::vector<uint32_t>> smoothingWeights(int radius) {
+  std::vector<uint32_t> wr(radius + 1), wc(radius + 1);
+  uint32_t left8 = 256, left16 = 65536;
+  for (int i = radius; i >= 1; --i) {
+    wr[i] = left8 / (2 * (radius + 2)), wc[i] = left16 / (2 * (radius + 2));
+    left8 -= 2 * wr[i], left16 -= 2 * wc[i];
+  }
+  wr[0] = left8, wc[0] = left16;
+  return {wr, wc};
+}
+
+// levels: the float form at each of kRadii.
+uint64_t smoothingDigest(const std::vector<uint8_t>& img, std::vector<std::vector<float>>& levels) {
   const auto k = smoothing_kernels::activeSmoothingKernels();
   Digest d;
-  for (const int radius : {0, 1, 3, 6, 13, 24}) {
-    std::vector<uint32_t> wr(radius + 1), wc(radius + 1);
-    // Weights summing to 256 and 65536 (their shape does not matter to the arithmetic).
-    uint32_t left8 = 256, left16 = 65536;
-    for (int i = radius; i >= 1; --i) {
-      wr[i] = left8 / (2 * (radius + 2)), wc[i] = left16 / (2 * (radius + 2));
-      left8 -= 2 * wr[i], left16 -= 2 * wc[i];
-    }
-    wr[0] = left8, wc[0] = left16;
+  levels.clear();
+  for (const int radius : kRadii) {
+    const auto [wr, wc] = smoothingWeights(radius);
+    std::vector<float>& level = levels.emplace_back();
     // Rows two at a time, as the pyramid smooths them; the digest takes each row's values.
     std::vector<std::vector<uint16_t>> pairs((kRows + 1) / 2, std::vector<uint16_t>(2 * kCols));
     std::vector<uint16_t> padded(2 * (kCols + 2 * radius)), row(kCols);
@@ -108,10 +118,32 @@ uint64_t smoothingDigest(const std::vector<uint8_t>& img, std::vector<float>* le
       k.columns(terms.data(), weights.data(), static_cast<int>(terms.size()), kCols, bytes.data(), floats.data());
       d.add(bytes);
       d.add(floats);
-      if (radius == 6 && level) level->insert(level->end(), floats.begin(), floats.end());
+      level.insert(level.end(), floats.begin(), floats.end());
     }
   }
   return d.h;
+}
+
+// Pixels where block5, which smooths 5x5 pixels only, differs from the passes over the whole image
+// (`levels`, smoothingDigest's), over every block whose reads stay inside the image.
+int64_t blockMismatches(const std::vector<uint8_t>& img, const std::vector<std::vector<float>>& levels) {
+  const auto k = smoothing_kernels::activeSmoothingKernels();
+  int64_t mismatches = 0;
+  for (size_t r = 0; r < levels.size(); ++r) {
+    const int radius = kRadii[r];
+    const auto [wr, wc] = smoothingWeights(radius);
+    std::vector<const uint8_t*> rows(2 * radius + 5);
+    uint32_t fixed[25];
+    for (int cy = radius + 2; cy + radius + 2 < kRows; cy += 3)
+      for (int cx = radius + 2; cx - radius - 2 + 2 * radius + smoothing_kernels::kBlockSlack <= kCols; cx += 2) {
+        for (int t = 0; t < 2 * radius + 5; ++t) rows[t] = &img[(cy - radius - 2 + t) * kCols + cx - radius - 2];
+        k.block5(rows.data(), radius, wr.data(), wc.data(), fixed);
+        for (int i = 0; i < 25; ++i)
+          mismatches += static_cast<float>(static_cast<int>(fixed[i])) * smoothing_kernels::kFixedToUnit !=
+                        levels[r][(cy - 2 + i / 5) * kCols + cx - 2 + i % 5];
+      }
+  }
+  return mismatches;
 }
 
 uint64_t hessianDigest(const std::vector<float>& level) {
@@ -320,10 +352,11 @@ int main(int argc, char** argv) {
   const std::vector<uint8_t> img = texture();
   for (const SimdLevel level : supportedSimdLevels()) {
     limitSimdLevel(level);
-    std::vector<float> smoothed;
+    std::vector<std::vector<float>> smoothed;  // at each of kRadii
     const std::pair<const char*, std::pair<uint64_t, uint64_t>> checks[] = {
-        {"smoothing", {smoothingDigest(img, &smoothed), kSmoothing}},
-        {"hessian", {hessianDigest(smoothed), kHessian}},
+        {"smoothing", {smoothingDigest(img, smoothed), kSmoothing}},
+        {"block exact", {blockMismatches(img, smoothed), 0}},
+        {"hessian", {hessianDigest(smoothed[3]), kHessian}},  // radius 6
         {"descriptor", {descriptorDigest(img), kDescriptor}},
         {"affine exact", {affineMismatches(), 0}},
         {"matcher", {matcherDigest(), kMatcher}},

@@ -76,14 +76,17 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
   const bool wantMasks = hasMasks(options_.kind);
   // Each keypoint's level and footprint from its size; octave is not read.
   std::vector<Support> supports(n);
-  int maxLevel = -1;
   const std::vector<double> scales = pyramidScales(pyramid);
+  std::vector<int> usedLevels;
   for (int i = 0; i < n; ++i) {
     supports[i] = supportOf(keypoints[i].size, options_.supportScale, scales);
-    maxLevel = std::max(maxLevel, supports[i].level);
+    if (supports[i].level >= 0) usedLevels.push_back(supports[i].level);
   }
-  // Each level once, in parallel ahead of parallel sampling.
-  tbb::parallel_for(0, maxLevel + 1, [&](int level) { pyramid.smoothedPairs(level); });
+  std::sort(usedLevels.begin(), usedLevels.end());
+  usedLevels.erase(std::unique(usedLevels.begin(), usedLevels.end()), usedLevels.end());
+  // The levels the keypoints use, each once, in parallel ahead of parallel sampling; not the
+  // others (the Hessian detector leaves its finest level unsmoothed).
+  tbb::parallel_for(size_t{0}, usedLevels.size(), [&](size_t i) { pyramid.smoothedPairs(usedLevels[i]); });
 
   cv::Mat desc(n, bytes, CV_8U, cv::Scalar(0)), mask(wantMasks ? n : 0, bytes, CV_8U, cv::Scalar(0));
   std::vector<uchar> ok(n, 0);

@@ -42,13 +42,17 @@ std::vector<uint32_t> fixedWeights(int taps, double sigma, int bits) {
   return w;
 }
 
-}  // namespace
-
-GaussianRowSmoother::GaussianRowSmoother(const cv::Mat& level8u, int taps, double sigma) : level_(level8u) {
+void checkSmoothing(const cv::Mat& level8u, int taps, double sigma) {
   if (level8u.type() != CV_8UC1 || level8u.empty())
     throw std::invalid_argument("gaussianSmoothing: needs a non-empty 8UC1 image");
   if (taps < 1 || taps % 2 == 0 || taps > kMaxSmoothingTaps || !(sigma > 0.0))
     throw std::invalid_argument("gaussianSmoothing: needs an odd width of at most 49 taps and a positive sigma");
+}
+
+}  // namespace
+
+GaussianRowSmoother::GaussianRowSmoother(const cv::Mat& level8u, int taps, double sigma) : level_(level8u) {
+  checkSmoothing(level8u, taps, sigma);
   rows_ = level8u.rows, cols_ = level8u.cols, radius_ = taps / 2;
   rowWeights_ = fixedWeights(taps, sigma, 8), columnWeights_ = fixedWeights(taps, sigma, 16);
   const int slots = radius_ + 1;
@@ -138,6 +142,48 @@ Smoothing gaussianSmoothing(const cv::Mat& level8u, int taps, double sigma, bool
   for (int y = 0; y < level8u.rows; ++y)
     smoother.next(out.bytes.ptr<uint8_t>(y), withFloats ? out.floats.ptr<float>(y) : nullptr);
   return out;
+}
+
+GaussianBlockSmoother::GaussianBlockSmoother(const cv::Mat& level8u, int taps, double sigma) : level_(level8u) {
+  checkSmoothing(level8u, taps, sigma);
+  rows_ = level8u.rows, cols_ = level8u.cols, radius_ = taps / 2;
+  rowWeights_ = fixedWeights(taps, sigma, 8), columnWeights_ = fixedWeights(taps, sigma, 16);
+  kernels_ = smoothing_kernels::activeSmoothingKernels();
+}
+
+void GaussianBlockSmoother::prefetch(int cx, int cy) const {
+  const int left = cx - radius_ - 2, top = cy - radius_ - 2, span = 2 * radius_ + 5;
+  if (left < 0 || top < 0 || left + span > cols_ || top + span > rows_) return;
+  for (int t = 0; t < span; ++t) {
+    const uint8_t* row = level_.ptr<uint8_t>(top + t) + left;
+    __builtin_prefetch(row);
+    __builtin_prefetch(row + span - 1);
+  }
+}
+
+void GaussianBlockSmoother::block(int cx, int cy, float* out) const {
+  constexpr int kMaxSpan = 2 * smoothing_kernels::kMaxRadius + 5;
+  const int span = 2 * radius_ + 5, readable = 2 * radius_ + smoothing_kernels::kBlockSlack;
+  const int left = cx - radius_ - 2, top = cy - radius_ - 2;
+  const auto reflect = [](int i, int n) {
+    return static_cast<unsigned>(i) < static_cast<unsigned>(n) ? i : cv::borderInterpolate(i, n, cv::BORDER_REFLECT_101);
+  };
+  // Rows in place where the kernel's reads stay inside them; otherwise copies, reflected.
+  const bool inside = left >= 0 && left + readable <= cols_;
+  const uint8_t* rows[kMaxSpan];
+  uint8_t copies[kMaxSpan][kMaxSpan + smoothing_kernels::kBlockSlack];
+  for (int t = 0; t < span; ++t) {
+    const uint8_t* row = level_.ptr<uint8_t>(reflect(top + t, rows_));
+    if (inside) {
+      rows[t] = row + left;
+      continue;
+    }
+    for (int u = 0; u < readable; ++u) copies[t][u] = u < span ? row[reflect(left + u, cols_)] : 0;
+    rows[t] = copies[t];
+  }
+  uint32_t fixed[25];
+  kernels_.block5(rows, radius_, rowWeights_.data(), columnWeights_.data(), fixed);
+  for (int i = 0; i < 25; ++i) out[i] = static_cast<float>(static_cast<int>(fixed[i])) * smoothing_kernels::kFixedToUnit;
 }
 
 }  // namespace detail

@@ -75,4 +75,24 @@ class GaussianRowSmoother {
   int smoothedPairs_ = 0, y_ = 0;
 };
 
+// The same smoothing's float form at the 5x5 pixels around one pixel, for a level read at a few
+// places only (the Hessian detector's finest level): gaussianSmoothing's values, and beyond the
+// border the values BORDER_REFLECT_101 gives the smoothed level (the kernel is symmetric, so
+// smoothing the reflected level reflects the smoothed one).
+class GaussianBlockSmoother {
+ public:
+  // Throws std::invalid_argument for what gaussianSmoothing refuses. The level must outlive it.
+  GaussianBlockSmoother(const cv::Mat& level8u, int taps, double sigma);
+  // out[5 i + j]: the smoothed level at (cx - 2 + j, cy - 2 + i), for any cx and cy.
+  void block(int cx, int cy, float* out) const;
+  // Asks the cache for the pixels block(cx, cy) reads, ahead of the call.
+  void prefetch(int cx, int cy) const;
+
+ private:
+  cv::Mat level_;
+  int rows_, cols_, radius_;
+  std::vector<uint32_t> rowWeights_, columnWeights_;
+  smoothing_kernels::SmoothingKernels kernels_;
+};
+
 }  // namespace mdbrief::detail

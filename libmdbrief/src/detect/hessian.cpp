@@ -14,12 +14,49 @@ namespace mdbrief::detail {
 
 int hessianTaps(double sigma) { return 2 * static_cast<int>(std::ceil(3.0 * sigma)) + 1; }
 
+namespace {
+
+// The response at column x of the smoothed row b, with a and c the rows above and below and l, r
+// the columns beside x: the kernels' operations in their order (hessian_kernels.hpp).
+float determinantAt(const float* a, const float* b, const float* c, int l, int x, int r, float scale) {
+  const float dxx = (b[l] + b[r]) - 2.f * b[x];
+  const float dyy = (a[x] + c[x]) - 2.f * b[x];
+  const float dxy = ((c[r] - c[l]) - (a[r] - a[l])) * 0.25f;
+  return (dxx * dyy - dxy * dxy) * scale;
+}
+
+float responseScale(double sigma) { return static_cast<float>(sigma * sigma * sigma * sigma); }
+
+}  // namespace
+
+PointResponse::PointResponse(const cv::Mat& level8u, double sigma)
+    : smoother_(level8u, hessianTaps(sigma), sigma), rows_(level8u.rows), cols_(level8u.cols),
+      scale_(responseScale(sigma)) {}
+
+bool PointResponse::exceedsNeighbourhood(int cx, int cy, float value, float& largest) const {
+  largest = -INFINITY;
+  if (cx < 1 || cy < 1 || cx >= cols_ - 1 || cy >= rows_ - 1) return value > largest;
+  // The smoothed 5x5 pixels around (cx, cy), reflected beyond the border as hessianLevel's rows.
+  float s[25];
+  smoother_.block(cx, cy, s);
+  for (int v = 1; v <= 3; ++v)
+    for (int u = 1; u <= 3; ++u)
+      largest = std::max(largest, determinantAt(s + 5 * (v - 1), s + 5 * v, s + 5 * (v + 1), u - 1, u, u + 1, scale_));
+  return value > largest;
+}
+
+HessianLevel hessianPoints(const cv::Mat& level8u, double sigma) {
+  HessianLevel out;
+  out.points.emplace(level8u, sigma);
+  return out;
+}
+
 HessianLevel hessianLevel(const cv::Mat& level8u, double sigma, bool findCandidates, float threshold, int margin) {
   GaussianRowSmoother smoother(level8u, hessianTaps(sigma), sigma);
   const int rows = level8u.rows, cols = level8u.cols;
-  const float scale = static_cast<float>(sigma * sigma * sigma * sigma);
+  const float scale = responseScale(sigma);
   const hessian_kernels::HessianKernels kernels = hessian_kernels::activeHessianKernels();
-  HessianLevel out{cv::Mat(rows, cols, CV_8U), cv::Mat(rows, cols, CV_32F), {}};
+  HessianLevel out{cv::Mat(rows, cols, CV_8U), cv::Mat(rows, cols, CV_32F), {}, std::nullopt};
   // The smoothed rows y - 1, y and y + 1 in a ring of three.
   std::vector<float> ring(3 * static_cast<size_t>(cols));
   const auto smoothedRow = [&](int y) { return &ring[static_cast<size_t>(y % 3) * cols]; };
@@ -31,13 +68,7 @@ HessianLevel hessianLevel(const cv::Mat& level8u, double sigma, bool findCandida
     const float* c = smoothedRow(reflect(y + 1, rows));
     float* r = out.response.ptr<float>(y);
     // The two border columns as the kernel does the others, with reflected neighbours.
-    const auto at = [&](int x) {
-      const int l = reflect(x - 1, cols), rt = reflect(x + 1, cols);
-      const float dxx = (b[l] + b[rt]) - 2.f * b[x];
-      const float dyy = (a[x] + c[x]) - 2.f * b[x];
-      const float dxy = ((c[rt] - c[l]) - (a[rt] - a[l])) * 0.25f;
-      return (dxx * dyy - dxy * dxy) * scale;
-    };
+    const auto at = [&](int x) { return determinantAt(a, b, c, reflect(x - 1, cols), x, reflect(x + 1, cols), scale); };
     r[0] = at(0);
     kernels.responseRow(a, b, c, cols, scale, r);
     if (cols > 1) r[cols - 1] = at(cols - 1);
@@ -142,6 +173,7 @@ std::vector<Blob> levelMaxima(const std::vector<HessianLevel>& levels, const std
   const PixelMap coarserPixel = pixelMap(grids[k], grids[k + 1], r.cols, r.rows);
   const std::vector<cv::Point>& candidates = levels[k].candidates;
   const cv::Mat& finerResponse = levels[k - 1].response;
+  const PointResponse* finerPoints = levels[k - 1].points ? &*levels[k - 1].points : nullptr;
   const cv::Mat& coarserResponse = levels[k + 1].response;
   // The neighbourhoods a candidate reads on its own and the neighbouring levels are fetched a few
   // candidates ahead: scattered over images larger than the cache, each read would otherwise
@@ -155,7 +187,10 @@ std::vector<Blob> levelMaxima(const std::vector<HessianLevel>& levels, const std
   const auto prefetch = [&](size_t i) __attribute__((always_inline)) {
     const int x = candidates[i].x, y = candidates[i].y;
     prefetchAround(r, x, y);
-    prefetchAround(finerResponse, finerPixel.column[x], finerPixel.row[y]);
+    if (finerPoints)
+      finerPoints->prefetch(finerPixel.column[x], finerPixel.row[y]);
+    else
+      prefetchAround(finerResponse, finerPixel.column[x], finerPixel.row[y]);
     prefetchAround(coarserResponse, coarserPixel.column[x], coarserPixel.row[y]);
   };
   for (size_t i = 0; i < std::min(kAhead, candidates.size()); ++i) prefetch(i);
@@ -168,12 +203,14 @@ std::vector<Blob> levelMaxima(const std::vector<HessianLevel>& levels, const std
     const float value = row[x];
     // Plateaus: keep the first pixel in scan order only.
     if ((row[x - 1] == value) | (above[x - 1] == value) | (above[x] == value) | (above[x + 1] == value)) continue;
-    // Same point on the neighbouring levels.
+    // Same point on the neighbouring levels, the finer one last when it is computed pixel by pixel.
     float finer, coarser;
-    if (!exceedsNeighbourhood(finerResponse, finerPixel.column[x], finerPixel.row[y], value, finer) ||
-        !exceedsNeighbourhood(coarserResponse, coarserPixel.column[x], coarserPixel.row[y], value, coarser))
+    if (!exceedsNeighbourhood(coarserResponse, coarserPixel.column[x], coarserPixel.row[y], value, coarser)) continue;
+    if (!finerPoints && !exceedsNeighbourhood(finerResponse, finerPixel.column[x], finerPixel.row[y], value, finer))
       continue;
     if (!allowed(k, x, y)) continue;
+    if (finerPoints && !finerPoints->exceedsNeighbourhood(finerPixel.column[x], finerPixel.row[y], value, finer))
+      continue;
     Blob b;
     b.level = k;
     b.x = x;

@@ -63,7 +63,6 @@ void ColumnsT(const uint16_t* const* pairs, const uint32_t* weights, int cols, u
     p[t] = reinterpret_cast<const int16_t*>(pairs[t]);
     offset += 32768u * ((weights[t] & 0xffffu) + (weights[t] >> 16));
   }
-  const float toUnit = 1.f / (256.f * 255.f);
   int x = 0;
 #if HWY_TARGET != HWY_SCALAR  // one lane cannot hold a pair: the scalar loop below does it all
   const hn::ScalableTag<int32_t> d;
@@ -80,7 +79,7 @@ void ColumnsT(const uint16_t* const* pairs, const uint32_t* weights, int cols, u
     const auto sum = hn::Add(hn::BitCast(du, hn::RearrangeToOddPlusEven(sum0, sum1)), hn::Set(du, offset));
     const auto fixed = hn::BitCast(d, hn::ShiftRight<16>(sum));
     hn::StoreU(hn::DemoteTo(d8, hn::ShiftRight<8>(hn::Add(fixed, hn::Set(d, 128)))), d8, bytes + x);
-    if (floats) hn::StoreU(hn::Mul(hn::ConvertTo(df, fixed), hn::Set(df, toUnit)), df, floats + x);
+    if (floats) hn::StoreU(hn::Mul(hn::ConvertTo(df, fixed), hn::Set(df, kFixedToUnit)), df, floats + x);
   }
 #endif
   for (; x < cols; ++x) {
@@ -89,7 +88,7 @@ void ColumnsT(const uint16_t* const* pairs, const uint32_t* weights, int cols, u
       acc += static_cast<int32_t>(weights[t] & 0xffffu) * p[t][2 * x] + static_cast<int32_t>(weights[t] >> 16) * p[t][2 * x + 1];
     const uint32_t fixed = (static_cast<uint32_t>(acc) + offset) >> 16;
     bytes[x] = static_cast<uint8_t>((fixed + 128u) >> 8);
-    if (floats) floats[x] = static_cast<float>(static_cast<int>(fixed)) * toUnit;
+    if (floats) floats[x] = static_cast<float>(static_cast<int>(fixed)) * kFixedToUnit;
   }
 }
 
@@ -135,7 +134,56 @@ void PairRows(const uint8_t* upper, const uint8_t* lower, int cols, uint8_t* HWY
   for (; x < cols; ++x) out[2 * x] = upper[x], out[2 * x + 1] = lower[x];
 }
 
-SmoothingKernels Kernels() { return {Widen, RowPair, Columns, PairRows}; }
+// Lanes are the block's columns, 8 of them (5 kept) in 16-bit lanes for the row pass, whose sums
+// stay below 2^16, and in 32-bit lanes for the column pass, whose sums stay below 2^32 (255 x
+// 256 x 65536 + 2^15). The radius is a template parameter, as in RowPairR.
+template <int R>
+void Block5R(const uint8_t* const* rows, const uint32_t* w, const uint32_t* columnWeights, uint32_t* HWY_RESTRICT out) {
+  constexpr int kLanes = 8;
+  const hn::CappedTag<uint16_t, kLanes> d16;
+  const hn::Rebind<uint8_t, decltype(d16)> d8;
+  const hn::CappedTag<uint32_t, kLanes> d32;
+  const hn::Rebind<uint16_t, decltype(d32)> d16for32;
+  const int n16 = static_cast<int>(hn::Lanes(d16)), n32 = static_cast<int>(hn::Lanes(d32));
+  uint16_t wk[R + 1];
+  for (int k = 0; k <= R; ++k) wk[k] = static_cast<uint16_t>(w[k]);
+  HWY_ALIGN uint16_t smoothedRows[2 * R + 5][kLanes];
+  for (int t = 0; t < 2 * R + 5; ++t) {
+    const uint8_t* centre = rows[t] + R;
+    for (int j = 0; j < 5; j += n16) {
+      auto sum = hn::Mul(hn::Set(d16, wk[0]), hn::PromoteTo(d16, hn::LoadU(d8, centre + j)));
+      for (int k = 1; k <= R; ++k)
+        sum = hn::Add(sum, hn::Mul(hn::Set(d16, wk[k]), hn::Add(hn::PromoteTo(d16, hn::LoadU(d8, centre + j - k)),
+                                                               hn::PromoteTo(d16, hn::LoadU(d8, centre + j + k)))));
+      hn::Store(sum, d16, &smoothedRows[t][j]);
+    }
+  }
+  const auto row = [&](int t, int j) { return hn::PromoteTo(d32, hn::Load(d16for32, &smoothedRows[t][j])); };
+  for (int i = 0; i < 5; ++i) {
+    for (int j = 0; j < 5; j += n32) {
+      auto sum = hn::Mul(hn::Set(d32, columnWeights[0]), row(i + R, j));
+      for (int k = 1; k <= R; ++k)
+        sum = hn::Add(sum, hn::Mul(hn::Set(d32, columnWeights[k]), hn::Add(row(i + R - k, j), row(i + R + k, j))));
+      HWY_ALIGN uint32_t lanes[kLanes];
+      hn::Store(hn::ShiftRight<16>(hn::Add(sum, hn::Set(d32, 1u << 15))), d32, lanes);
+      for (int l = 0; l < n32 && j + l < 5; ++l) out[5 * i + j + l] = lanes[l];
+    }
+  }
+}
+
+template <int... R>
+void Block5Of(const uint8_t* const* rows, int radius, const uint32_t* w, const uint32_t* columnWeights, uint32_t* out,
+              std::integer_sequence<int, R...>) {
+  using Block = void (*)(const uint8_t* const*, const uint32_t*, const uint32_t*, uint32_t*);
+  static constexpr Block forRadius[] = {Block5R<R>...};
+  forRadius[radius](rows, w, columnWeights, out);
+}
+
+void Block5(const uint8_t* const* rows, int radius, const uint32_t* w, const uint32_t* columnWeights, uint32_t* out) {
+  Block5Of(rows, radius, w, columnWeights, out, std::make_integer_sequence<int, kMaxRadius + 1>());
+}
+
+SmoothingKernels Kernels() { return {Widen, RowPair, Columns, PairRows, Block5}; }
 
 }  // namespace mdbrief::smoothing_kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();

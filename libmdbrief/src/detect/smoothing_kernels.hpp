@@ -13,6 +13,9 @@ constexpr int kMaxRadius = 24;  // gaussian_smoothing.hpp kMaxSmoothingTaps
 // the weights above 32767 split in parts (at most 65536 in all, so at most two such rows).
 constexpr int kMaxTerms = kMaxRadius + 3;
 
+// The float form's unit: the column pass's sums (8 fractional bits) to intensities in [0, 1].
+constexpr float kFixedToUnit = 1.f / (256.f * 255.f);
+
 struct SmoothingKernels {
   // out[x] = in[x] for x < n: a row widened for rowPair.
   void (*widen)(const uint8_t* in, int n, uint16_t* out);
@@ -35,7 +38,18 @@ struct SmoothingKernels {
   // Two rows of the smoothed bytes side by side, as the descriptors sample them
   // (ImagePyramid::smoothedPairs): out[2 x] = upper[x], out[2 x + 1] = lower[x].
   void (*pairRows)(const uint8_t* upper, const uint8_t* lower, int cols, uint8_t* out);
+  // The same smoothing at a 5x5 block of pixels only, for a level read at a few places: both
+  // passes are exact integer sums, so in any order they give the column pass's rounded values.
+  // rows[t], t < 2 radius + 5, is the block's row t - radius - 2 from its first column less
+  // radius + 2, readable for 2 radius + kBlockSlack bytes; w the row pass's weights, columnWeights
+  // the column pass's (w[0..radius] each, 1/256 and 1/65536, summing to one). out[5 i + j] is
+  // row i, column j of the block in 8 fractional bits, as `columns` computes before rounding.
+  void (*block5)(const uint8_t* const* rows, int radius, const uint32_t* w, const uint32_t* columnWeights,
+                 uint32_t* out);
 };
+
+// Bytes a block5 row is read for beyond the block's 2 radius + 5: its vectors cover 8 columns.
+constexpr int kBlockSlack = 8;
 
 // The kernels of the active SIMD level.
 SmoothingKernels activeSmoothingKernels();
