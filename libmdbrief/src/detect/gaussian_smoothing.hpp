@@ -87,6 +87,7 @@ class GaussianBlockSmoother {
   void block(int cx, int cy, float* out) const;
   // Asks the cache for the pixels block(cx, cy) reads, ahead of the call.
   void prefetch(int cx, int cy) const;
+  cv::Size levelSize() const { return level_.size(); }
 
  private:
   cv::Mat level_;

@@ -30,12 +30,12 @@ float responseScale(double sigma) { return static_cast<float>(sigma * sigma * si
 }  // namespace
 
 PointResponse::PointResponse(const cv::Mat& level8u, double sigma)
-    : smoother_(level8u, hessianTaps(sigma), sigma), rows_(level8u.rows), cols_(level8u.cols),
-      scale_(responseScale(sigma)) {}
+    : smoother_(level8u, hessianTaps(sigma), sigma), scale_(responseScale(sigma)) {}
 
 bool PointResponse::exceedsNeighbourhood(int cx, int cy, float value, float& largest) const {
   largest = -INFINITY;
-  if (cx < 1 || cy < 1 || cx >= cols_ - 1 || cy >= rows_ - 1) return value > largest;
+  const cv::Size size = smoother_.levelSize();
+  if (cx < 1 || cy < 1 || cx >= size.width - 1 || cy >= size.height - 1) return value > largest;
   // The smoothed 5x5 pixels around (cx, cy), reflected beyond the border as hessianLevel's rows.
   float s[25];
   smoother_.block(cx, cy, s);

@@ -31,7 +31,6 @@ class PointResponse {
 
  private:
   GaussianBlockSmoother smoother_;
-  int rows_, cols_;
   float scale_;
 };
 
