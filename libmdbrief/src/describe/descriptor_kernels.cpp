@@ -60,13 +60,14 @@ void AffineCoordinateDouble(double c, double a, double b, const int32_t* qa, con
 
 void AffinePoints(double cx, double cy, double m00, double m01, double m10, double m11, const int32_t* qa,
                   const int32_t* qb, int n, int* x, int* y) {
-  if (!FitsFixed(cx, m00, m01) || !FitsFixed(cy, m10, m11)) {
+  const DI d;
+  const int lanes = static_cast<int>(hn::Lanes(d));
+  // Fewer points than lanes (an offset box's corners): the vectors' set-up would cost more.
+  if (n < lanes || !FitsFixed(cx, m00, m01) || !FitsFixed(cy, m10, m11)) {
     AffineCoordinateDouble(cx, m00, m01, qa, qb, x, n);
     AffineCoordinateDouble(cy, m10, m11, qa, qb, y, n);
     return;
   }
-  const DI d;
-  const int lanes = static_cast<int>(hn::Lanes(d));
   const FixedAffine fx = ToFixedAffine(cx, m00, m01), fy = ToFixedAffine(cy, m10, m11);
   const auto xStart = hn::Set(d, fx.start), xa = hn::Set(d, fx.a), xb = hn::Set(d, fx.b), xWhole = hn::Set(d, fx.whole);
   const auto yStart = hn::Set(d, fy.start), ya = hn::Set(d, fy.a), yb = hn::Set(d, fy.b), yWhole = hn::Set(d, fy.whole);
@@ -79,9 +80,10 @@ void AffinePoints(double cx, double cy, double m00, double m01, double m10, doub
     const auto vy = hn::Add(hn::Add(yStart, hn::Mul(ya, a)), hn::Mul(yb, b));
     hn::StoreU(hn::Add(xWhole, hn::ShiftRight<kFixedBits>(vx)), d, x + i);
     hn::StoreU(hn::Add(yWhole, hn::ShiftRight<kFixedBits>(vy)), d, y + i);
-    // Within kAmbiguous units of a boundary: (v + kAmbiguous) mod 2^kFixedBits < 2 kAmbiguous.
-    const auto ambiguous = hn::Or(hn::Lt(hn::And(hn::Add(vx, shift), fraction), near),
-                                  hn::Lt(hn::And(hn::Add(vy, shift), fraction), near));
+    // Within kAmbiguous units of a boundary: (v + kAmbiguous) mod 2^kFixedBits < 2 kAmbiguous, for
+    // x or y (the lesser of the two, both non-negative).
+    const auto ambiguous =
+        hn::Lt(hn::Min(hn::And(hn::Add(vx, shift), fraction), hn::And(hn::Add(vy, shift), fraction)), near);
     if (HWY_UNLIKELY(!hn::AllFalse(d, ambiguous))) {
       AffineCoordinateDouble(cx, m00, m01, qa + i, qb + i, x + i, lanes);
       AffineCoordinateDouble(cy, m10, m11, qa + i, qb + i, y + i, lanes);
@@ -158,8 +160,8 @@ HWY_INLINE hn::Vec<DI> Bilinear(const uint8_t* pairs, int pairStep, const int* p
 }
 
 // Test d's bit is sample 1 < sample 2, bit d % 8 of byte d / 8: a vector of 8 or more lanes
-// stores its mask bits as whole bytes. Narrower vectors gather theirs in a 64-bit word written
-// out byte by byte (the lanes divide 64, and nTests is a multiple of 32).
+// stores its mask bits as whole bytes, and 8 / lanes narrower vectors make one byte (their lanes
+// divide 8, and nTests is a multiple of 32).
 void PackBitsBilinear(const uint8_t* pairs, size_t pairStep, const int* x, const int* y, int nTests, uint8_t* out) {
   const DI d;
   const int lanes = static_cast<int>(hn::Lanes(d));
@@ -171,19 +173,14 @@ void PackBitsBilinear(const uint8_t* pairs, size_t pairStep, const int* x, const
     for (int t = 0; t < nTests; t += lanes) hn::StoreMaskBits(d, less(t), out + t / 8);
     return;
   }
-  uint64_t word = 0;
-  int gathered = 0;
-  for (int t = 0; t < nTests; t += lanes) {
-    uint8_t bits[8] = {};
-    hn::StoreMaskBits(d, less(t), bits);
-    word |= uint64_t{bits[0]} << gathered;
-    gathered += lanes;
-    if (gathered == 64 || t + lanes == nTests) {
-      uint8_t* bytes = out + (t + lanes - gathered) / 8;
-      for (int b = 0; 8 * b < gathered; ++b) bytes[b] = static_cast<uint8_t>(word >> (8 * b));
-      word = 0;
-      gathered = 0;
+  for (int t = 0; t < nTests; t += 8) {
+    unsigned byte = 0;
+    for (int k = 0; k < 8; k += lanes) {
+      uint8_t bits[8] = {};
+      hn::StoreMaskBits(d, less(t + k), bits);
+      byte |= unsigned{bits[0]} << k;
     }
+    out[t / 8] = static_cast<uint8_t>(byte);
   }
 }
 
