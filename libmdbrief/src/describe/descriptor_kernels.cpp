@@ -106,8 +106,10 @@ HWY_INLINE hn::Vec<DI> Quads(const uint8_t* pairs, hn::Vec<DI> offset) {
 HWY_INLINE hn::Vec<DI> Quads(const uint8_t* pairs, hn::Vec<DI> offset) {
   const DI d;
   const hn::RebindToUnsigned<DI> du;
-  HWY_ALIGN int32_t at[hn::MaxLanes(d)];
-  hn::Store(offset, d, at);
+  // Unsigned offsets (a position inside the image has one): a lane read into a 32-bit register
+  // is then an index as it stands, with no sign extension.
+  HWY_ALIGN uint32_t at[hn::MaxLanes(d)];
+  hn::Store(hn::BitCast(du, offset), du, at);
   auto quads = hn::Zero(du);
 #pragma GCC unroll 16
   for (size_t i = 0; i < hn::MaxLanes(d); ++i) {
