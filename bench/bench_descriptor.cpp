@@ -4,10 +4,13 @@
 // The image is Graffiti rendered through the paper's fisheye camera (needs opencv-doc).
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <memory>
+#include <vector>
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
 #include <tbb/global_control.h>
 
 #include "bench_scene.hpp"
@@ -162,5 +165,32 @@ void BM_PyramidAndSmoothing(benchmark::State& state) {
   cv::setNumThreads(-1);
 }
 BENCHMARK(BM_PyramidAndSmoothing)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The same part of ORB::compute: OpenCV's 7x7 Gaussian (sigma 2) over ORB's 8 levels, each a view
+// inside a copy with a 31-pixel border (edgeThreshold), as cv::ORB smooths them before it reads
+// its tests. Without its resizing, so a lower bound of what it pays for the pyramid.
+void BM_OrbSmoothing(benchmark::State& state) {
+  const Frame& f = fisheyeFrame();
+  if (f.image.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
+  constexpr int kLevels = 8, kBorder = 31;
+  std::vector<cv::Mat> bordered(kLevels);
+  for (int k = 0; k < kLevels; ++k) {
+    const double scale = std::pow(1.2, k);
+    cv::Mat level;
+    cv::resize(f.image, level, cv::Size(cvRound(f.image.cols / scale), cvRound(f.image.rows / scale)), 0, 0,
+               cv::INTER_LINEAR_EXACT);
+    cv::copyMakeBorder(level, bordered[k], kBorder, kBorder, kBorder, kBorder, cv::BORDER_REFLECT_101);
+  }
+  cv::setNumThreads(1);
+  for (auto _ : state) {
+    for (const cv::Mat& b : bordered) {
+      cv::Mat view = b(cv::Rect(kBorder, kBorder, b.cols - 2 * kBorder, b.rows - 2 * kBorder));
+      cv::GaussianBlur(view, view, cv::Size(7, 7), 2, 2, cv::BORDER_REFLECT_101);
+    }
+    benchmark::DoNotOptimize(bordered[0].data);
+  }
+  cv::setNumThreads(-1);
+}
+BENCHMARK(BM_OrbSmoothing)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
