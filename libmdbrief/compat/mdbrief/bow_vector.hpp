@@ -1,5 +1,0 @@
-#pragma once
-// The single-level path of releases before 0.2, kept for one release: the public headers are
-// grouped by part now (mdbrief/mdbrief.hpp includes them all).
-#pragma message("mdbrief/bow_vector.hpp is now mdbrief/recognition/bow_vector.hpp; the old path goes in the next release")
-#include "mdbrief/recognition/bow_vector.hpp"

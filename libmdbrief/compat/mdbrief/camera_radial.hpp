@@ -1,5 +1,0 @@
-#pragma once
-// The single-level path of releases before 0.2, kept for one release: the public headers are
-// grouped by part now (mdbrief/mdbrief.hpp includes them all).
-#pragma message("mdbrief/camera_radial.hpp is now mdbrief/camera/radial.hpp; the old path goes in the next release")
-#include "mdbrief/camera/radial.hpp"

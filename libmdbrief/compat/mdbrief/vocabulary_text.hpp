@@ -1,5 +1,0 @@
-#pragma once
-// The single-level path of releases before 0.2, kept for one release: the public headers are
-// grouped by part now (mdbrief/mdbrief.hpp includes them all).
-#pragma message("mdbrief/vocabulary_text.hpp is now mdbrief/recognition/vocabulary_text.hpp; the old path goes in the next release")
-#include "mdbrief/recognition/vocabulary_text.hpp"
