@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#include "mdbrief/simd_level.hpp"
+#include "mdbrief/base/simd_level.hpp"
 #include "toolkit/cpu_model.hpp"
 
 namespace {

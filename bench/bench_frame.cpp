@@ -17,9 +17,9 @@
 #include <tbb/global_control.h>
 
 #include "bench_scene.hpp"
-#include "mdbrief/feature2d.hpp"
+#include "mdbrief/api/feature2d.hpp"
 #include "mdbrief/match/matcher.hpp"
-#include "mdbrief/presets.hpp"
+#include "mdbrief/api/presets.hpp"
 
 namespace {
 

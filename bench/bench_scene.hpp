@@ -6,7 +6,7 @@
 #include "mdbrief/camera/io.hpp"
 #include "toolkit/data_folders.hpp"
 #include "toolkit/image_file.hpp"
-#include "toolkit/plane_renderer.hpp"
+#include "scenes/plane_renderer.hpp"
 
 namespace mdbrief::bench {
 

@@ -17,14 +17,14 @@
 #include "cli/commands.hpp"
 #include "cli/extraction_flags.hpp"
 #include "mdbrief/camera/io.hpp"
-#include "mdbrief/feature2d.hpp"
+#include "mdbrief/api/feature2d.hpp"
 #include "mdbrief/match/matcher.hpp"
-#include "mdbrief/presets.hpp"
-#include "mdbrief/simd_level.hpp"
+#include "mdbrief/api/presets.hpp"
+#include "mdbrief/base/simd_level.hpp"
 #include "toolkit/cpu_model.hpp"
 #include "toolkit/data_folders.hpp"
 #include "toolkit/image_file.hpp"
-#include "toolkit/photo_camera.hpp"
+#include "scenes/photo_camera.hpp"
 
 namespace mdbrief::cli {
 namespace {

@@ -8,7 +8,7 @@
 #include "cli/commands.hpp"
 #include "cli/extraction_flags.hpp"
 #include "mdbrief/camera/io.hpp"
-#include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
 
 namespace mdbrief::cli {
 namespace {

@@ -13,7 +13,7 @@
 #include "cli/match_consistency.hpp"
 #include "cli/storage_io.hpp"
 #include "mdbrief/match/matcher.hpp"
-#include "mdbrief/presets.hpp"
+#include "mdbrief/api/presets.hpp"
 #include "toolkit/option_flags.hpp"
 
 namespace mdbrief::cli {
@@ -139,7 +139,7 @@ void addMatchCommand(CLI::App& app) {
   cmd->add_option("A", args->query, "Query features (extract output)")->required();
   cmd->add_option("B", args->train, "Train features (extract output)")->required();
   cmd->add_option("--preset", args->preset,
-                  "Start from this preset's matcher settings (mdbrief/presets.hpp); the flags below change them")
+                  "Start from this preset's matcher settings (mdbrief/api/presets.hpp); the flags below change them")
       ->check(CLI::IsMember(namesOf(kPresetNames)))
       ->capture_default_str();
   args->options.add(*cmd, matchOptionFields());

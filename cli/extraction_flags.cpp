@@ -14,10 +14,10 @@
 #include "cli/commands.hpp"
 #include "cli/storage_io.hpp"
 #include "mdbrief/camera/io.hpp"
-#include "mdbrief/internal/framed_file.hpp"
-#include "mdbrief/internal/input_file.hpp"
-#include "mdbrief/internal/size_text.hpp"
-#include "mdbrief/presets.hpp"
+#include "mdbrief/internal/base/io/framed_file.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
+#include "mdbrief/internal/base/size_text.hpp"
+#include "mdbrief/api/presets.hpp"
 #include "mdbrief/camera/tangent_plane.hpp"
 #include "toolkit/image_file.hpp"
 
@@ -117,7 +117,7 @@ void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
   cmd.add_option("--camera", flags.camera.path, "Calibration file (configs/cameras/README.md); required for dbrief/mdbrief");
   addCameraFileFlags(cmd, flags.camera, "--camera");
   cmd.add_option("--preset", flags.preset,
-                 "Start from this preset's options (mdbrief/presets.hpp); the flags below change them")
+                 "Start from this preset's options (mdbrief/api/presets.hpp); the flags below change them")
       ->check(CLI::IsMember(namesOf(kPresetNames)))
       ->capture_default_str();
   flags.options.add(cmd, mdBriefOptionFields());

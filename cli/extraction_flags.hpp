@@ -10,7 +10,7 @@
 
 #include "mdbrief/camera/camera.hpp"
 #include "mdbrief/camera/io.hpp"
-#include "mdbrief/feature2d.hpp"
+#include "mdbrief/api/feature2d.hpp"
 #include "toolkit/option_flags.hpp"
 
 namespace mdbrief::cli {
@@ -45,7 +45,7 @@ CameraFile readCalibrationFile(const CameraFileFlags& flags);
 // every field's flag, doc, range and default come from there.
 struct ExtractionFlags {
   CameraFileFlags camera;             // --camera (required except for --descriptor brief / mbrief), --camera-format, --camera-id
-  std::string preset = "tracking";    // the options the flags start from (mdbrief/presets.hpp)
+  std::string preset = "tracking";    // the options the flags start from (mdbrief/api/presets.hpp)
   OptionFlags<MdBriefOptions> options;
   bool allowSizeMismatch = false;     // rescale the calibration to the image instead of failing
   bool strict = false;                // a truncated image file is an error, not a warning

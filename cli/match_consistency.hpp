@@ -13,7 +13,7 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/camera/camera.hpp"
-#include "mdbrief/enum_names.hpp"
+#include "mdbrief/base/enum_names.hpp"
 #include "mdbrief/geometry/two_view.hpp"
 
 namespace mdbrief::cli {

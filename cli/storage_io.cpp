@@ -14,8 +14,8 @@
 
 #include "cli/commands.hpp"
 #include "cli/gzip_compression.hpp"
-#include "mdbrief/internal/atomic_file.hpp"
-#include "mdbrief/internal/input_file.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
 
 namespace mdbrief::cli {
 namespace {

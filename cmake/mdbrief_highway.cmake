@@ -1,6 +1,6 @@
 # mdbrief_use_highway(<target>): the target's kernel sources are written once with Google
 # Highway (hwy/foreach_target.h) and dispatched by the library's SIMD level
-# (libmdbrief/internal/mdbrief/internal/simd_dispatch.hpp). Every such target gets the same
+# (libmdbrief/internal/mdbrief/internal/base/simd_dispatch.hpp). Every such target gets the same
 # definitions, so every kernel source compiles the same set of targets (HWY_TARGETS) and its
 # dispatch table has the same layout:
 # - the scalar target always (the portable level), AVX-512 with the Ice Lake extensions too;

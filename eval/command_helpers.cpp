@@ -5,7 +5,7 @@
 
 #include "eval_datasets.hpp"
 #include "mdbrief/camera/io.hpp"
-#include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
 #include "toolkit/data_folders.hpp"
 
 namespace mdbrief::eval {

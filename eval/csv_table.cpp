@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
 
 namespace mdbrief::eval {
 

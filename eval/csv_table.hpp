@@ -1,5 +1,5 @@
 #pragma once
-// A small CSV table written atomically (mdbrief/internal/atomic_file.hpp), so an interrupted run
+// A small CSV table written atomically (mdbrief/internal/base/io/atomic_file.hpp), so an interrupted run
 // never leaves a half-written result that the plot script would read.
 #include <string>
 #include <vector>

@@ -10,7 +10,7 @@
 #include "eval_datasets.hpp"
 #include "held_out.hpp"
 #include "mdbrief/camera/io.hpp"
-#include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
 #include "pipeline_experiment.hpp"
 #include "pr_experiment.hpp"
 #include "simulation.hpp"

@@ -5,14 +5,14 @@
 #include <stdexcept>
 
 #include "mdbrief/camera/io.hpp"
-#include "mdbrief/internal/input_file.hpp"
-#include "mdbrief/internal/size_text.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
+#include "mdbrief/internal/base/size_text.hpp"
 #include "patchextract/view_change.hpp"
 #include "plane_geometry.hpp"
 #include "toolkit/homography_file.hpp"
 #include "toolkit/image_file.hpp"
-#include "toolkit/photo_camera.hpp"
-#include "toolkit/plane_renderer.hpp"
+#include "scenes/photo_camera.hpp"
+#include "scenes/plane_renderer.hpp"
 
 namespace mdbrief::eval {
 namespace {

@@ -15,7 +15,7 @@
 #include "precision_recall.hpp"
 #include "toolkit/data_folders.hpp"
 #include "toolkit/homography_file.hpp"
-#include "toolkit/plane_renderer.hpp"
+#include "scenes/plane_renderer.hpp"
 
 namespace mdbrief::eval {
 

@@ -6,7 +6,7 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/camera/camera.hpp"
-#include "toolkit/plane_renderer.hpp"
+#include "scenes/plane_renderer.hpp"
 
 namespace mdbrief::eval {
 

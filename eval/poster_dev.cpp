@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mdbrief/camera/io.hpp"
-#include "mdbrief/internal/size_text.hpp"
+#include "mdbrief/internal/base/size_text.hpp"
 
 namespace mdbrief::eval {
 namespace {

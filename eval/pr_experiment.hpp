@@ -9,7 +9,7 @@
 #include "descriptor_method.hpp"
 #include "eval_datasets.hpp"
 #include "mdbrief/detect/detector.hpp"
-#include "mdbrief/presets.hpp"
+#include "mdbrief/api/presets.hpp"
 #include "patchextract/keypoint_detectors.hpp"
 
 namespace mdbrief::eval {

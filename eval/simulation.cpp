@@ -16,7 +16,7 @@
 #include "eval_datasets.hpp"
 #include "mdbrief/detect/detector.hpp"
 #include "mdbrief/describe/patterns.hpp"
-#include "mdbrief/presets.hpp"
+#include "mdbrief/api/presets.hpp"
 #include "plane_geometry.hpp"
 #include "toolkit/image_file.hpp"
 

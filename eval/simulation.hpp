@@ -18,7 +18,7 @@
 
 #include "mdbrief/camera/camera.hpp"
 #include "mdbrief/describe/descriptor.hpp"
-#include "toolkit/plane_renderer.hpp"
+#include "scenes/plane_renderer.hpp"
 
 namespace mdbrief::eval {
 

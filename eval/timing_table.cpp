@@ -10,7 +10,7 @@
 #include "mdbrief/describe/descriptor.hpp"
 #include "mdbrief/detect/detector.hpp"
 #include "mdbrief/match/matcher.hpp"
-#include "mdbrief/presets.hpp"
+#include "mdbrief/api/presets.hpp"
 
 namespace mdbrief::eval {
 namespace {

@@ -9,10 +9,10 @@
 #include "command_helpers.hpp"
 #include "eval_commands.hpp"
 #include "held_out.hpp"
-#include "mdbrief/internal/input_file.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
 #include "poster_dev.hpp"
 #include "tracker_experiment.hpp"
-#include "toolkit/photo_camera.hpp"
+#include "scenes/photo_camera.hpp"
 
 namespace mdbrief::eval {
 namespace {

@@ -10,7 +10,7 @@
 
 #include "csv_table.hpp"
 #include "mdbrief/detect/detector.hpp"
-#include "mdbrief/presets.hpp"
+#include "mdbrief/api/presets.hpp"
 
 namespace mdbrief::eval {
 namespace {

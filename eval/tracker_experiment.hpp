@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "mdbrief/feature2d.hpp"
+#include "mdbrief/api/feature2d.hpp"
 #include "pr_experiment.hpp"
 #include "tracker_metrics.hpp"
 

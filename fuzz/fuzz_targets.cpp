@@ -11,7 +11,7 @@
 #include "mdbrief/camera/io.hpp"
 #include "mdbrief/camera/rig.hpp"
 #include "mdbrief/recognition/database.hpp"
-#include "mdbrief/internal/framed_file.hpp"
+#include "mdbrief/internal/base/io/framed_file.hpp"
 #include "mdbrief/describe/patterns.hpp"
 #include "mdbrief/recognition/vocabulary_text.hpp"
 #include "patchextract/image_digest.hpp"

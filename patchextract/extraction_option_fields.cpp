@@ -1,4 +1,4 @@
-// The field tables of the patch extraction's options (mdbrief/option_fields.hpp), shared by
+// The field tables of the patch extraction's options (mdbrief/base/option_fields.hpp), shared by
 // mdbrief-patchextract, mdbrief-train and Python's mdbrief.train().
 #include <cstdint>
 #include <limits>

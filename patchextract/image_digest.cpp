@@ -4,7 +4,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "mdbrief/internal/input_file.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
 #include "toolkit/image_file.hpp"
 
 namespace mdbrief::train {

@@ -7,12 +7,12 @@
 
 #include <opencv2/core.hpp>
 
-#include "mdbrief/enum_names.hpp"
+#include "mdbrief/base/enum_names.hpp"
 
 namespace mdbrief::train {
 
 enum class DetectorKind { Orb, Akaze, Surf };
-// The names users type (mdbrief/enum_names.hpp).
+// The names users type (mdbrief/base/enum_names.hpp).
 inline constexpr EnumName<DetectorKind> kDetectorKindNames[] = {
     {DetectorKind::Orb, "orb"}, {DetectorKind::Akaze, "akaze"}, {DetectorKind::Surf, "surf"}};
 // Throws std::invalid_argument naming the accepted values.

@@ -13,12 +13,12 @@
 #include "mdbrief/camera/io.hpp"
 #include "mdbrief/detect/detector.hpp"
 #include "mdbrief/detect/image_pyramid.hpp"
-#include "mdbrief/internal/patch_sampling.hpp"
-#include "mdbrief/internal/size_text.hpp"
+#include "mdbrief/internal/describe/patch_sampling.hpp"
+#include "mdbrief/internal/base/size_text.hpp"
 #include "mdbrief/describe/test_set.hpp"
 #include "patchextract/patch_sampler.hpp"
 #include "toolkit/image_file.hpp"
-#include "toolkit/plane_renderer.hpp"
+#include "scenes/plane_renderer.hpp"
 
 namespace mdbrief::train {
 

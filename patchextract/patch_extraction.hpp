@@ -60,7 +60,7 @@ struct ExtractionOptions {
 // At most this many changed views per image: each one is a full rendering and detection.
 inline constexpr int kMaxCounterparts = 8;
 
-// The fields of ExtractionOptions that users set (mdbrief/option_fields.hpp); heldOut, the
+// The fields of ExtractionOptions that users set (mdbrief/base/option_fields.hpp); heldOut, the
 // rendering's field of view and the match tolerances are not options.
 const OptionTable<ExtractionOptions>& extractionOptionFields();
 // Throws OptionError naming the first option out of its range.

@@ -1,7 +1,7 @@
 #include "patchextract/patch_sampler.hpp"
 
-#include "mdbrief/internal/patch_sampling.hpp"
-#include "toolkit/photo_camera.hpp"
+#include "mdbrief/internal/describe/patch_sampling.hpp"
+#include "scenes/photo_camera.hpp"
 
 namespace mdbrief::train {
 

@@ -8,8 +8,8 @@
 
 #include <hdf5.h>
 
-#include "mdbrief/internal/atomic_file.hpp"
-#include "mdbrief/internal/input_file.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
 #include "patchextract/hdf5_damage_check.hpp"
 
 namespace mdbrief::train {

@@ -13,7 +13,7 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/camera/camera.hpp"
-#include "mdbrief/option_fields.hpp"
+#include "mdbrief/base/option_fields.hpp"
 
 namespace mdbrief::train {
 
@@ -27,7 +27,7 @@ struct ViewChangeOptions {
   double maxNoiseSigma = 3.0;   // additive Gaussian noise sigma, uniform in [0, max] grey levels
 };
 
-// The fields of ViewChangeOptions (mdbrief/option_fields.hpp).
+// The fields of ViewChangeOptions (mdbrief/base/option_fields.hpp).
 const OptionTable<ViewChangeOptions>& viewChangeOptionFields();
 // Throws OptionError naming the option.
 void validate(const ViewChangeOptions& options);

@@ -1,6 +1,6 @@
 #pragma once
 // What every generated pattern header in this folder defines (written by
-// toolkit/pattern_writer.hpp): its tests and one PatternInfo. Self-contained, so the patterns
+// trainer/pattern_writer.hpp): its tests and one PatternInfo. Self-contained, so the patterns
 // depend on nothing; the runtime library reads them into mdbrief::TestSet (mdbrief/describe/test_set.hpp,
 // libmdbrief/src/describe/patterns.cpp).
 #include <cstdint>

@@ -1,4 +1,4 @@
-#include "toolkit/photo_camera.hpp"
+#include "scenes/photo_camera.hpp"
 
 #include <memory>
 

@@ -1,4 +1,4 @@
-#include "toolkit/plane_renderer.hpp"
+#include "scenes/plane_renderer.hpp"
 
 #include <stdexcept>
 

@@ -1,4 +1,4 @@
-#include "toolkit/room_renderer.hpp"
+#include "scenes/room_renderer.hpp"
 
 #include <limits>
 #include <stdexcept>

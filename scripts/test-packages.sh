@@ -5,7 +5,7 @@
 #     converts an installed example camera, and /usr/bin/python3 imports its module and loads it;
 #  2. a library-only build with -DBUILD_SHARED_LIBS=ON is installed, and the test consumer
 #     (tests/consumer) is built against libmdbrief.so with find_package and with pkg-config alone,
-#     and run; so is a consumer of the include paths of 0.1, which forward to the grouped ones.
+#     and run.
 # Usage: scripts/test-packages.sh BUILD_DIR [SHARED_BUILD_DIR]   (default: BUILD_DIR-shared)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -46,7 +46,6 @@ cmake -S tests/consumer -B "$SCRATCH/consumer" -DCMAKE_BUILD_TYPE=Release -DCMAK
 cmake --build "$SCRATCH/consumer" >/dev/null
 ldd "$SCRATCH/consumer/consumer" | grep "libmdbrief\.so" >/dev/null || { echo "the consumer did not link libmdbrief.so" >&2; exit 1; }
 "$SCRATCH/consumer/consumer" "$SCRATCH/shared/share/mdbrief/cameras/lafida_fisheye0.yaml"
-"$SCRATCH/consumer/old_include_paths" "$SCRATCH/shared/share/mdbrief/cameras/lafida_fisheye0.yaml"
 PKG_CONFIG_PATH=$(dirname "$lib")/pkgconfig c++ -std=c++17 -O1 tests/consumer/main.cpp -o "$SCRATCH/pc_consumer" \
   $(PKG_CONFIG_PATH=$(dirname "$lib")/pkgconfig pkg-config --cflags --libs mdbrief)
 "$SCRATCH/pc_consumer"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Retrains the vocabulary shipped for the default preset, vocabularies/tracking_k10_L4.mdbvoc
+# Retrains the vocabulary shipped for the default preset, configs/vocabularies/tracking_k10_L4.mdbvoc
 # (docs/vocabulary.md "The shipped vocabulary"): masked mdBRIEF-256 of the tracking preset,
 # k = 10, L = 4, tf-idf, seed 1, from the 400 BSDS500 train and test photos of ../shared (the
 # val photos are the validation images, configs/validation-images.txt). About 1 minute on 2
@@ -18,4 +18,4 @@ if [[ ! -f "$build/CMakeCache.txt" ]]; then
 fi
 cmake --build "$build" --target mdbrief-train-vocabulary -j"$(nproc)"
 "$build/vocabulary/mdbrief-train-vocabulary" --images "$data"/train_* "$data"/test_* --preset tracking \
-  --branching 10 --depth 4 --weighting tf-idf --seed 1 --out "$root/vocabularies/tracking_k10_L4.mdbvoc"
+  --branching 10 --depth 4 --weighting tf-idf --seed 1 --out "$root/configs/vocabularies/tracking_k10_L4.mdbvoc"

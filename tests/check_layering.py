@@ -12,6 +12,7 @@ LAYER = {
     "patterns": 0,
     "mdbrief": 1,  # libmdbrief/include/mdbrief and libmdbrief/internal/mdbrief
     "toolkit": 2,
+    "scenes": 2,
     "patchextract": 3,
     "trainer": 4,
     "vocabulary": 4,
@@ -23,6 +24,7 @@ FOLDER = {
     "patterns": "patterns",
     "libmdbrief": "mdbrief",
     "toolkit": "toolkit",
+    "scenes": "scenes",
     "patchextract": "patchextract",
     "trainer": "trainer",
     "vocabulary": "vocabulary",
@@ -31,36 +33,30 @@ FOLDER = {
 }
 # Consumers above every library: they may include any of them, but not bench/ or tests/.
 TOP = ("python", "fuzz", "examples", "bench", "tests")
-# The runtime library's parts, lowest first; a part includes only its own and lower parts.
-PART_LAYER = {"base": 0, "camera": 1, "detect": 2, "geometry": 2, "describe": 3, "match": 3, "recognition": 4, "api": 5, "compat": 6}
-# Files at the top of include/mdbrief and src/ (and internal/) that are not in a part's folder.
-BASE_FILES = {"enum_names", "option_fields", "file_format_error", "simd_level", "version", "atomic_file",
-              "bit_count-inl", "framed_file", "input_file", "popcount", "simd_dispatch", "size_text"}
-PART_OF_FILE = {"patch_sampling": "describe", "feature2d": "api", "presets": "api", "option_tables": "api",
-                "mdbrief": "api"}
+# The runtime library's parts, lowest first; a part includes only its own and lower parts. A
+# file's part is its folder under include/mdbrief/, internal/mdbrief/internal/ or src/; the one
+# header at the top of include/mdbrief/ is the umbrella (mdbrief.hpp), above every part.
+PART_LAYER = {"base": 0, "camera": 1, "detect": 2, "geometry": 2, "describe": 3, "match": 3, "recognition": 4,
+              "api": 5, "umbrella": 6}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 SOURCES = ("*.cpp", "*.hpp", "*.h", "*.in")
 
 
 def library_part(relative: str) -> str:
     """The part of libmdbrief a file (libmdbrief/src/..., libmdbrief/include/mdbrief/...) or an
-    include ("mdbrief/...", or a path under src/) belongs to; None for one it does not place.
-    compat/ holds the 0.1 include paths, which forward to every part."""
-    if relative.startswith("libmdbrief/compat/"):
-        return "compat"
+    include ("mdbrief/...", or a path under src/) belongs to: the folder it sits in; None for a
+    file in no part's folder."""
+    umbrella = False
     for prefix in ("libmdbrief/include/mdbrief/", "libmdbrief/internal/mdbrief/internal/", "libmdbrief/src/",
                    "mdbrief/internal/", "mdbrief/"):
         if relative.startswith(prefix):
             relative = relative[len(prefix):]
+            umbrella = prefix in ("libmdbrief/include/mdbrief/", "mdbrief/")
             break
     folder, _, rest = relative.partition("/")
-    if rest:
-        folder = "base" if folder == "io" else folder
-        return folder if folder in PART_LAYER else None
-    stem = folder.split(".")[0]
-    if stem in PART_OF_FILE:
-        return PART_OF_FILE[stem]
-    return "base" if stem in BASE_FILES else None
+    if not rest:
+        return "umbrella" if umbrella else None
+    return folder if folder in PART_LAYER else None
 
 
 def library_problems(root: pathlib.Path):
@@ -70,7 +66,7 @@ def library_problems(root: pathlib.Path):
             relative = str(path.relative_to(root))
             own = library_part(relative)
             if own is None:
-                yield f"{relative}: in no part of the library; place it in PART_LAYER, BASE_FILES or PART_OF_FILE"
+                yield f"{relative}: in no part's folder of the library (PART_LAYER)"
                 continue
             text = path.read_text(errors="replace")
             for m in INCLUDE.finditer(text):

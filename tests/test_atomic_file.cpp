@@ -1,4 +1,4 @@
-// The atomic file writer every tool and saveCamera use (mdbrief/internal/atomic_file.hpp): the
+// The atomic file writer every tool and saveCamera use (mdbrief/internal/base/io/atomic_file.hpp): the
 // target changes only when the new content is complete, and no temporary is left behind; a
 // failed write (file size limit, full disk) keeps the old file; nodes that are not regular
 // files are never replaced; several files are replaced together.
@@ -16,7 +16,7 @@
 
 #include <gtest/gtest.h>
 
-#include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
 #include "test_data.hpp"
 #include "write_limits.hpp"
 

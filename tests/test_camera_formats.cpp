@@ -21,7 +21,7 @@
 #include "mdbrief/camera/io.hpp"
 #include "mdbrief/camera/kannala_brandt.hpp"
 #include "mdbrief/camera/radtan.hpp"
-#include "mdbrief/feature2d.hpp"
+#include "mdbrief/api/feature2d.hpp"
 #include "test_data.hpp"
 
 namespace {

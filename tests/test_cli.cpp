@@ -24,8 +24,8 @@
 #include "cli/storage_io.hpp"
 #include "cli_runner.hpp"
 #include "mdbrief/camera/io.hpp"
-#include "mdbrief/feature2d.hpp"
-#include "toolkit/plane_renderer.hpp"
+#include "mdbrief/api/feature2d.hpp"
+#include "scenes/plane_renderer.hpp"
 #include "test_data.hpp"
 #include "write_limits.hpp"
 

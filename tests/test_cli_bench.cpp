@@ -9,7 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli_runner.hpp"
-#include "mdbrief/simd_level.hpp"
+#include "mdbrief/base/simd_level.hpp"
 
 namespace {
 

@@ -7,8 +7,8 @@
 #include <fstream>
 
 #include "mdbrief/recognition/database.hpp"
-#include "mdbrief/file_format_error.hpp"
-#include "mdbrief/internal/framed_file.hpp"
+#include "mdbrief/base/file_format_error.hpp"
+#include "mdbrief/internal/base/io/framed_file.hpp"
 #include "test_data.hpp"
 #include "vocabulary_trees.hpp"
 

@@ -12,7 +12,7 @@
 #include "mdbrief/camera/io.hpp"
 #include "mdbrief/camera/pinhole.hpp"
 #include "mdbrief/detect/detector.hpp"
-#include "mdbrief/feature2d.hpp"
+#include "mdbrief/api/feature2d.hpp"
 #include "test_data.hpp"
 
 namespace {

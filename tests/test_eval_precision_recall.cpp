@@ -15,7 +15,7 @@
 #include "eval/eval_datasets.hpp"
 #include "mdbrief/camera/io.hpp"
 #include "mdbrief/detect/detector.hpp"
-#include "toolkit/plane_renderer.hpp"
+#include "scenes/plane_renderer.hpp"
 #include "eval/pipeline_experiment.hpp"
 #include "eval/plane_geometry.hpp"
 #include "eval/pr_experiment.hpp"

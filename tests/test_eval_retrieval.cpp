@@ -15,7 +15,7 @@
 #include "eval/eval_commands.hpp"
 #include "eval/retrieval_experiment.hpp"
 #include "test_data.hpp"
-#include "toolkit/photo_camera.hpp"
+#include "scenes/photo_camera.hpp"
 
 namespace mdbrief::eval {
 namespace {

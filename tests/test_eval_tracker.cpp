@@ -14,7 +14,7 @@
 #include "eval/poster_dev.hpp"
 #include "eval/tracker_metrics.hpp"
 #include "test_data.hpp"
-#include "toolkit/photo_camera.hpp"
+#include "scenes/photo_camera.hpp"
 
 namespace mdbrief::eval {
 namespace {

@@ -12,10 +12,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "mdbrief/camera/io.hpp"
-#include "mdbrief/feature2d.hpp"
+#include "mdbrief/api/feature2d.hpp"
 #include "mdbrief/describe/patterns.hpp"
-#include "toolkit/photo_camera.hpp"
-#include "toolkit/plane_renderer.hpp"
+#include "scenes/photo_camera.hpp"
+#include "scenes/plane_renderer.hpp"
 #include "test_data.hpp"
 
 namespace mdbrief {

@@ -14,7 +14,7 @@
 #include "mdbrief/camera/io.hpp"
 #include "mdbrief/describe/descriptor.hpp"
 #include "mdbrief/match/masked_hamming.hpp"
-#include "toolkit/plane_renderer.hpp"
+#include "scenes/plane_renderer.hpp"
 #include "test_data.hpp"
 
 namespace mdbrief {

@@ -16,7 +16,7 @@
 #include "mdbrief/match/hamming.hpp"
 #include "mdbrief/match/masked_hamming.hpp"
 #include "mdbrief/match/matcher.hpp"
-#include "mdbrief/simd_level.hpp"
+#include "mdbrief/base/simd_level.hpp"
 
 namespace {
 

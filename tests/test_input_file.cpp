@@ -1,4 +1,4 @@
-// Inputs that are not files (mdbrief/internal/input_file.hpp): each named for what it is, a FIFO
+// Inputs that are not files (mdbrief/internal/base/io/input_file.hpp): each named for what it is, a FIFO
 // refused without being opened.
 #include <sys/stat.h>
 
@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "mdbrief/internal/input_file.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
 #include "test_data.hpp"
 
 namespace fs = std::filesystem;

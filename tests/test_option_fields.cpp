@@ -1,4 +1,4 @@
-// The field tables (mdbrief/option_fields.hpp) drive every surface: for each numeric field, a
+// The field tables (mdbrief/base/option_fields.hpp) drive every surface: for each numeric field, a
 // value just outside its range gets the same message, "<option> must be <range>, got <value>",
 // from the struct's validate(), FileStorage (MdBrief::read), the command line (mdbrief extract,
 // mdbrief-train) and Python (tests/python/test_option_fields.py), each naming the option as
@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "cli/commands.hpp"
-#include "mdbrief/feature2d.hpp"
+#include "mdbrief/api/feature2d.hpp"
 #include "mdbrief/match/matcher.hpp"
 #include "test_data.hpp"
 #include "trainer/train_cli.hpp"

@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include "toolkit/pattern_writer.hpp"
+#include "trainer/pattern_writer.hpp"
 #include "mdbrief/describe/patterns.hpp"
 #include "test_data.hpp"
 #include "trainer/random_pattern.hpp"

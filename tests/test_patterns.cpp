@@ -16,9 +16,9 @@
 #include <sys/file.h>
 #include <unistd.h>
 
-#include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
 #include "mdbrief/describe/patterns.hpp"
-#include "toolkit/pattern_writer.hpp"
+#include "trainer/pattern_writer.hpp"
 #include "test_data.hpp"
 #include "write_limits.hpp"
 

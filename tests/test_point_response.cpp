@@ -13,7 +13,7 @@
 
 #include "detect/hessian.hpp"
 #include "mdbrief/detect/image_pyramid.hpp"
-#include "mdbrief/simd_level.hpp"
+#include "mdbrief/base/simd_level.hpp"
 
 namespace {
 

@@ -1,8 +1,8 @@
-// The named settings of mdbrief/presets.hpp: tracking is exactly what create() and MatchOptions{}
+// The named settings of mdbrief/api/presets.hpp: tracking is exactly what create() and MatchOptions{}
 // give, every preset passes validate(), and names parse both ways.
 #include <gtest/gtest.h>
 
-#include "mdbrief/presets.hpp"
+#include "mdbrief/api/presets.hpp"
 
 namespace mdbrief {
 namespace {

@@ -12,7 +12,7 @@
 
 #include "detect/resize_kernels.hpp"
 #include "mdbrief/detect/image_pyramid.hpp"
-#include "mdbrief/simd_level.hpp"
+#include "mdbrief/base/simd_level.hpp"
 
 namespace {
 

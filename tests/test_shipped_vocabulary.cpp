@@ -1,4 +1,4 @@
-// The vocabulary shipped for the default preset (vocabularies/, scripts/train-vocabulary.sh):
+// The vocabulary shipped for the default preset (configs/vocabularies/, scripts/train-vocabulary.sh):
 // what its header promises, training images disjoint from every evaluation image by pixel
 // digest, and place recognition with it: a scene's other view is found among unrelated photos.
 #include <gtest/gtest.h>
@@ -6,13 +6,13 @@
 #include <algorithm>
 
 #include "mdbrief/recognition/database.hpp"
-#include "mdbrief/feature2d.hpp"
-#include "mdbrief/presets.hpp"
+#include "mdbrief/api/feature2d.hpp"
+#include "mdbrief/api/presets.hpp"
 #include "mdbrief/recognition/vocabulary.hpp"
 #include "patchextract/image_digest.hpp"
 #include "test_data.hpp"
 #include "toolkit/image_file.hpp"
-#include "toolkit/photo_camera.hpp"
+#include "scenes/photo_camera.hpp"
 
 using namespace mdbrief;
 

@@ -19,7 +19,7 @@
 #include "mdbrief/detect/detector.hpp"
 #include "mdbrief/detect/image_pyramid.hpp"
 #include "mdbrief/match/matcher.hpp"
-#include "mdbrief/simd_level.hpp"
+#include "mdbrief/base/simd_level.hpp"
 #include "test_data.hpp"
 
 namespace {

@@ -1,11 +1,11 @@
 // The trainer's test responses, response counts and disagreement counts are identical at every
-// SIMD level (mdbrief/simd_level.hpp), so a training run gives the same pattern on every CPU.
+// SIMD level (mdbrief/base/simd_level.hpp), so a training run gives the same pattern on every CPU.
 #include <gtest/gtest.h>
 
 #include <random>
 #include <vector>
 
-#include "mdbrief/simd_level.hpp"
+#include "mdbrief/base/simd_level.hpp"
 #include "trainer/candidate_tests.hpp"
 #include "trainer/test_response_kernels.hpp"
 #include "trainer/test_responses.hpp"

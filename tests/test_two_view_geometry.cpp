@@ -10,7 +10,7 @@
 
 #include "mdbrief/camera/double_sphere.hpp"
 #include "mdbrief/geometry/two_view.hpp"
-#include "mdbrief/option_fields.hpp"
+#include "mdbrief/base/option_fields.hpp"
 
 namespace mdbrief {
 namespace {

@@ -18,7 +18,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "eval/poster_dev.hpp"
-#include "mdbrief/feature2d.hpp"
+#include "mdbrief/api/feature2d.hpp"
 #include "mdbrief/geometry/two_view.hpp"
 #include "mdbrief/match/matcher.hpp"
 #include "test_data.hpp"

@@ -1,5 +1,5 @@
 // The two-view target on a rendered fisheye stereo rig with an exact relative pose: a textured
-// box room (toolkit/room_renderer.hpp, opencv-doc photos on the walls) seen by two cameras of one
+// box room (scenes/room_renderer.hpp, opencv-doc photos on the walls) seen by two cameras of one
 // lens, a 3D scene over the whole field of view. The general model (fitEssential) must label
 // right at least 95 % of the matches that the known pose accepts (checkKnownPose) and label
 // wrong at least 90 % of those it rejects; mdBRIEF's default features and matches, 2 px for both.
@@ -13,11 +13,11 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "mdbrief/camera/io.hpp"
-#include "mdbrief/feature2d.hpp"
+#include "mdbrief/api/feature2d.hpp"
 #include "mdbrief/geometry/two_view.hpp"
 #include "mdbrief/match/matcher.hpp"
 #include "test_data.hpp"
-#include "toolkit/room_renderer.hpp"
+#include "scenes/room_renderer.hpp"
 
 namespace mdbrief {
 namespace {

@@ -1,10 +1,10 @@
-// mdbrief/version.hpp: the headers' version and the linked library's agree and read as
+// mdbrief/base/version.hpp: the headers' version and the linked library's agree and read as
 // MAJOR.MINOR.PATCH.
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "mdbrief/version.hpp"
+#include "mdbrief/base/version.hpp"
 
 TEST(Version, HeaderAndLibraryAgree) {
   const std::string fromMacros = std::to_string(MDBRIEF_VERSION_MAJOR) + "." + std::to_string(MDBRIEF_VERSION_MINOR) +

@@ -6,7 +6,7 @@
 #include <cstring>
 
 #include "mdbrief/match/masked_hamming.hpp"
-#include "mdbrief/simd_level.hpp"
+#include "mdbrief/base/simd_level.hpp"
 #include "mdbrief/recognition/vocabulary.hpp"
 #include "vocabulary_trees.hpp"
 

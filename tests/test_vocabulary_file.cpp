@@ -7,9 +7,9 @@
 #include <fstream>
 #include <limits>
 
-#include "mdbrief/file_format_error.hpp"
-#include "mdbrief/internal/framed_file.hpp"
-#include "mdbrief/simd_level.hpp"
+#include "mdbrief/base/file_format_error.hpp"
+#include "mdbrief/internal/base/io/framed_file.hpp"
+#include "mdbrief/base/simd_level.hpp"
 #include "mdbrief/recognition/vocabulary.hpp"
 #include "test_data.hpp"
 #include "vocabulary_trees.hpp"

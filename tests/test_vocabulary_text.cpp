@@ -5,7 +5,7 @@
 
 #include <fstream>
 
-#include "mdbrief/file_format_error.hpp"
+#include "mdbrief/base/file_format_error.hpp"
 #include "mdbrief/recognition/vocabulary_text.hpp"
 #include "test_data.hpp"
 #include "vocabulary_trees.hpp"

@@ -4,8 +4,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "mdbrief/internal/atomic_file.hpp"
-#include "mdbrief/internal/input_file.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
 
 namespace mdbrief {
 

@@ -16,7 +16,7 @@
 #include <jpeglib.h>
 #include <opencv2/imgcodecs.hpp>
 
-#include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
 
 namespace mdbrief {
 

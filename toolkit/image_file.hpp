@@ -30,7 +30,7 @@ std::string imageSizeProblem(const std::filesystem::path& path);
 // partly decoded image matters.
 cv::Mat decodeGreyImage(const std::filesystem::path& path);
 
-// Writes image atomically (mdbrief/internal/atomic_file.hpp) in the format of path's extension.
+// Writes image atomically (mdbrief/internal/base/io/atomic_file.hpp) in the format of path's extension.
 // Throws std::runtime_error naming path when there is no encoder for it or writing fails.
 void writeImageAtomically(const std::filesystem::path& path, const cv::Mat& image);
 

@@ -1,5 +1,5 @@
 #pragma once
-// Command-line flags from an options struct's field table (mdbrief/option_fields.hpp): one flag
+// Command-line flags from an options struct's field table (mdbrief/base/option_fields.hpp): one flag
 // per field that has one, its help the field's doc with its range or choices and the default.
 // Values are collected during the parse and applied afterwards, so a bad value is reported as
 // "<flag> must be in [...], got <value>", the message every other surface gives.
@@ -11,7 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "mdbrief/option_fields.hpp"
+#include "mdbrief/base/option_fields.hpp"
 #include "toolkit/command_line.hpp"
 
 namespace mdbrief {

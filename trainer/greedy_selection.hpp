@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "mdbrief/enum_names.hpp"
+#include "mdbrief/base/enum_names.hpp"
 #include "trainer/test_responses.hpp"
 
 namespace mdbrief::train {
@@ -33,7 +33,7 @@ enum class SelectionCriterion {
   Separation,
 };
 
-// The names users type (mdbrief/enum_names.hpp).
+// The names users type (mdbrief/base/enum_names.hpp).
 inline constexpr EnumName<SelectionCriterion> kSelectionCriterionNames[] = {
     {SelectionCriterion::Paper, "paper"},
     {SelectionCriterion::Stability, "stability"},

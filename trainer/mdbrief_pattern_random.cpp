@@ -8,7 +8,7 @@
 
 #include "toolkit/file_size_signal.hpp"
 #include "toolkit/opencv_log.hpp"
-#include "toolkit/pattern_writer.hpp"
+#include "trainer/pattern_writer.hpp"
 #include "trainer/random_pattern.hpp"
 
 int main(int argc, char** argv) {

@@ -4,7 +4,7 @@
 // and the random-set generator, so every shipped header has the same form.
 //
 // Outputs are deterministic (no timestamps) and written atomically
-// (mdbrief/internal/atomic_file.hpp), so an interrupted run leaves the previous files intact.
+// (mdbrief/internal/base/io/atomic_file.hpp), so an interrupted run leaves the previous files intact.
 // A tool module, not installed: the runtime only reads test sets (mdbrief/describe/patterns.hpp).
 #include <filesystem>
 #include <string>

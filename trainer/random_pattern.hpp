@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "toolkit/pattern_writer.hpp"
+#include "trainer/pattern_writer.hpp"
 #include "mdbrief/describe/test_set.hpp"
 
 namespace mdbrief::train {

@@ -1,22 +1,22 @@
 // The test-response kernels (test_response_kernels.hpp) for every SIMD level: compiled once per
 // Highway target (hwy/foreach_target.h), the active level's copy chosen at run time
-// (mdbrief/internal/simd_dispatch.hpp). Comparisons and bit counts are exact at every level.
+// (mdbrief/internal/base/simd_dispatch.hpp). Comparisons and bit counts are exact at every level.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "trainer/test_response_kernels.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
 
 #include <hwy/highway.h>
 
-#include "mdbrief/internal/bit_count-inl.h"
+#include "mdbrief/internal/base/bit_count-inl.h"
 
-#include "mdbrief/internal/simd_dispatch.hpp"
+#include "mdbrief/internal/base/simd_dispatch.hpp"
 #include "trainer/test_response_kernels.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace mdbrief::train::kernels::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-using mdbrief::HWY_NAMESPACE::Ones;  // mdbrief/internal/bit_count-inl.h
+using mdbrief::HWY_NAMESPACE::Ones;  // mdbrief/internal/base/bit_count-inl.h
 
 // Bit k = a[k] < b[k] (unsigned), k = 0..63, gathered from the mask bits of each vector.
 HWY_INLINE uint64_t LessMask(const uint8_t* a, const uint8_t* b) {

@@ -1,6 +1,6 @@
 #pragma once
 // Kernels of the test-response evaluation (patch_lanes.hpp, test_responses.cpp) for every SIMD
-// level (mdbrief/simd_level.hpp), written once in test_response_kernels.cpp.
+// level (mdbrief/base/simd_level.hpp), written once in test_response_kernels.cpp.
 #include <cstddef>
 #include <cstdint>
 

@@ -6,7 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "mdbrief/internal/input_file.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
 #include "toolkit/command_line.hpp"
 #include "toolkit/option_flags.hpp"
 #include "toolkit/progress_reporter.hpp"

@@ -3,8 +3,8 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "mdbrief/internal/input_file.hpp"
-#include "toolkit/pattern_writer.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
+#include "trainer/pattern_writer.hpp"
 #include "trainer/candidate_tests.hpp"
 
 namespace mdbrief::train {

@@ -1,12 +1,12 @@
 #pragma once
 // What mdbrief-train, Python's mdbrief.train() and C++ callers set for one training run, and its
-// field table (mdbrief/option_fields.hpp): every surface takes the same options, spelled by the
+// field table (mdbrief/base/option_fields.hpp): every surface takes the same options, spelled by the
 // table, with the same ranges and defaults.
 #include <cstddef>
 #include <string>
 #include <vector>
 
-#include "mdbrief/option_fields.hpp"
+#include "mdbrief/base/option_fields.hpp"
 #include "patchextract/patch_extraction.hpp"
 #include "trainer/greedy_selection.hpp"
 #include "trainer/separation_selection.hpp"

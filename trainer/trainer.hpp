@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "toolkit/pattern_writer.hpp"
+#include "trainer/pattern_writer.hpp"
 #include "mdbrief/describe/test_set.hpp"
 #include "trainer/greedy_selection.hpp"
 #include "trainer/separation_selection.hpp"

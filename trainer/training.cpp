@@ -8,7 +8,7 @@
 
 #include <sys/resource.h>
 
-#include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
 #include "trainer/candidate_tests.hpp"
 
 namespace mdbrief::train {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "toolkit/pattern_writer.hpp"
+#include "trainer/pattern_writer.hpp"
 #include "trainer/train_options.hpp"
 #include "trainer/trainer.hpp"
 

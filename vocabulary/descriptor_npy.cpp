@@ -6,8 +6,8 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "mdbrief/file_format_error.hpp"
-#include "mdbrief/internal/input_file.hpp"
+#include "mdbrief/base/file_format_error.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
 
 namespace mdbrief::vocab {
 

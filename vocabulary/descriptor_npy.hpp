@@ -9,7 +9,7 @@
 
 namespace mdbrief::vocab {
 
-// N x B CV_8UC1. Throws FileFormatError (mdbrief/file_format_error.hpp) naming the file and the
+// N x B CV_8UC1. Throws FileFormatError (mdbrief/base/file_format_error.hpp) naming the file and the
 // problem (not .npy, another dtype, Fortran order, a shape that is not (N, B), a size that
 // differs from the shape's).
 cv::Mat readDescriptorNpy(const std::string& path);

@@ -10,8 +10,8 @@
 #include <tbb/parallel_for.h>
 
 #include "mdbrief/camera/io.hpp"
-#include "mdbrief/internal/atomic_file.hpp"
-#include "mdbrief/internal/size_text.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
+#include "mdbrief/internal/base/size_text.hpp"
 #include "mdbrief/recognition/vocabulary_text.hpp"
 #include "toolkit/command_line.hpp"
 #include "toolkit/progress_reporter.hpp"
@@ -144,7 +144,7 @@ int runTrainVocabularyCli(const std::vector<std::string>& args, std::ostream& ou
   app.add_option("--images", a.images, "Training images: folders (searched recursively) or files");
   app.add_option("--camera", a.camera,
                  "Calibration of every image (default: each photo as the pinhole of f = its width, "
-                 "toolkit/photo_camera.hpp)");
+                 "scenes/photo_camera.hpp)");
   app.add_option("--camera-format", a.cameraFormat,
                  "Format of the calibration file; auto recognises it from the content (configs/cameras/README.md)")
       ->check(CLI::IsMember(namesOf(kCameraFormatNames)))

@@ -5,11 +5,11 @@
 
 #include <opencv2/features2d.hpp>
 
-#include "mdbrief/feature2d.hpp"
-#include "mdbrief/internal/input_file.hpp"
+#include "mdbrief/api/feature2d.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
 #include "patchextract/patch_extraction.hpp"
 #include "toolkit/image_file.hpp"
-#include "toolkit/photo_camera.hpp"
+#include "scenes/photo_camera.hpp"
 
 namespace mdbrief::vocab {
 

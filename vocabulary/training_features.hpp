@@ -11,7 +11,7 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/camera/camera.hpp"
-#include "mdbrief/presets.hpp"
+#include "mdbrief/api/presets.hpp"
 #include "patchextract/image_digest.hpp"
 #include "vocabulary/vocabulary_training.hpp"
 
@@ -31,7 +31,7 @@ struct FeatureOptions {
 MdBriefOptions mdBriefOptions(const FeatureOptions& options);
 
 // Features of one grey image: descriptors (N x bytes CV_8UC1) and, for mdBRIEF, masks. camera:
-// the image's (MdBrief); null takes the photo camera of the image's size (toolkit/photo_camera.hpp).
+// the image's (MdBrief); null takes the photo camera of the image's size (scenes/photo_camera.hpp).
 // region: empty or where keypoints may be (CV_8UC1 of the image's size).
 TrainingImage describeImage(const cv::Mat& grey, const FeatureOptions& options, const CameraPtr& camera,
                             const cv::Mat& region = {});

@@ -13,7 +13,7 @@
 #include "synthetic_scene.hpp"
 
 // [guide:includes]
-#include <mdbrief/mdbrief.hpp>  // everything; or mdbrief/camera/io.hpp, mdbrief/feature2d.hpp, ...
+#include <mdbrief/mdbrief.hpp>  // everything; or mdbrief/camera/io.hpp, mdbrief/api/feature2d.hpp, ...
 // [guide]
 
 namespace {

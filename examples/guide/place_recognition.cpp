@@ -35,7 +35,7 @@ int main(int argc, char** argv) try {
 
   // [guide:database]
   // The vocabulary must have been trained on the same features (preset and length): the shipped
-  // one is the defaults' (vocabularies/tracking_k10_L4.mdbvoc, installed in share/mdbrief).
+  // one is the defaults' (configs/vocabularies/tracking_k10_L4.mdbvoc, installed in share/mdbrief).
   mdbrief::Vocabulary vocabulary = mdbrief::Vocabulary::load(vocabularyPath);
   mdbrief::Database database(vocabulary);
   for (const cv::Mat& image : places) {

@@ -4,7 +4,7 @@
 #include "bow_conversions.hpp"
 #include "conversions.hpp"
 #include "mdbrief/recognition/database.hpp"
-#include "mdbrief/file_format_error.hpp"
+#include "mdbrief/base/file_format_error.hpp"
 
 namespace mdbrief::python {
 namespace {

@@ -6,8 +6,8 @@
 
 #include "bindings.hpp"
 #include "conversions.hpp"
-#include "mdbrief/feature2d.hpp"
-#include "mdbrief/presets.hpp"
+#include "mdbrief/api/feature2d.hpp"
+#include "mdbrief/api/presets.hpp"
 #include "option_keywords.hpp"
 #include "presets.hpp"
 

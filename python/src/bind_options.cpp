@@ -1,7 +1,7 @@
 // mdbrief.option_fields(): the field tables behind MdBrief(**options), train(**options) and
 // match()'s options, for introspection (and the tests that walk every option).
 #include "bindings.hpp"
-#include "mdbrief/feature2d.hpp"
+#include "mdbrief/api/feature2d.hpp"
 #include "mdbrief/geometry/two_view.hpp"
 #include "mdbrief/match/guided_matcher.hpp"
 #include "mdbrief/match/matcher.hpp"

@@ -10,8 +10,8 @@
 #include "mdbrief/camera/io.hpp"
 #include "mdbrief/describe/patterns.hpp"
 #include "option_keywords.hpp"
-#include "mdbrief/internal/atomic_file.hpp"
-#include "toolkit/pattern_writer.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
+#include "trainer/pattern_writer.hpp"
 #include "trainer/training.hpp"
 
 namespace mdbrief::python {

@@ -1,7 +1,7 @@
-// mdbrief.presets(): the named settings of mdbrief/presets.hpp, which MdBrief(preset=...) and
+// mdbrief.presets(): the named settings of mdbrief/api/presets.hpp, which MdBrief(preset=...) and
 // match(preset=...) start from.
 #include "bindings.hpp"
-#include "mdbrief/presets.hpp"
+#include "mdbrief/api/presets.hpp"
 #include "presets.hpp"
 
 namespace mdbrief::python {

@@ -1,12 +1,12 @@
 // simd_level(), supported_simd_level(), supported_simd_levels() and limit_simd_level(): which
-// kernels the library runs (mdbrief/simd_level.hpp), by name.
+// kernels the library runs (mdbrief/base/simd_level.hpp), by name.
 #include <string>
 #include <vector>
 
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
-#include "mdbrief/simd_level.hpp"
+#include "mdbrief/base/simd_level.hpp"
 
 namespace mdbrief::python {
 

@@ -3,7 +3,7 @@
 #include "bindings.hpp"
 #include "bow_conversions.hpp"
 #include "conversions.hpp"
-#include "mdbrief/file_format_error.hpp"
+#include "mdbrief/base/file_format_error.hpp"
 #include "mdbrief/recognition/vocabulary.hpp"
 #include "mdbrief/recognition/vocabulary_text.hpp"
 

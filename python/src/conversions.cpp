@@ -7,7 +7,7 @@
 #include <climits>
 
 #include "cv2_value_layout.hpp"
-#include "mdbrief/internal/input_file.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
 
 namespace mdbrief::python {
 namespace {

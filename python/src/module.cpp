@@ -1,6 +1,6 @@
 // The `mdbrief` Python module (imported through the package python/mdbrief/__init__.py).
 #include "bindings.hpp"
-#include "mdbrief/version.hpp"
+#include "mdbrief/base/version.hpp"
 
 PYBIND11_MODULE(_mdbrief, m) {
   mdbrief::python::translateExceptions();

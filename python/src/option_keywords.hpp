@@ -1,5 +1,5 @@
 #pragma once
-// Python keywords from an options struct's field table (mdbrief/option_fields.hpp): the
+// Python keywords from an options struct's field table (mdbrief/base/option_fields.hpp): the
 // keyword names, their types, the defaults shown in docstrings, and errors that name the keyword
 // (the table says which field failed, so no message is parsed).
 #include <algorithm>
@@ -11,7 +11,7 @@
 
 #include "bindings.hpp"
 #include "conversions.hpp"
-#include "mdbrief/option_fields.hpp"
+#include "mdbrief/base/option_fields.hpp"
 
 namespace mdbrief::python {
 

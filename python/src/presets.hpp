@@ -2,7 +2,7 @@
 // The preset a keyword names (bind_presets.cpp), for MdBrief and match.
 #include <string>
 
-#include "mdbrief/presets.hpp"
+#include "mdbrief/api/presets.hpp"
 
 namespace mdbrief::python {
 

@@ -1,7 +1,7 @@
 // The two functions of libhwy that the kernels reference, for a cross-build that has Highway's
 // headers but not its library (scripts/test-arm.sh). HWY_EXPORT's first table slot
 // (hwy::FunctionCache::ChooseAndCall) names them; the library never calls that slot, as it
-// chooses the target itself (mdbrief/internal/simd_dispatch.hpp), and never calls
+// chooses the target itself (mdbrief/internal/base/simd_dispatch.hpp), and never calls
 // SupportedTargets() outside x86. Should either run, it answers as libhwy does on AArch64,
 // where NEON is part of the base instruction set.
 #include <hwy/highway.h>

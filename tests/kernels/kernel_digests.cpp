@@ -19,7 +19,7 @@
 #include "describe/mask_weight_kernels.hpp"
 #include "match/matcher_kernels.hpp"
 #include "detect/resize_kernels.hpp"
-#include "mdbrief/simd_level.hpp"
+#include "mdbrief/base/simd_level.hpp"
 #include "detect/smoothing_kernels.hpp"
 
 namespace {

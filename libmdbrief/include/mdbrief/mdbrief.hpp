@@ -1,7 +1,8 @@
 #pragma once
 // Every public header of the library, for a user who wants one include. The parts have their own
-// folders: camera/ (models and calibration files), detect/, describe/, match/, recognition/
-// (vocabularies and the image database); the options, presets and cv::Feature2D sit at the top.
+// folders: base/ (options, SIMD level, version), camera/ (models and calibration files), detect/,
+// geometry/, describe/, match/, recognition/ (vocabularies and the image database) and api/
+// (presets and the cv::Feature2D).
 #include "mdbrief/camera/camera.hpp"
 #include "mdbrief/camera/double_sphere.hpp"
 #include "mdbrief/camera/intrinsics.hpp"
@@ -30,10 +31,10 @@
 #include "mdbrief/recognition/database.hpp"
 #include "mdbrief/recognition/vocabulary.hpp"
 #include "mdbrief/recognition/vocabulary_text.hpp"
-#include "mdbrief/enum_names.hpp"
-#include "mdbrief/feature2d.hpp"
-#include "mdbrief/file_format_error.hpp"
-#include "mdbrief/option_fields.hpp"
-#include "mdbrief/presets.hpp"
-#include "mdbrief/simd_level.hpp"
-#include "mdbrief/version.hpp"
+#include "mdbrief/base/enum_names.hpp"
+#include "mdbrief/api/feature2d.hpp"
+#include "mdbrief/base/file_format_error.hpp"
+#include "mdbrief/base/option_fields.hpp"
+#include "mdbrief/api/presets.hpp"
+#include "mdbrief/base/simd_level.hpp"
+#include "mdbrief/base/version.hpp"

@@ -1,10 +1,10 @@
-#include "mdbrief/feature2d.hpp"
+#include "mdbrief/api/feature2d.hpp"
 
 #include <stdexcept>
 #include <utility>
 
 #include "mdbrief/detect/image_pyramid.hpp"
-#include "mdbrief/internal/size_text.hpp"
+#include "mdbrief/internal/base/size_text.hpp"
 
 namespace mdbrief {
 namespace {

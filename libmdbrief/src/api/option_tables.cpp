@@ -5,11 +5,11 @@
 
 #include "mdbrief/describe/descriptor.hpp"
 #include "mdbrief/detect/detector.hpp"
-#include "mdbrief/feature2d.hpp"
+#include "mdbrief/api/feature2d.hpp"
 #include "mdbrief/match/guided_matcher.hpp"
 #include "mdbrief/detect/image_pyramid.hpp"
 #include "mdbrief/match/matcher.hpp"
-#include "mdbrief/option_fields.hpp"
+#include "mdbrief/base/option_fields.hpp"
 
 namespace mdbrief {
 

@@ -1,4 +1,4 @@
-#include "mdbrief/presets.hpp"
+#include "mdbrief/api/presets.hpp"
 
 namespace mdbrief {
 

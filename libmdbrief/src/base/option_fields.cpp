@@ -1,4 +1,4 @@
-#include "mdbrief/option_fields.hpp"
+#include "mdbrief/base/option_fields.hpp"
 
 #include <cmath>
 #include <cstdio>

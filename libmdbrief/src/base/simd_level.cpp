@@ -1,11 +1,11 @@
-#include "mdbrief/simd_level.hpp"
+#include "mdbrief/base/simd_level.hpp"
 
 #include <atomic>
 #include <cstdlib>
 
 #include <hwy/highway.h>
 
-#include "mdbrief/internal/simd_dispatch.hpp"
+#include "mdbrief/internal/base/simd_dispatch.hpp"
 
 namespace mdbrief {
 

@@ -1,4 +1,4 @@
-#include "mdbrief/version.hpp"
+#include "mdbrief/base/version.hpp"
 
 namespace mdbrief {
 

@@ -21,8 +21,8 @@
 #include "camera/formats/yaml_reader.hpp"
 #include "mdbrief/camera/ocam.hpp"
 #include "mdbrief/camera/rig.hpp"
-#include "mdbrief/internal/atomic_file.hpp"
-#include "mdbrief/internal/input_file.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
 
 namespace mdbrief {
 namespace {

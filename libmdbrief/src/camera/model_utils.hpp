@@ -8,7 +8,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "mdbrief/internal/size_text.hpp"
+#include "mdbrief/internal/base/size_text.hpp"
 
 namespace mdbrief::detail {
 

@@ -13,7 +13,7 @@
 #include <cstring>
 
 #include "describe/descriptor_kernels.hpp"
-#include "mdbrief/internal/simd_dispatch.hpp"
+#include "mdbrief/internal/base/simd_dispatch.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace mdbrief::descriptor_kernels::HWY_NAMESPACE {

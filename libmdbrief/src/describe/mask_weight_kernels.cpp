@@ -7,17 +7,17 @@
 
 #include <hwy/highway.h>
 
-#include "mdbrief/internal/bit_count-inl.h"
+#include "mdbrief/internal/base/bit_count-inl.h"
 
 #include <cstring>
 
 #include "describe/mask_weight_kernels.hpp"
-#include "mdbrief/internal/simd_dispatch.hpp"
+#include "mdbrief/internal/base/simd_dispatch.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace mdbrief::mask_weight_kernels::HWY_NAMESPACE {
 
-using mdbrief::HWY_NAMESPACE::Ones;  // mdbrief/internal/bit_count-inl.h
+using mdbrief::HWY_NAMESPACE::Ones;  // mdbrief/internal/base/bit_count-inl.h
 
 // 64-bit counts plus a 32-bit tail word for odd word counts.
 size_t Weights(const uint32_t* rows, size_t count, int nwords, const uint32_t* weightOfOnes, uint32_t* weights) {

@@ -1,4 +1,4 @@
-#include "mdbrief/internal/patch_sampling.hpp"
+#include "mdbrief/internal/describe/patch_sampling.hpp"
 
 #include <stdexcept>
 #include <utility>

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "mdbrief/internal/input_file.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
 #include "patterns/registry.hpp"
 
 namespace mdbrief {

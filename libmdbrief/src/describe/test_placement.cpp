@@ -8,7 +8,7 @@
 #include <string>
 #include <utility>
 
-#include "mdbrief/internal/patch_sampling.hpp"
+#include "mdbrief/internal/describe/patch_sampling.hpp"
 #include "mdbrief/camera/tangent_plane.hpp"
 #include "mdbrief/describe/test_set.hpp"
 

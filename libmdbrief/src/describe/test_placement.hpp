@@ -3,7 +3,7 @@
 // size, the orientation (the keypoint's angle or re-measured on the tangent plane), the map of
 // offsets to level coordinates (BRIEF, the Affine form) or their projection through the camera
 // (the Paper form), and the checks that drop a keypoint. compute(), testPositions() and the
-// training patches (mdbrief/internal/patch_sampling.hpp) all place through placeChecked().
+// training patches (mdbrief/internal/describe/patch_sampling.hpp) all place through placeChecked().
 #include <array>
 #include <cstdint>
 #include <vector>

@@ -17,7 +17,7 @@
 #include "detect/hessian.hpp"
 #include "detect/orientation.hpp"
 #include "detect/quadtree.hpp"
-#include "mdbrief/internal/size_text.hpp"
+#include "mdbrief/internal/base/size_text.hpp"
 
 namespace mdbrief {
 

@@ -10,7 +10,7 @@
 #include <algorithm>
 
 #include "detect/hessian_kernels.hpp"
-#include "mdbrief/internal/simd_dispatch.hpp"
+#include "mdbrief/internal/base/simd_dispatch.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace mdbrief::hessian_kernels::HWY_NAMESPACE {

@@ -12,7 +12,7 @@
 #include "detect/gaussian_smoothing.hpp"
 #include "detect/resize_kernels.hpp"
 #include "detect/smoothing_kernels.hpp"
-#include "mdbrief/simd_level.hpp"
+#include "mdbrief/base/simd_level.hpp"
 
 namespace mdbrief {
 

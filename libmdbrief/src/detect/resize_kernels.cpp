@@ -18,7 +18,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "mdbrief/internal/simd_dispatch.hpp"
+#include "mdbrief/internal/base/simd_dispatch.hpp"
 #include "detect/resize_kernels.hpp"
 
 HWY_BEFORE_NAMESPACE();

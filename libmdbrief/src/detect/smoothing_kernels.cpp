@@ -10,7 +10,7 @@
 
 #include <utility>
 
-#include "mdbrief/internal/simd_dispatch.hpp"
+#include "mdbrief/internal/base/simd_dispatch.hpp"
 #include "detect/smoothing_kernels.hpp"
 
 HWY_BEFORE_NAMESPACE();

@@ -3,7 +3,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "mdbrief/internal/popcount.hpp"
+#include "mdbrief/internal/base/popcount.hpp"
 
 namespace mdbrief {
 

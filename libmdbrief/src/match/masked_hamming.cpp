@@ -5,7 +5,7 @@
 #include <string>
 
 #include "mdbrief/match/hamming.hpp"
-#include "mdbrief/internal/popcount.hpp"
+#include "mdbrief/internal/base/popcount.hpp"
 
 namespace mdbrief {
 

@@ -6,18 +6,18 @@
 
 #include <hwy/highway.h>
 
-#include "mdbrief/internal/bit_count-inl.h"
+#include "mdbrief/internal/base/bit_count-inl.h"
 
 #include <cstring>
 
 #include "match/matcher_kernels.hpp"
-#include "mdbrief/internal/simd_dispatch.hpp"
+#include "mdbrief/internal/base/simd_dispatch.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace mdbrief::matcher_kernels::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-using mdbrief::HWY_NAMESPACE::Ones;  // mdbrief/internal/bit_count-inl.h
+using mdbrief::HWY_NAMESPACE::Ones;  // mdbrief/internal/base/bit_count-inl.h
 
 HWY_INLINE uint64_t LongWord(const uint32_t* p, int k) {
   uint64_t v;

@@ -6,7 +6,7 @@
 
 #include "match/matcher_kernels.hpp"
 #include "mdbrief/match/masked_hamming.hpp"
-#include "mdbrief/internal/popcount.hpp"
+#include "mdbrief/internal/base/popcount.hpp"
 
 namespace mdbrief::matcher_kernels {
 namespace {

@@ -5,9 +5,9 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "mdbrief/file_format_error.hpp"
-#include "mdbrief/internal/atomic_file.hpp"
-#include "mdbrief/internal/framed_file.hpp"
+#include "mdbrief/base/file_format_error.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
+#include "mdbrief/internal/base/io/framed_file.hpp"
 
 namespace mdbrief {
 

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "mdbrief/internal/framed_file.hpp"
+#include "mdbrief/internal/base/io/framed_file.hpp"
 #include "mdbrief/recognition/vocabulary.hpp"
 
 namespace mdbrief {

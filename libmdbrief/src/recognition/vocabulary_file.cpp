@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstring>
 
-#include "mdbrief/file_format_error.hpp"
-#include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/base/file_format_error.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
 #include "describe/mask_weight_kernels.hpp"
 #include "mdbrief/match/masked_hamming.hpp"
 #include "recognition/vocabulary_data.hpp"

@@ -6,9 +6,9 @@
 #include <fstream>
 #include <iterator>
 
-#include "mdbrief/file_format_error.hpp"
-#include "mdbrief/internal/atomic_file.hpp"
-#include "mdbrief/internal/input_file.hpp"
+#include "mdbrief/base/file_format_error.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
 #include "recognition/vocabulary_data.hpp"
 
 namespace mdbrief {

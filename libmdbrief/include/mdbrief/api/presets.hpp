@@ -12,8 +12,8 @@
 // Start from a preset and change fields: presetSettings(Preset::Matching).features.detector.nfeatures = 2000.
 #include <string>
 
-#include "mdbrief/enum_names.hpp"
-#include "mdbrief/feature2d.hpp"
+#include "mdbrief/base/enum_names.hpp"
+#include "mdbrief/api/feature2d.hpp"
 #include "mdbrief/match/matcher.hpp"
 
 namespace mdbrief {

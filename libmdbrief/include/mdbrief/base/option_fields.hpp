@@ -17,7 +17,7 @@
 #include <variant>
 #include <vector>
 
-#include "mdbrief/enum_names.hpp"
+#include "mdbrief/base/enum_names.hpp"
 
 namespace mdbrief {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "mdbrief/enum_names.hpp"
+#include "mdbrief/base/enum_names.hpp"
 
 namespace mdbrief {
 

@@ -14,7 +14,7 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/camera/camera.hpp"
-#include "mdbrief/enum_names.hpp"
+#include "mdbrief/base/enum_names.hpp"
 
 namespace mdbrief {
 

@@ -27,9 +27,9 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/camera/camera.hpp"
-#include "mdbrief/enum_names.hpp"
+#include "mdbrief/base/enum_names.hpp"
 #include "mdbrief/detect/image_pyramid.hpp"
-#include "mdbrief/option_fields.hpp"
+#include "mdbrief/base/option_fields.hpp"
 
 namespace mdbrief {
 

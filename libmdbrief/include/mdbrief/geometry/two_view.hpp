@@ -33,7 +33,7 @@
 
 #include "mdbrief/camera/camera.hpp"
 #include "mdbrief/camera/rig.hpp"
-#include "mdbrief/option_fields.hpp"
+#include "mdbrief/base/option_fields.hpp"
 
 namespace mdbrief {
 

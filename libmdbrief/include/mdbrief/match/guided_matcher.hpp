@@ -21,7 +21,7 @@
 #include <opencv2/core/types.hpp>
 
 #include "mdbrief/match/matcher.hpp"
-#include "mdbrief/option_fields.hpp"
+#include "mdbrief/base/option_fields.hpp"
 
 namespace mdbrief {
 

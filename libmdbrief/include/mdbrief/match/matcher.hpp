@@ -10,7 +10,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "mdbrief/option_fields.hpp"
+#include "mdbrief/base/option_fields.hpp"
 
 namespace mdbrief {
 

@@ -23,7 +23,7 @@
 #include <opencv2/core.hpp>
 
 #include "mdbrief/recognition/bow_vector.hpp"
-#include "mdbrief/enum_names.hpp"
+#include "mdbrief/base/enum_names.hpp"
 
 namespace mdbrief {
 

@@ -1,4 +1,4 @@
-#include "mdbrief/internal/atomic_file.hpp"
+#include "mdbrief/internal/base/io/atomic_file.hpp"
 
 #include <fcntl.h>
 #include <signal.h>

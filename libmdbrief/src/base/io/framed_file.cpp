@@ -1,4 +1,4 @@
-#include "mdbrief/internal/framed_file.hpp"
+#include "mdbrief/internal/base/io/framed_file.hpp"
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -10,8 +10,8 @@
 #include <cstring>
 #include <system_error>
 
-#include "mdbrief/file_format_error.hpp"
-#include "mdbrief/internal/input_file.hpp"
+#include "mdbrief/base/file_format_error.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
 
 // The files are little-endian and read in place; a big-endian port would swap on load.
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "the framed files are read in place as little-endian");

@@ -1,4 +1,4 @@
-#include "mdbrief/internal/input_file.hpp"
+#include "mdbrief/internal/base/io/input_file.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>

@@ -12,7 +12,7 @@
 
 #include <hwy/highway.h>
 
-#include "mdbrief/internal/popcount.hpp"
+#include "mdbrief/internal/base/popcount.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace mdbrief::HWY_NAMESPACE {

@@ -1,5 +1,5 @@
 #pragma once
-// Run-time choice of a kernel written once with Highway (mdbrief/simd_level.hpp). A kernel
+// Run-time choice of a kernel written once with Highway (mdbrief/base/simd_level.hpp). A kernel
 // source compiles itself for every target through hwy/foreach_target.h and exports one function
 // that returns its kernels (HWY_EXPORT); MDBRIEF_ACTIVE_KERNELS(Fn)() calls that function of
 // the active level's target. The library chooses the target itself, instead of
