@@ -2,7 +2,7 @@
 # The README's main job on a fresh machine: install dependencies, build, train the default
 # pattern (configs/training/orb_perspective_512.toml), regenerate its header in patterns/,
 # rebuild the library with it, then run the evaluation (scripts/reproduce.sh: into BUILD_DIR/results
-# by default, --out DIR, or docs/ with --update-docs).
+# by default, --out DIR; --update-docs also rewrites docs/RESULTS.md's generated sections).
 # Usage: scripts/main.sh [--out DIR | --update-docs] [build-dir]   (default: build)
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -1,9 +1,11 @@
 # Sourced by the reproduction scripts (tracker.sh, reproduce.sh, pipelines.sh, main.sh): where they
-# write. By default a scratch folder, so that reproducing a table never edits the documents;
-# docs/ only when asked.
+# write. The CSVs and figures always go to a scratch folder: they are regenerated, so the source
+# tree does not keep them. Reproducing a table never edits the documents unless asked.
 #   --out DIR       write the CSVs, figures and a copy of RESULTS.md with the regenerated
 #                   sections into DIR (default: BUILD_DIR/results)
-#   --update-docs   write into docs/results, docs/figures and docs/RESULTS.md instead
+#   --update-docs   CSVs and figures into BUILD_DIR/results as by default, the regenerated
+#                   sections into docs/RESULTS.md itself, and the few figures that docs/figures
+#                   keeps copied there
 #   --dry-run       print the commands, run nothing
 # parse_output_flags ARGS... sets OUT_ROOT, FIGURES, RESULTS_MD, UPDATE_DOCS, DRY_RUN and REST (the
 # other arguments, in order); BUILD_DIR must be set first when --out is not given, or call
@@ -27,11 +29,12 @@ parse_output_flags() {
   fi
 }
 
-# Sets OUT_ROOT (CSVs), FIGURES and RESULTS_MD from the flags and BUILD_DIR. Outside docs/, the
-# regenerated sections go into a copy of docs/RESULTS.md, to compare with `diff`.
+# Sets OUT_ROOT (CSVs), FIGURES and RESULTS_MD from the flags and BUILD_DIR. Without
+# --update-docs the regenerated sections go into a copy of docs/RESULTS.md, to compare with `diff`.
 resolve_output_folder() {
   if [ "$UPDATE_DOCS" = 1 ]; then
-    OUT_ROOT=docs/results FIGURES=docs/figures RESULTS_MD=docs/RESULTS.md
+    OUT_ROOT=$BUILD_DIR/results FIGURES=$BUILD_DIR/results/figures RESULTS_MD=docs/RESULTS.md
+    run mkdir -p "$OUT_ROOT"
     return
   fi
   OUT_ROOT=${OUT_ROOT:-$BUILD_DIR/results}
@@ -54,10 +57,22 @@ run() {
   fi
 }
 
+# Under --update-docs, the figures that docs/figures keeps are replaced by the new ones of the
+# same name; the others stay in FIGURES. The README's view strip is a reduced copy (a photo
+# strip at full size is 0.3 MB), so it is not replaced.
+copy_doc_figures() {
+  local kept
+  for kept in docs/figures/*.png; do
+    case "$kept" in *_views.png) continue ;; esac
+    if [ -f "$FIGURES/$(basename "$kept")" ]; then run cp "$FIGURES/$(basename "$kept")" "$kept"; fi
+  done
+}
+
 # The closing line: where the outputs are.
 report_output_folder() {
   if [ "$UPDATE_DOCS" = 1 ]; then
-    echo "$(basename "$0"): updated docs/results, docs/figures and docs/RESULTS.md"
+    copy_doc_figures
+    echo "$(basename "$0"): CSVs and figures in $OUT_ROOT; updated docs/RESULTS.md's generated sections and the figures docs/figures keeps"
   else
     echo "$(basename "$0"): outputs in $OUT_ROOT (compare: diff docs/RESULTS.md $RESULTS_MD; --update-docs writes docs/)"
   fi

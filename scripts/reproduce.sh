@@ -3,8 +3,8 @@
 # precision-recall evaluation and the timing table (CSVs), then draws the figures (figures/*.png)
 # and regenerates the sections "## Simulation", "## Precision-recall", "## Learned vs random test
 # sets", "## Real fisheye photos (turned lens)" and "## Timing table" of a copy of docs/RESULTS.md,
-# all in the output folder (scripts/output_folder.sh: default BUILD_DIR/results, --out DIR, or
-# docs/ with --update-docs).
+# all in the output folder (scripts/output_folder.sh: default BUILD_DIR/results, --out DIR;
+# --update-docs also rewrites those sections of docs/RESULTS.md and the figures docs/figures keeps).
 # Usage: scripts/reproduce.sh [--out DIR | --update-docs] [--dry-run] [build-dir]   (default: build).
 # Environment: MDBRIEF_DATA = the shared data folder (default ../shared/data; the Oxford
 # sequences are skipped if absent). About 5 minutes on the 2-core machine.

@@ -3,7 +3,8 @@
 # the real poster-dev frames, the Oxford sequences, the rendered fisheye sequences and the
 # turned-lens photos; prints the table, writes tracker/*.csv, figures/tracker.png and the section
 # "## Tracker benchmark (generated)" of a copy of docs/RESULTS.md into the output folder
-# (scripts/output_folder.sh: default BUILD_DIR/results, --out DIR, or docs/ with --update-docs).
+# (scripts/output_folder.sh: default BUILD_DIR/results, --out DIR; --update-docs also rewrites that
+# section of docs/RESULTS.md and docs/figures/tracker.png).
 # Extra arguments go to `mdbrief-eval tracker` (e.g. --datasets poster-dev oxford).
 # Usage: scripts/tracker.sh [--out DIR | --update-docs] [--dry-run] [build-dir [args...]]
 set -euo pipefail
