@@ -48,20 +48,34 @@ trap 'rm -rf "$WORK"' EXIT
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:allocator_may_return_null=1:max_allocation_size_mb=2048
 export LSAN_OPTIONS=suppressions=$PWD/fuzz/lsan.supp
 export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
-found=0
-for t in "${targets[@]}"; do
-  corpus="$WORK/$t" && mkdir -p "$corpus" "fuzz/regressions/$t"
+# One target a core (FUZZ_JOBS, default nproc): each libFuzzer run is one process, so the same
+# seconds per target cost half the time on 2 cores, and a fixed seed still repeats each run.
+fuzz_one() {
+  local t=$1 corpus="$WORK/$1" log="$WORK/$1.log"
+  mkdir -p "$corpus" "fuzz/regressions/$t"
   cp fuzz/seeds/"$t"/* "$corpus"/
   if [ "$t" = camera ] && [ -d "$DATA/fisheye" ]; then
     find "$DATA/fisheye" \( -name '*.yml' -o -name '*.yaml' -o -name 'calib_results.txt' \) -exec cp --backup=numbered {} "$corpus"/ \;
   fi
-  log="$WORK/$t.log"
-  if ! "$BUILD_DIR/fuzz/fuzz_$t" "$corpus" -max_total_time="$SECONDS_PER_TARGET" -timeout=10 -rss_limit_mb=4096 \
-      -artifact_prefix="fuzz/regressions/$t/" -print_final_stats=1 ${FUZZ_SEED:+-seed=$FUZZ_SEED} > "$log" 2>&1; then
-    found=1
+  local status=0
+  "$BUILD_DIR/fuzz/fuzz_$t" "$corpus" -max_total_time="$SECONDS_PER_TARGET" -timeout=10 -rss_limit_mb=4096 \
+    -artifact_prefix="fuzz/regressions/$t/" -print_final_stats=1 ${FUZZ_SEED:+-seed=$FUZZ_SEED} > "$log" 2>&1 || status=1
+  if [ $status = 1 ]; then
     echo "fuzz: $t: FINDING kept in fuzz/regressions/$t/ ($(grep -m1 -E 'ERROR|runtime error|deadly signal|timeout' "$log"))"
   fi
+  local execs
   execs=$(grep -m1 'stat::number_of_executed_units' "$log" | awk '{print $2}')
   echo "fuzz: $t: ${SECONDS_PER_TARGET} s, ${execs:-?} executions, corpus $(ls "$corpus" | wc -l) inputs"
+  echo $status > "$WORK/$t.status"
+}
+jobs_at_once=${FUZZ_JOBS:-$(nproc)}
+for t in "${targets[@]}"; do
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs_at_once" ]; do wait -n || true; done
+  fuzz_one "$t" &
+done
+wait
+found=0
+for t in "${targets[@]}"; do
+  [ "$(cat "$WORK/$t.status" 2>/dev/null)" = 0 ] || found=1
 done
 exit $found

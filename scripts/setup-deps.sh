@@ -4,7 +4,7 @@
 set -euo pipefail
 
 PACKAGES=(
-  build-essential cmake pkg-config git
+  build-essential cmake pkg-config git ccache
   libopencv-dev opencv-doc
   libeigen3-dev libtbb-dev libcli11-dev libhdf5-dev
   libgtest-dev libbenchmark-dev

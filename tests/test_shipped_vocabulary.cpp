@@ -18,7 +18,7 @@ using namespace mdbrief;
 
 namespace {
 
-const std::string kShipped = (mdbrief::testing::sourceDir() / "vocabularies" / "tracking_k10_L4.mdbvoc").string();
+const std::string kShipped = (mdbrief::testing::sourceDir() / "configs" / "vocabularies" / "tracking_k10_L4.mdbvoc").string();
 
 }  // namespace
 

@@ -356,6 +356,79 @@ TEST(CheckKnownPose, AskedOfAPointBehindTheCameras) {
 
 // --- Failures and bad input -----------------------------------------------------------------
 
+// Random pairs of bearings hold no two-view geometry: 1000 seeds, each fit must report that its
+// inliers are what chance gives (issue 44: 32 of 10,000 random pairs counted as a model).
+TEST(TwoViewSignificance, RandomBearingsFailInAtLeast99PercentOfSeeds) {
+  TwoViewOptions options;
+  options.maxIterations = 100;  // a fit on noise runs them all: enough samples for chance to find its best
+  int essentialOk = 0, homographyOk = 0, refusedForChance = 0;
+  for (std::uint32_t seed = 0; seed < 1000; ++seed) {
+    std::mt19937 rng(seed);
+    std::vector<cv::Vec3d> a, b;
+    for (int k = 0; k < 200; ++k) a.push_back(randomBearing(rng)), b.push_back(randomBearing(rng));
+    options.seed = seed;
+    const EssentialResult e = fitEssential(a, b, options);
+    const HomographyResult h = fitHomography(a, b, options);
+    essentialOk += e.ok();
+    homographyOk += h.ok();
+    // Chance's best model is refused for its significance, or never reaches 5 inliers at all.
+    if (e.failure == TwoViewFailure::NotSignificant) {
+      EXPECT_GE(e.log10FalseAlarms, 0.0) << e.reason;
+      EXPECT_EQ(e.inliers, std::vector<unsigned char>(200, 0));
+      ++refusedForChance;
+    } else if (!e.ok()) {
+      EXPECT_EQ(e.failure, TwoViewFailure::NoModel) << e.reason;
+    }
+  }
+  EXPECT_LE(essentialOk, 10);
+  EXPECT_LE(homographyOk, 10);
+  EXPECT_GT(refusedForChance, 500);  // without the test, these would have been models
+  RecordProperty("essential_ok", essentialOk);
+  RecordProperty("homography_ok", homographyOk);
+  RecordProperty("refused_for_chance", refusedForChance);
+}
+
+// The same test keeps a real model among 30 % outliers, and says how unlikely it is by chance.
+TEST(TwoViewSignificance, AModelAmongThirtyPercentOutliersIsFarFromChance) {
+  const TwoViews views;
+  std::mt19937 rng(5);
+  std::vector<cv::Vec3d> a, b;
+  for (const cv::Vec3d& x : generalScene(70, rng)) a.push_back(unit(x)), b.push_back(unit(views.toB(x)));
+  for (int k = 0; k < 30; ++k) a.push_back(randomBearing(rng)), b.push_back(randomBearing(rng));
+  const EssentialResult e = fitEssential(a, b);
+  ASSERT_TRUE(e.ok()) << e.reason;
+  EXPECT_GE(e.inlierCount, 70);
+  EXPECT_LT(e.log10FalseAlarms, -50);
+  // Asked for more certainty than the matches give, the same fit fails and keeps the figure.
+  TwoViewOptions strict;
+  strict.maxFalseAlarms = std::pow(10.0, e.log10FalseAlarms - 1);
+  const EssentialResult refused = fitEssential(a, b, strict);
+  EXPECT_EQ(refused.failure, TwoViewFailure::NotSignificant);
+  EXPECT_NEAR(refused.log10FalseAlarms, e.log10FalseAlarms, 1e-9);
+  EXPECT_NE(refused.reason.find("inliers no more than chance"), std::string::npos) << refused.reason;
+
+  std::vector<cv::Vec3d> pa, pb;
+  for (const cv::Vec3d& x : planePoints(70, rng)) pa.push_back(unit(x)), pb.push_back(unit(views.toB(x)));
+  for (int k = 0; k < 30; ++k) pa.push_back(randomBearing(rng)), pb.push_back(randomBearing(rng));
+  const HomographyResult h = fitHomography(pa, pb);
+  ASSERT_TRUE(h.ok()) << h.reason;
+  EXPECT_GE(h.inlierCount, 70);
+  EXPECT_LT(h.log10FalseAlarms, -50);
+}
+
+// A minimal sample always fits: five matches are no evidence of an essential matrix, four none
+// of a homography.
+TEST(TwoViewSignificance, AMinimalSampleIsNoEvidence) {
+  const TwoViews views;
+  std::mt19937 rng(8);
+  std::vector<cv::Vec3d> a, b;
+  for (const cv::Vec3d& x : generalScene(5, rng)) a.push_back(unit(x)), b.push_back(unit(views.toB(x)));
+  EXPECT_EQ(fitEssential(a, b).failure, TwoViewFailure::NotSignificant);
+  a.resize(4), b.resize(4);
+  const auto h = fitHomography(a, b);
+  EXPECT_FALSE(h.ok());
+}
+
 TEST(TwoViewFailures, TooFewMatchesGiveAnEmptyResultWithAReason) {
   const std::vector<cv::Vec3d> four{{0, 0, 1}, {0.1, 0, 1}, {0, 0.1, 1}, {0.2, 0.3, 1}};
   const EssentialResult e = fitEssential(four, four);
@@ -453,7 +526,13 @@ TEST(TwoViewOptions, TableNamesEveryOptionWithItsDefault) {
   std::vector<std::string> keywords;
   for (const auto& f : twoViewOptionFields()) keywords.push_back(f.keyword);
   EXPECT_EQ(keywords, (std::vector<std::string>{"max_angle", "max_pixels", "confidence", "max_iterations", "seed",
-                                                 "refine", "in_front"}));
+                                                 "refine", "in_front", "max_false_alarms"}));
+  EXPECT_EQ(defaults.maxFalseAlarms, 1.0);
+  TwoViewOptions o;
+  o.maxFalseAlarms = 0;
+  EXPECT_THROW(validate(o), OptionError);
+  o.maxFalseAlarms = std::nan("");
+  EXPECT_THROW(validate(o), OptionError);
   EXPECT_EQ(toString(TwoViewFailure::NoModel), std::string("no model found"));
 }
 

@@ -112,7 +112,8 @@ cv::Vec3d vectorFrom(const py::handle& object, const char* argument) {
 const char* const kOptionsDoc = R"doc(
 Options (keywords; mdbrief.option_fields("two_view") lists them with their ranges):
 max_angle (0.005 rad), or max_pixels (2.0) when pixels_per_radian is given; confidence (0.999),
-max_iterations (3000), seed (1), refine (True), in_front (True).)doc";
+max_iterations (3000), seed (1), refine (True), in_front (True), max_false_alarms (1.0: a fit
+fails with "inliers no more than chance" when random matches would give one model as good).)doc";
 
 }  // namespace
 
@@ -120,8 +121,8 @@ void bindGeometry(py::module_& m) {
   py::class_<PyTwoViewResult>(m, "TwoViewResult", initialisedObjectsOnly(), R"doc(
 A two-view fit or check of matched bearings: per match, the inlier flag and the residual (an
 angle, radians); the model. When the fit fails, ok is False, reason says why ("too few matches",
-"all matches on the same point", "all matches on a line", "no model found"), no match is an
-inlier and residuals is empty.)doc")
+"all matches on the same point", "all matches on a line", "no model found", "inliers no more than
+chance"), no match is an inlier and residuals is empty.)doc")
       .def_property_readonly("kind", [](const PyTwoViewResult& r) { return r.kind; },
                              "'essential', 'homography' or 'known pose'.")
       .def_property_readonly("ok", [](const PyTwoViewResult& r) { return r.result.ok(); })
@@ -144,6 +145,10 @@ inlier and residuals is empty.)doc")
           "(N,) float64, radians: the epipolar angle (essential, known pose) or the angle between b and\n"
           "H a (homography). Empty when the fit failed.")
       .def_property_readonly("inlier_count", [](const PyTwoViewResult& r) { return r.result.inlierCount; })
+      .def_property_readonly(
+          "log10_false_alarms", [](const PyTwoViewResult& r) { return r.result.log10FalseAlarms; },
+          "Fits: log10 of the model's number of false alarms, how many models as good random matches\n"
+          "would give (max_false_alarms); also when the fit failed on it. 0 for a known pose.")
       .def_property_readonly(
           "model",
           [](const PyTwoViewResult& r) -> py::object {

@@ -261,7 +261,7 @@ def test_integers_beyond_a_c_int_get_the_range_error():
         mdbrief.Camera("pinhole", 2**40, 480, fx=400, fy=400, cx=320, cy=240)
     with pytest.raises(ValueError, match="'height' must be a positive integer"):
         mdbrief.Camera("pinhole", 640, -2**70, fx=400, fy=400, cx=320, cy=240)
-    vocabulary = mdbrief.Vocabulary.load(str(pathlib.Path(__file__).resolve().parents[2] / "vocabularies" /
+    vocabulary = mdbrief.Vocabulary.load(str(pathlib.Path(__file__).resolve().parents[2] / "configs" / "vocabularies" /
                                              "tracking_k10_L4.mdbvoc"))
     database = mdbrief.Database(vocabulary)
     rng = np.random.default_rng(5)

@@ -148,7 +148,8 @@ def test_bad_arguments():
 
 def test_options_table_and_pixels_per_radian(camera):
     fields = {f["keyword"]: f for f in mdbrief.option_fields("two_view")}
-    assert list(fields) == ["max_angle", "max_pixels", "confidence", "max_iterations", "seed", "refine", "in_front"]
+    assert list(fields) == ["max_angle", "max_pixels", "confidence", "max_iterations", "seed", "refine", "in_front",
+                           "max_false_alarms"]
     assert fields["max_angle"]["default"] == 0.005 and fields["max_pixels"]["default"] == 2.0
     width, height = camera.image_size
     scale = mdbrief.pixels_per_radian(camera, [[width / 2, height / 2], [-1e6, -1e6]])

@@ -241,6 +241,17 @@ EssentialResult fitEssential(const std::vector<cv::Vec3d>& a, const std::vector<
   result.residuals = std::move(residuals);
   result.inliers = std::move(inliers);
   result.inlierCount = count;
+  // Would random matches give as many inliers? A bearing lies within angle x of a plane with
+  // probability sin x when bearings spread over the sphere.
+  const double chance = geometry::chanceShare(n, options.seed, std::sin(parallel), [&](int ka, int kb) {
+    const double r = geometry::epipolarResidual(result.essential, m.a[ka], m.b[kb]);
+    return m.within(kb, r) &&
+           (!options.inFront || geometry::inFront(pose.rotation, pose.translation, m.a[ka], m.b[kb], parallel));
+  });
+  // Up to 10 essential matrices per sample (Nister's solver).
+  result.log10FalseAlarms = geometry::significanceLog10(10, n, std::min(count, bestCount), kSample, chance);
+  geometry::failIfChance(result, options.maxFalseAlarms, n, kSample);
+  if (!result.ok()) result.pose = {}, result.essential = cv::Matx33d();
   return result;
 }
 

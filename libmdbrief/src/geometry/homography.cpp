@@ -177,6 +177,7 @@ HomographyResult fitHomography(const std::vector<cv::Vec3d>& a, const std::vecto
     geometry::fail(result, TwoViewFailure::NoModel, n, kSample);
     return result;
   }
+  const int sampledCount = bestCount;  // what the significance test counts (maxFalseAlarms)
   const auto membersOf = [&](const std::vector<unsigned char>& in) {
     std::vector<int> members;
     for (int k = 0; k < n; ++k)
@@ -217,6 +218,18 @@ HomographyResult fitHomography(const std::vector<cv::Vec3d>& a, const std::vecto
     bool facing = false;
     result.residuals[k] = residual(best, m.a[k], m.b[k], facing);
   }
+  // Would random matches give as many inliers? A bearing lies within angle x of a direction
+  // with probability (1 - cos x) / 2 when bearings spread over the sphere.
+  const double chance =
+      geometry::chanceShare(n, o.seed, 0.5 * (1.0 - std::cos(m.typicalAngle())), [&](int ka, int kb) {
+        bool facing = false;
+        const double r = residual(best, m.a[ka], m.b[kb], facing);
+        return facing && m.within(kb, r);
+      });
+  result.log10FalseAlarms =
+      geometry::significanceLog10(1, n, std::min(result.inlierCount, sampledCount), kSample, chance);
+  geometry::failIfChance(result, o.maxFalseAlarms, n, kSample);
+  if (!result.ok()) result.homography = cv::Matx33d();
   return result;
 }
 

@@ -1,5 +1,6 @@
 #include "mdbrief/geometry/two_view.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -29,6 +30,9 @@ const OptionTable<TwoViewOptions>& twoViewOptionFields() {
                    [](auto& o) -> auto& { return o.refine; }),
       flagField<O>("inFront", "", "in_front", nullptr, "an inlier's point lies in front of both cameras",
                    [](auto& o) -> auto& { return o.inFront; }),
+      realField<O>("maxFalseAlarms", "", "max_false_alarms", "--max-false-alarms",
+                   "a model counts as found when random matches would give fewer as good",
+                   R::openLow(0, 1e300), [](auto& o) -> auto& { return o.maxFalseAlarms; }),
   };
   return table;
 }
@@ -47,6 +51,8 @@ const char* toString(TwoViewFailure failure) {
       return "all matches on a line";
     case TwoViewFailure::NoModel:
       return "no model found";
+    case TwoViewFailure::NotSignificant:
+      return "inliers no more than chance";
   }
   return "unknown failure";
 }
@@ -204,6 +210,24 @@ void fail(TwoViewResult& result, TwoViewFailure failure, int matches, int minima
   result.inliers.assign(matches, 0);
   result.residuals.clear();
   result.inlierCount = 0;
+}
+
+double significanceLog10(int modelsPerSample, int matches, int inliers, int sample, double chance) {
+  const auto log10Choose = [](int n, int k) {
+    return (std::lgamma(n + 1.0) - std::lgamma(k + 1.0) - std::lgamma(n - k + 1.0)) / std::log(10.0);
+  };
+  return std::log10(static_cast<double>(modelsPerSample) * std::max(matches - sample, 1)) +
+         log10Choose(matches, inliers) + log10Choose(inliers, sample) + (inliers - sample) * std::log10(chance);
+}
+
+void failIfChance(TwoViewResult& result, double maxFalseAlarms, int matches, int sample) {
+  if (result.log10FalseAlarms < std::log10(maxFalseAlarms)) return;
+  const int inliers = result.inlierCount;
+  const double nfa = result.log10FalseAlarms;
+  fail(result, TwoViewFailure::NotSignificant, matches, sample);
+  result.log10FalseAlarms = nfa;
+  result.reason += ": " + std::to_string(inliers) + " inliers, 10^" + std::to_string(nfa).substr(0, 6) +
+                   " false alarms, maxFalseAlarms " + std::to_string(maxFalseAlarms).substr(0, 8);
 }
 
 double angleBetween(const cv::Vec3d& u, const cv::Vec3d& v) { return std::atan2(cv::norm(u.cross(v)), u.dot(v)); }

@@ -1,6 +1,8 @@
 #pragma once
 // What the two-view fits share: checked and normalised input, the inlier test in angles or
 // pixels, the degenerate configurations, the point in front of both cameras.
+#include <algorithm>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -39,6 +41,30 @@ TwoViewFailure degeneracy(const CheckedMatches& m, int minimal);
 void fail(TwoViewResult& result, TwoViewFailure failure, int matches, int minimal);
 
 double angleBetween(const cv::Vec3d& u, const cv::Vec3d& v);
+
+// log10 of a model's number of false alarms (TwoViewOptions::maxFalseAlarms): up to
+// `modelsPerSample` models from each minimal `sample`, `inliers` of `matches`, each match an
+// inlier by chance with probability `chance`.
+double significanceLog10(int modelsPerSample, int matches, int inliers, int sample, double chance);
+// Marks `result` NotSignificant when its log10FalseAlarms exceeds maxFalseAlarms; keeps the figure.
+void failIfChance(TwoViewResult& result, double maxFalseAlarms, int matches, int sample);
+
+// The share of matches a model takes as inliers by chance (TwoViewOptions::maxFalseAlarms):
+// `inlier(ka, kb)` tells whether a[ka] with b[kb] is an inlier; counted over four pairings of
+// each a with another match's b (cyclic shifts drawn from `seed`), and at least `sphere`, the
+// share that bearings spread over the whole sphere would give.
+template <class Inlier>
+double chanceShare(int matches, std::uint32_t seed, double sphere, Inlier inlier) {
+  constexpr int kPairings = 4;
+  std::uint64_t state = seed * 0x9E3779B97F4A7C15ull + 1;
+  long long count = 0;
+  for (int p = 0; p < kPairings; ++p) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    const int shift = 1 + static_cast<int>((state >> 33) % static_cast<std::uint64_t>(matches - 1));
+    for (int k = 0; k < matches; ++k) count += inlier(k, (k + shift) % matches);
+  }
+  return std::max(sphere, static_cast<double>(count) / (static_cast<double>(kPairings) * matches));
+}
 
 // The epipolar angle of unit b against unit a under E = [t]x R: the angle between b and the
 // epipolar plane of a (through t and a, in b's frame E^T a is its normal), so that times the

@@ -60,6 +60,20 @@ struct TwoViewOptions {
   // cameras. A match whose rays are parallel within the threshold (a point far away, or a pure
   // rotation) passes: its depth has no sign to check. Default on.
   bool inFront = true;
+  // fitEssential, fitHomography: a model counts as found when its number of false alarms is below
+  // this: the a-contrario test of ORSA (Moisan and Stival 2004; Moisan, Moulon and Monasse 2012).
+  // For k inliers of n matches, a minimal sample of s giving up to m models (10 essential
+  // matrices, 1 homography) and p the probability that a random match is an inlier,
+  //   NFA = m (n - s) C(n, k) C(k, s) p^(k - s),
+  // the expected number of models with k such inliers that random matches would give. k is the
+  // count of the best minimal sample's model (a refit on its inliers may add some, but is no
+  // longer tested by s matches). p is measured on the fitted model by pairing each a with another
+  // match's b (four shifted pairings), and is at least what bearings spread over the whole sphere
+  // give at the threshold. A model at or above it fails with NotSignificant; a minimal sample alone
+  // (k = s) never passes the default. In (0, 1e300]. Default 1: fewer than one such model
+  // expected by chance. Random bearings then fail at least 99 times in 100
+  // (tests/test_two_view_geometry.cpp).
+  double maxFalseAlarms = 1.0;
 };
 
 // The fields of TwoViewOptions (option_fields.hpp); Python's keywords.
@@ -75,8 +89,10 @@ enum class TwoViewFailure {
   OnALine,        // every bearing of an image within the threshold of one plane through the camera
                   // centre: the matches lie on one line (of a pinhole image), which fixes no model
   NoModel,        // no sample gave a model that explains the minimal number of matches
+  NotSignificant, // the best model's inliers are no more than chance gives (maxFalseAlarms)
 };
-// "too few matches", "all matches on the same point", "all matches on a line", "no model found".
+// "too few matches", "all matches on the same point", "all matches on a line", "no model found",
+// "inliers no more than chance".
 const char* toString(TwoViewFailure failure);
 
 // The pose of camera b in camera a's frame (X_a = R X_b + t): the rigid transform a rig gives
@@ -91,6 +107,9 @@ struct TwoViewResult {
   std::vector<unsigned char> inliers;  // per match, 1 = inlier; all 0 on failure
   std::vector<double> residuals;       // per match, radians; empty on failure
   int inlierCount = 0;
+  // fitEssential, fitHomography: log10 of the model's number of false alarms (maxFalseAlarms),
+  // also on failure NotSignificant; 0 otherwise. The lower, the less a model can be chance.
+  double log10FalseAlarms = 0;
   bool ok() const { return failure == TwoViewFailure::None; }
 };
 
