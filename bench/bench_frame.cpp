@@ -9,7 +9,9 @@
 // Frames: Graffiti rendered through configs/cameras/lafida_fisheye0.yaml (needs opencv-doc).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <array>
+#include <chrono>
 #include <memory>
 
 #include <opencv2/core/utility.hpp>
@@ -18,8 +20,9 @@
 
 #include "bench_scene.hpp"
 #include "mdbrief/api/feature2d.hpp"
-#include "mdbrief/match/matcher.hpp"
 #include "mdbrief/api/presets.hpp"
+#include "mdbrief/match/match_refinement.hpp"
+#include "mdbrief/match/matcher.hpp"
 
 namespace {
 
@@ -133,7 +136,48 @@ void BM_FrameMdBriefStages(benchmark::State& state) {
   cv::setNumThreads(-1);
 }
 
+// Sub-pixel refinement of the frame's matches (match_refinement.hpp) against the matching that
+// found them, single-threaded, timed alternately in each iteration: counters us_per_match (the
+// refinement) and refine_over_match (its time over the masked brute-force match's). The
+// pyramids are the detection's, built outside the timing as a tracker keeps them.
+void BM_RefineMatches(benchmark::State& state) {
+  const Views& v = views();
+  if (v.a.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
+  cv::setNumThreads(1);
+  const tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+  mdbrief::MdBriefOptions options;
+  options.detector.nfeatures = kFeatures;
+  const cv::Ptr<mdbrief::MdBrief> md = mdbrief::MdBrief::create(v.camera, options);
+  std::vector<cv::KeyPoint> ka, kb;
+  cv::Mat da, ma, db, mb;
+  md->detectAndComputeWithMasks(v.a, cv::noArray(), ka, da, ma);
+  md->detectAndComputeWithMasks(v.b, cv::noArray(), kb, db, mb);
+  const mdbrief::ImagePyramid pa(v.a, options.detector.pyramid), pb(v.b, options.detector.pyramid);
+  const mdbrief::MatchOptions match;
+  std::vector<cv::DMatch> matches = mdbrief::matchBruteForceMasked(da, ma, db, mb, match);
+  for (int level = 0; level < pa.levels(); ++level) pa.smoothedFloat(level), pb.smoothedFloat(level);
+  double refineSeconds = 0, matchSeconds = 0;
+  size_t refined = 0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto m = mdbrief::matchBruteForceMasked(da, ma, db, mb, match);
+    const auto t1 = std::chrono::steady_clock::now();
+    const auto r = mdbrief::refineMatches(pa, *v.camera, ka, pb, *v.camera, kb, matches);
+    const auto t2 = std::chrono::steady_clock::now();
+    matchSeconds += std::chrono::duration<double>(t1 - t0).count();
+    refineSeconds += std::chrono::duration<double>(t2 - t1).count();
+    refined = 0;
+    for (const auto& x : r) refined += x.ok();
+    benchmark::DoNotOptimize(m.data());
+  }
+  state.counters["matches"] = double(matches.size());
+  state.counters["refined"] = double(refined);
+  state.counters["us_per_match"] = 1e6 * refineSeconds / double(state.iterations()) / double(std::max<size_t>(1, matches.size()));
+  state.counters["refine_over_match"] = refineSeconds / std::max(1e-12, matchSeconds);
+}
+
 BENCHMARK(BM_FrameOrb)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RefineMatches)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_FrameMdBrief)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
 // Arg: 0 = detect, 1 = describe, 2 = match.
 BENCHMARK(BM_FrameMdBriefStages)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -11,6 +11,7 @@
 #include "held_out.hpp"
 #include "mdbrief/internal/base/io/input_file.hpp"
 #include "poster_dev.hpp"
+#include "stereo_benchmark.hpp"
 #include "tracker_experiment.hpp"
 #include "scenes/photo_camera.hpp"
 
@@ -23,7 +24,16 @@ struct Args {
   std::vector<std::string> only;
   std::vector<std::string> library;  // name=options.yml
   TrackerExperimentOptions options;
+  StereoOptions stereo;
 };
+
+// The data sets of `--datasets`: the image-pair sets, and the stereo pairs scored by their pose.
+const std::string kStereoDataset = "stereo";
+std::vector<std::string> trackerDatasets() {
+  std::vector<std::string> names = kBenchmarkDatasets;
+  names.push_back(kStereoDataset);
+  return names;
+}
 
 // Extra library pipelines: name=file, a cv::FileStorage file of MdBrief::write's schema.
 std::vector<TrackerPipeline> libraryPipelines(const std::vector<std::string>& specs) {
@@ -102,9 +112,10 @@ void addTrackerCommand(CLI::App& app) {
                                      "to the working directory, or $MDBRIEF_DATA)")
       ->capture_default_str();
   cmd->add_option("--datasets", a->datasets,
-                  "Only these data sets: poster-dev, oxford, rendered-fisheye, turned-lens (default: every one "
-                  "found; one named here that cannot be read is an error)")
-      ->check(CLI::IsMember(kBenchmarkDatasets));
+                  "Only these data sets: poster-dev, oxford, rendered-fisheye, turned-lens, stereo (the real stereo "
+                  "pairs, scored by their known pose; default: every one found; one named here that cannot be read "
+                  "is an error)")
+      ->check(CLI::IsMember(trackerDatasets()));
   cmd->add_option("--only", a->only, "Only the pipelines whose name starts with one of these");
   cmd->add_option("--library", a->library,
                   "Also evaluate the library with these options: name=file (cv::FileStorage, as MdBrief::write "
@@ -115,7 +126,14 @@ void addTrackerCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--fisheye-camera", a->paths.fisheyeCameras, "Calibrations the rendered fisheye sequences use, file or file#id for one camera of a rig file")
       ->capture_default_str();
-  cmd->add_option("--out", a->options.outDir, "Output folder for tracker_pairs.csv and tracker_summary.csv")->required();
+  cmd->add_flag("--stereo-refine", a->stereo.refine,
+                "The library's pipelines refine their stereo matches (mdbrief/match/match_refinement.hpp)");
+  cmd->add_option("--stereo-budget", a->stereo.budget, "Keypoints per image of the stereo pairs")
+      ->check(CLI::Range(10, 100000))
+      ->capture_default_str();
+  cmd->add_option("--out", a->options.outDir,
+                  "Output folder for tracker_pairs.csv, tracker_summary.csv, stereo_pairs.csv and stereo_summary.csv")
+      ->required();
   cmd->callback([a] {
     std::vector<TrackerPipeline> pipelines;
     for (const auto& p : standardTrackerPipelines())
@@ -126,8 +144,22 @@ void addTrackerCommand(CLI::App& app) {
     if (pipelines.empty()) throw InputError("no pipeline selected (--only matches none, no --library)");
     const bool named = !a->datasets.empty();
     std::vector<EvalGroup> groups;
+    std::vector<StereoSet> stereo;
     std::vector<std::string> images;
-    for (const auto& name : named ? a->datasets : kBenchmarkDatasets) {
+    for (const auto& name : named ? a->datasets : trackerDatasets()) {
+      if (name == kStereoDataset) {
+        try {
+          stereo = loadStereoSets(a->paths.data);
+          if (stereo.empty()) throw std::runtime_error(a->paths.data + "/stereo: not found");
+        } catch (const std::exception& e) {
+          if (named) throw InputError(name + ": " + e.what());
+          std::fprintf(stderr, "tracker: skipping %s: %s\n", name.c_str(), e.what());
+          continue;
+        }
+        for (const auto& set : stereo)
+          for (const auto& pair : set.pairs) images.insert(images.end(), {pair.left, pair.right});
+        continue;
+      }
       std::vector<std::string> read;
       try {
         groups.push_back(loadBenchmarkDataset(name, a->paths, read));
@@ -138,16 +170,20 @@ void addTrackerCommand(CLI::App& app) {
       }
       images.insert(images.end(), read.begin(), read.end());
     }
-    if (groups.empty()) throw InputError("no data set could be read (see the messages above)");
+    if (groups.empty() && stereo.empty()) throw InputError("no data set could be read (see the messages above)");
     std::vector<std::string> inputs = images;
     for (const auto& value : a->paths.fisheyeCameras) inputs.push_back(parseCameraReference(value).path);
     for (const auto& spec : a->library) inputs.push_back(spec.substr(spec.find('=') + 1));
-    checkOutputsApart(inputs, {a->options.outDir + "/tracker_pairs.csv", a->options.outDir + "/tracker_summary.csv"});
+    checkOutputsApart(inputs, {a->options.outDir + "/tracker_pairs.csv", a->options.outDir + "/tracker_summary.csv",
+                               a->options.outDir + "/stereo_pairs.csv", a->options.outDir + "/stereo_summary.csv"});
     std::vector<MethodSpec> methods;
     for (const auto& p : pipelines)
       if (p.kind == TrackerPipeline::Kind::Library) methods.push_back({p.name, MethodFamily::Library, p.options.descriptor});
     requireDisjointTraining(methods, images);
-    asInputErrors([&] { runTracker(groups, pipelines, a->options); });
+    asInputErrors([&] {
+      if (!groups.empty()) runTracker(groups, pipelines, a->options);
+      if (!stereo.empty()) runStereo(stereo, pipelines, a->stereo, a->options.outDir);
+    });
   });
 }
 

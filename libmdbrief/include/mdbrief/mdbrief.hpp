@@ -26,6 +26,7 @@
 #include "mdbrief/match/guided_matcher.hpp"
 #include "mdbrief/match/hamming.hpp"
 #include "mdbrief/match/masked_hamming.hpp"
+#include "mdbrief/match/match_refinement.hpp"
 #include "mdbrief/match/matcher.hpp"
 #include "mdbrief/recognition/bow_vector.hpp"
 #include "mdbrief/recognition/database.hpp"

@@ -1,0 +1,307 @@
+#include "stereo_benchmark.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <tuple>
+
+#include <tbb/parallel_for.h>
+
+#include "csv_table.hpp"
+#include "toolkit/image_file.hpp"
+
+namespace mdbrief::eval {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The image names of an ASL folder's data.csv (#timestamp [ns],filename), in file order.
+std::vector<std::string> aslImageNames(const fs::path& csv) {
+  std::ifstream in(csv);
+  if (!in) throw std::runtime_error(csv.string() + ": cannot read");
+  std::vector<std::string> names;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    const auto comma = line.find(',');
+    if (comma == std::string::npos) throw std::runtime_error(csv.string() + ": expected 'timestamp,filename': " + line);
+    std::string name = line.substr(comma + 1);
+    while (!name.empty() && (name.back() == '\r' || name.back() == ' ')) name.pop_back();
+    names.push_back(name);
+  }
+  return names;
+}
+
+cv::Mat readGrey(const std::string& path) {
+  if (const std::string problem = truncationProblem(path); !problem.empty())
+    throw std::runtime_error(path + ": " + problem);
+  cv::Mat image = decodeGreyImage(path);
+  if (image.empty()) throw std::runtime_error(path + ": not an image OpenCV decodes");
+  return image;
+}
+
+double degrees(double radians) { return radians * 180.0 / CV_PI; }
+
+double angleBetween(const cv::Vec3d& u, const cv::Vec3d& v) { return std::atan2(cv::norm(u.cross(v)), u.dot(v)); }
+
+// The larger of the rotation's and the translation direction's angular errors, degrees.
+double poseErrorDeg(const RelativePose& fit, const RelativePose& truth) {
+  const cv::Matx33d d = fit.rotation.t() * truth.rotation;
+  const double rotation = std::acos(std::clamp((cv::trace(d) - 1.0) / 2.0, -1.0, 1.0));
+  const double translation = angleBetween(fit.translation, truth.translation);
+  return degrees(std::max(rotation, translation));
+}
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const size_t k = std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+// One pair under one pipeline, at one ratio.
+struct StereoPairResult {
+  int keypointsA = 0, keypointsB = 0, matches = 0, right = 0, refined = 0;
+  std::vector<double> rightResidualsPx;
+  bool fitOk = false;
+  int fitInliers = 0;
+  double poseErrorDeg = kInf;
+};
+
+struct Keypoints {
+  std::vector<std::optional<cv::Vec3d>> bearing;
+  std::vector<double> scale;  // pixels per radian; 0 where the camera has none
+};
+
+Keypoints keypointRays(const Camera& camera, const std::vector<cv::KeyPoint>& kps) {
+  Keypoints k;
+  for (const auto& kp : kps) {
+    cv::Vec3d b;
+    const auto scale = pixelsPerRadian(camera, kp.pt);
+    if (camera.pixelToBearing(kp.pt, b) && scale) {
+      k.bearing.emplace_back(b);
+      k.scale.push_back(*scale);
+    } else {
+      k.bearing.emplace_back();
+      k.scale.push_back(0);
+    }
+  }
+  return k;
+}
+
+// With pyramids, b's side of every match is refined (match_refinement.hpp) before it is scored;
+// a match the refinement fails on keeps its keypoint.
+std::vector<StereoPairResult> scorePair(const Features& fa, const Features& fb, const Camera& cameraA,
+                                        const Camera& cameraB, const RelativePose& truth, const StereoOptions& o,
+                                        const ImagePyramid* pyramidA = nullptr, const ImagePyramid* pyramidB = nullptr) {
+  const NeighbourTable table = nearestNeighbourTable(fa, fb);
+  const Keypoints ra = keypointRays(cameraA, fa.keypoints), rb = keypointRays(cameraB, fb.keypoints);
+  TwoViewOptions label = o.fit;
+  label.maxPixels = o.rightPx;
+  std::vector<StereoPairResult> out;
+  for (const double ratio : o.ratios) {
+    StereoPairResult r;
+    r.keypointsA = static_cast<int>(fa.keypoints.size());
+    r.keypointsB = static_cast<int>(fb.keypoints.size());
+    std::vector<cv::Vec3d> a, b;
+    std::vector<double> scale;
+    std::vector<cv::DMatch> kept;
+    for (const auto& [qa, tb] : mutualRatioMatches(table, ratio)) {
+      if (!ra.bearing[qa] || !rb.bearing[tb]) continue;
+      a.push_back(*ra.bearing[qa]);
+      b.push_back(*rb.bearing[tb]);
+      scale.push_back(rb.scale[tb]);
+      kept.emplace_back(qa, tb, 0.f);
+    }
+    if (pyramidA && pyramidB) {
+      const auto refined = refineMatches(*pyramidA, cameraA, fa.keypoints, *pyramidB, cameraB, fb.keypoints, kept, o.refinement);
+      for (size_t k = 0; k < kept.size(); ++k) {
+        const auto s = refined[k].ok() ? pixelsPerRadian(cameraB, refined[k].pointB) : std::nullopt;
+        if (!s) continue;
+        b[k] = refined[k].bearingB;
+        scale[k] = *s;
+        ++r.refined;
+      }
+    }
+    r.matches = static_cast<int>(a.size());
+    const TwoViewResult known = checkKnownPose(a, b, truth, label, scale);
+    for (size_t k = 0; k < a.size(); ++k)
+      if (known.inliers[k]) {
+        ++r.right;
+        r.rightResidualsPx.push_back(known.residuals[k] * scale[k]);
+      }
+    const EssentialResult fit = fitEssential(a, b, o.fit, scale);
+    r.fitOk = fit.ok();
+    r.fitInliers = fit.inlierCount;
+    if (fit.ok()) r.poseErrorDeg = poseErrorDeg(fit.pose, truth);
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<StereoSet> loadStereoSets(const std::string& data) {
+  const fs::path root = fs::path(data) / "stereo";
+  std::vector<StereoSet> sets;
+  if (!fs::is_directory(root)) return sets;
+  const fs::path euroc = root / "euroc-v1-01";
+  if (fs::is_directory(euroc)) {
+    StereoSet s{"euroc-v1-01",
+                readCameraRig(std::vector<std::string>{(euroc / "cam0/sensor.yaml").string(),
+                                                       (euroc / "cam1/sensor.yaml").string()}),
+                {}};
+    const auto left = aslImageNames(euroc / "cam0/data.csv"), right = aslImageNames(euroc / "cam1/data.csv");
+    for (const auto& name : left)
+      if (std::find(right.begin(), right.end(), name) != right.end())
+        s.pairs.push_back({(euroc / "cam0/data" / name).string(), (euroc / "cam1/data" / name).string()});
+    if (s.pairs.empty()) throw std::runtime_error(euroc.string() + ": no image in both cam0/data.csv and cam1/data.csv");
+    sets.push_back(std::move(s));
+  }
+  const fs::path mynt = root / "mynteye-fisheye";
+  if (fs::is_directory(mynt)) {
+    StereoSet s{"mynteye-fisheye",
+                readCameraRig(std::vector<std::string>{(mynt / "left_sensor_fisheye.yaml").string(),
+                                                       (mynt / "right_sensor_fisheye.yaml").string()}),
+                {{(mynt / "left_fisheye_img_0.png").string(), (mynt / "right_fisheye_img_0.png").string()}}};
+    sets.push_back(std::move(s));
+  }
+  return sets;
+}
+
+double poseAuc(std::vector<double> errorsDeg, double limit) {
+  if (errorsDeg.empty()) return 0;
+  std::sort(errorsDeg.begin(), errorsDeg.end());
+  // The recall curve through (0, 0) and (error k, k / n), linear between them (as SuperGlue and
+  // LoFTR report pose AUC), flat past the last error below the limit.
+  const double n = static_cast<double>(errorsDeg.size());
+  double area = 0, x = 0, y = 0;
+  for (size_t k = 0; k < errorsDeg.size() && errorsDeg[k] < limit; ++k) {
+    const double nx = errorsDeg[k], ny = static_cast<double>(k + 1) / n;
+    area += (nx - x) * (y + ny) / 2;
+    x = nx, y = ny;
+  }
+  area += (limit - x) * y;
+  return area / limit;
+}
+
+std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const std::vector<TrackerPipeline>& pipelines,
+                                     const StereoOptions& o, const std::string& outDir) {
+  CsvTable pairsCsv({"set", "image_a", "image_b", "pipeline", "ratio", "keypoints_a", "keypoints_b", "matches",
+                     "right", "residual_median_px", "fit_ok", "fit_inliers", "pose_error_deg"});
+  CsvTable summaryCsv({"set", "pipeline", "ratio", "shown", "pairs", "keypoints", "matches_per_pair",
+                       "right_per_pair", "precision", "residual_median_px", "residual_p90_px", "fits_ok", "auc5",
+                       "auc10", "auc20", "median_pose_error_deg"});
+  std::vector<StereoSummary> rows;
+  for (const auto& set : sets) {
+    const auto& cameraA = set.rig.at(0).camera;
+    const auto& cameraB = set.rig.at(1).camera;
+    const RelativePose truth = set.rig.relativePose(0, 1);
+    std::vector<cv::Mat> left(set.pairs.size()), right(set.pairs.size());
+    for (size_t i = 0; i < set.pairs.size(); ++i) left[i] = readGrey(set.pairs[i].left), right[i] = readGrey(set.pairs[i].right);
+    std::printf("\nstereo %s (%zu pairs, %d keypoints per image; counts and pose at each pipeline's best ratio, the "
+                "residual of right matches at ratio %.2f)\n",
+                set.name.c_str(), set.pairs.size(), o.budget, o.residualRatio);
+    std::printf("  %-28s %5s %8s %7s %7s %7s %7s %7s %9s %9s\n", "pipeline", "ratio", "right", "precis", "AUC@5",
+                "AUC@10", "AUC@20", "fits", "res-med", "res-p90");
+    for (const auto& p : pipelines) {
+      std::vector<std::vector<StereoPairResult>> results(set.pairs.size());
+      tbb::parallel_for(size_t(0), set.pairs.size(), [&](size_t i) {
+        const Features fa = trackerFeatures(p, left[i], cameraA, {}, o.budget);
+        const Features fb = trackerFeatures(p, right[i], cameraB, {}, o.budget);
+        if (p.kind == TrackerPipeline::Kind::Library && o.refine) {
+          const ImagePyramid pa(left[i], p.options.detector.pyramid), pb(right[i], p.options.detector.pyramid);
+          results[i] = scorePair(fa, fb, *cameraA, *cameraB, truth, o, &pa, &pb);
+        } else {
+          results[i] = scorePair(fa, fb, *cameraA, *cameraB, truth, o);
+        }
+      });
+      std::vector<StereoSummary> perRatio;
+      for (size_t r = 0; r < o.ratios.size(); ++r) {
+        StereoSummary s;
+        s.set = set.name;
+        s.pipeline = p.name;
+        s.ratio = o.ratios[r];
+        s.pairs = static_cast<int>(set.pairs.size());
+        long matches = 0, right = 0;
+        int ok = 0;
+        std::vector<double> residuals, errors;
+        for (size_t i = 0; i < set.pairs.size(); ++i) {
+          const StereoPairResult& t = results[i][r];
+          s.keypoints += 0.5 * (t.keypointsA + t.keypointsB);
+          matches += t.matches;
+          right += t.right;
+          ok += t.fitOk;
+          residuals.insert(residuals.end(), t.rightResidualsPx.begin(), t.rightResidualsPx.end());
+          errors.push_back(t.poseErrorDeg);
+          pairsCsv.row()
+              .add(set.name)
+              .add(fs::path(set.pairs[i].left).filename().string())
+              .add(fs::path(set.pairs[i].right).filename().string())
+              .add(p.name)
+              .add(s.ratio)
+              .add(t.keypointsA)
+              .add(t.keypointsB)
+              .add(t.matches)
+              .add(t.right)
+              .add(quantile(t.rightResidualsPx, 0.5))
+              .add(t.fitOk ? 1 : 0)
+              .add(t.fitInliers)
+              .add(t.poseErrorDeg);
+        }
+        const double n = std::max<double>(1, s.pairs);
+        s.keypoints /= n;
+        s.matchesPerPair = static_cast<double>(matches) / n;
+        s.rightPerPair = static_cast<double>(right) / n;
+        s.precision = matches ? static_cast<double>(right) / static_cast<double>(matches) : 0;
+        s.residualMedianPx = quantile(residuals, 0.5);
+        s.residualP90Px = quantile(residuals, 0.9);
+        s.fitsOk = static_cast<double>(ok) / n;
+        s.auc5 = poseAuc(errors, 5), s.auc10 = poseAuc(errors, 10), s.auc20 = poseAuc(errors, 20);
+        s.medianPoseErrorDeg = quantile(errors, 0.5);
+        perRatio.push_back(s);
+      }
+      // Best AUC at 5 degrees, then at 10, then the most right matches.
+      const auto best = std::max_element(perRatio.begin(), perRatio.end(), [](const auto& x, const auto& y) {
+        return std::tie(x.auc5, x.auc10, x.rightPerPair) < std::tie(y.auc5, y.auc10, y.rightPerPair);
+      });
+      const auto atResidualRatio = std::find_if(perRatio.begin(), perRatio.end(),
+                                                [&](const auto& x) { return std::abs(x.ratio - o.residualRatio) < 1e-9; });
+      const StereoSummary& residual = atResidualRatio != perRatio.end() ? *atResidualRatio : *best;
+      std::printf("  %-28s %5.2f %8.1f %7.3f %7.3f %7.3f %7.3f %6.0f%% %7.3fpx %7.3fpx\n", p.name.c_str(), best->ratio,
+                  best->rightPerPair, best->precision, best->auc5, best->auc10, best->auc20, 100 * best->fitsOk,
+                  residual.residualMedianPx, residual.residualP90Px);
+      for (const auto& s : perRatio) {
+        summaryCsv.row()
+            .add(s.set)
+            .add(s.pipeline)
+            .add(s.ratio)
+            .add(&s == &*best ? 1 : 0)
+            .add(s.pairs)
+            .add(s.keypoints)
+            .add(s.matchesPerPair)
+            .add(s.rightPerPair)
+            .add(s.precision)
+            .add(s.residualMedianPx)
+            .add(s.residualP90Px)
+            .add(s.fitsOk)
+            .add(s.auc5)
+            .add(s.auc10)
+            .add(s.auc20)
+            .add(s.medianPoseErrorDeg);
+        rows.push_back(s);
+      }
+    }
+  }
+  pairsCsv.write((fs::path(outDir) / "stereo_pairs.csv").string());
+  summaryCsv.write((fs::path(outDir) / "stereo_summary.csv").string());
+  return rows;
+}
+
+}  // namespace mdbrief::eval

@@ -1,0 +1,67 @@
+#pragma once
+// The tracker benchmark's real 3D set (docs/RESULTS.md "Real stereo: poses against the known
+// pose"): the stereo pairs of ../shared/data/stereo (EuRoC V1_01, radial-tangential, 19 pairs; a
+// MYNT EYE fisheye pair), whose calibration files give each camera's pose. Every match is
+// labelled by the known relative pose (its epipolar plane, in front of both cameras), not by a
+// homography: rooms are not planes. Per pipeline and ratio: right matches per pair and their
+// precision, the right matches' distance from their epipolar planes in pixels (median, 90th
+// percentile), and the relative pose that the library's fitEssential gives on the matches'
+// bearings, scored by its angular error against the known pose (AUC at 5, 10 and 20 degrees).
+#include <string>
+#include <vector>
+
+#include "mdbrief/camera/rig.hpp"
+#include "mdbrief/match/match_refinement.hpp"
+#include "tracker_experiment.hpp"
+
+namespace mdbrief::eval {
+
+struct StereoPair {
+  std::string left, right;  // image files
+};
+
+// One stereo camera and its pairs.
+struct StereoSet {
+  std::string name;  // "euroc-v1-01", "mynteye-fisheye"
+  CameraRig rig;     // camera 0 left, camera 1 right, both with their pose in the body frame
+  std::vector<StereoPair> pairs;
+};
+
+// The sets found under `data`/stereo (the data folder of ../shared). Throws std::runtime_error
+// naming the file at fault; an empty list when the folder is missing.
+std::vector<StereoSet> loadStereoSets(const std::string& data);
+
+struct StereoOptions {
+  int budget = 1000;  // keypoints per image, each pipeline its own
+  // The ratio sweep; 1 = mutual nearest neighbours without a ratio test.
+  std::vector<double> ratios{0.6, 0.7, 0.8, 0.9, 1.0};
+  double rightPx = 2.0;             // a match is right within this distance of its epipolar plane (pixels of b)
+  double residualRatio = 0.8;       // the ratio the residual's figures are taken at
+  TwoViewOptions fit;               // fitEssential's options (its maxPixels threshold: 2 px)
+  bool refine = false;              // the library's pipelines refine their matches (refineMatches)
+  MatchRefinementOptions refinement;
+};
+
+// The figures of one set, pipeline and ratio.
+struct StereoSummary {
+  std::string set, pipeline;
+  double ratio = 0;
+  int pairs = 0;
+  double keypoints = 0, matchesPerPair = 0, rightPerPair = 0, precision = 0;
+  double residualMedianPx = 0, residualP90Px = 0;  // over the right matches at this ratio
+  double fitsOk = 0;                               // share of pairs whose fit succeeded
+  double auc5 = 0, auc10 = 0, auc20 = 0;           // pose error max(rotation, translation direction)
+  double medianPoseErrorDeg = 0;                   // +inf when half the fits failed
+};
+
+// Area under the recall curve of pose errors up to `limit` degrees, divided by `limit` (a failed
+// fit's error is +inf): 1 when every error is 0.
+double poseAuc(std::vector<double> errorsDeg, double limit);
+
+// Runs every pipeline on every pair of every set; writes stereo_pairs.csv and stereo_summary.csv
+// into outDir and prints each pipeline at the ratio of its best AUC at 5 degrees (its own ratio
+// for a library preset). Returns every row of the summary.
+std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const std::vector<TrackerPipeline>& pipelines,
+                                     const StereoOptions& options, const std::string& outDir);
+
+}  // namespace mdbrief::eval

@@ -1,0 +1,83 @@
+#pragma once
+// Sub-pixel refinement of matches: for a matched pair of keypoints, the position in image b that
+// best aligns b's patch with a's, by Lucas-Kanade on the pyramid's smoothed levels. A keypoint
+// sits where its detector's response peaks, a level pixel's fraction away from where the same
+// surface point lies in the other image; on coarse levels that is pixels of the input. Aligning
+// the patches moves b's point onto a's, to a tenth of a level pixel and less.
+//
+// The two patches are the same square on the plane tangent to the viewing sphere at each
+// keypoint (camera/tangent_plane.hpp: the lens' distortion removed), mapped into each image by the
+// camera's local Jacobian, b's scaled by the keypoints' size ratio: fisheye patches far apart in
+// the image compare as a perspective camera would see them. Intensities are compared after each
+// patch is normalised to zero mean and unit variance (a stereo pair's gain and offset differ).
+// The alignment runs on the keypoints' own levels, then on finer ones while the patch there
+// still fixes both directions.
+//
+// Deterministic; matches are refined in parallel, each on its own.
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "mdbrief/base/option_fields.hpp"
+#include "mdbrief/camera/camera.hpp"
+#include "mdbrief/detect/image_pyramid.hpp"
+
+namespace mdbrief {
+
+struct MatchRefinementOptions {
+  // Half the patch side in level pixels: (2 r + 1)^2 samples, one per level pixel. In [2, 15].
+  // Default 5: an 11 x 11 patch, the size Lucas-Kanade trackers use at one level.
+  int patchRadius = 5;
+  // Finer levels than the keypoints' own to refine on, each from the last one's result (fewer
+  // where the pyramid ends, or where a patch stops fixing both directions). In [0, 8]. Default 2.
+  int finerLevels = 2;
+  // Gauss-Newton iterations per level at most. In [1, 100]. Default 10.
+  int maxIterations = 10;
+  // A match whose refined point moves more than this from b's keypoint fails (Diverged), in
+  // level pixels of b's keypoint. In (0, 10]. Default 2.
+  double maxShift = 2.0;
+  // The smallest eigenvalue of the patch's structure tensor (normalised intensities, per sample)
+  // below which it does not fix both directions (Aperture: an edge or a flat patch). In
+  // [0, 10]. Default 0.002.
+  double minEigenvalue = 0.002;
+};
+
+// The fields of MatchRefinementOptions (option_fields.hpp); Python's keywords, the CLI's flags.
+const OptionTable<MatchRefinementOptions>& matchRefinementOptionFields();
+// Throws OptionError naming the first option out of its field's range.
+void validate(const MatchRefinementOptions& options);
+
+enum class RefinementFailure {
+  None,
+  OutsideImage,  // a patch leaves its level, or a keypoint has no ray (outside the lens' circle)
+  Aperture,      // the patch on the keypoints' own level does not fix both directions
+  Diverged,      // the alignment moved further than maxShift or did not settle
+};
+// "", "patch outside the image", "aperture: the patch does not fix both directions", "diverged".
+const char* toString(RefinementFailure failure);
+
+struct RefinedMatch {
+  RefinementFailure failure = RefinementFailure::None;
+  cv::Point2d pointB;  // b's refined position, input pixels (b's keypoint itself on failure)
+  cv::Vec3d bearingB;  // its unit ray (b's keypoint's, or zero without one, on failure)
+  // Standard deviation of pointB along its least certain direction, input pixels: the residual's
+  // spread through the inverse structure tensor. +inf on failure.
+  double sigmaPx = std::numeric_limits<double>::infinity();
+  int level = -1;  // the finest level b's point was refined on; -1 on failure
+  bool ok() const { return failure == RefinementFailure::None; }
+};
+
+// Refines b's side of every match (queryIdx into keypointsA, trainIdx into keypointsB, as the
+// matchers give them). Each keypoint's octave is its pyramid level, as MdBrief's detectors set
+// it; the pyramids are the images' (the same options as the detection, so the levels agree).
+// Throws std::invalid_argument for an index out of range, an octave that is no level of its
+// pyramid, a keypoint position that is not finite, or options out of range.
+std::vector<RefinedMatch> refineMatches(const ImagePyramid& pyramidA, const Camera& cameraA,
+                                        const std::vector<cv::KeyPoint>& keypointsA, const ImagePyramid& pyramidB,
+                                        const Camera& cameraB, const std::vector<cv::KeyPoint>& keypointsB,
+                                        const std::vector<cv::DMatch>& matches,
+                                        const MatchRefinementOptions& options = {});
+
+}  // namespace mdbrief
