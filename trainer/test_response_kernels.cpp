@@ -68,7 +68,7 @@ size_t PopcountAnd(const uint64_t* x, const uint64_t* y, size_t n) {
   return ones;
 }
 
-ResponseKernels Kernels() { return {LessMasks, LessOnes, Flips, Popcount, PopcountXor, PopcountAnd}; }
+ResponseKernels Kernels() { return {LessMasks, LessOnes, Flips, Popcount, PopcountXor, PopcountAnd, HWY_TARGET}; }
 
 }  // namespace mdbrief::train::kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
@@ -76,9 +76,7 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace mdbrief::train::kernels {
 
-HWY_EXPORT(Kernels);
-
-ResponseKernels activeResponseKernels() { return MDBRIEF_ACTIVE_KERNELS(Kernels)(); }
+ResponseKernels activeResponseKernels() { return MDBRIEF_ACTIVE_KERNELS(Kernels); }
 
 }  // namespace mdbrief::train::kernels
 #endif

@@ -20,7 +20,7 @@ struct ResponseKernels {
   // Set bits of x[i], of x[i] ^ y[i] and of x[i] & y[i], i < n.
   size_t (*popcount)(const uint64_t* x, size_t n);
   size_t (*popcountXor)(const uint64_t* x, const uint64_t* y, size_t n);
-  size_t (*popcountAnd)(const uint64_t* x, const uint64_t* y, size_t n);
+  size_t (*popcountAnd)(const uint64_t* x, const uint64_t* y, size_t n);  int64_t target = 0;  // the Highway target these kernels were compiled for (HWY_AVX2, ...)
 };
 
 // The kernels of the active SIMD level (test_response_kernels.cpp, written once with Highway and

@@ -304,7 +304,7 @@ uint64_t maskWeightDigest() {
     for (auto& w : rows) w = r.next() | r.next() << 1;
     for (size_t i = 0; i < ofOnes.size(); ++i) ofOnes[i] = static_cast<uint32_t>(i * i + 7);
     for (int w = 0; w < nwords; ++w) rows[40 * nwords + w] = 0;  // row 40 empty
-    d.add(int64_t(mask_weight_kernels::activeMaskWeights()(rows.data(), 50, nwords, ofOnes.data(), weights.data())));
+    d.add(int64_t(mask_weight_kernels::activeMaskWeights().weights(rows.data(), 50, nwords, ofOnes.data(), weights.data())));
     d.add(weights);
   }
   return d.h;

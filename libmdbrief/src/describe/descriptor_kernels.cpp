@@ -231,7 +231,7 @@ void CentroidMoments(const uint8_t* pairs, size_t pairStep, const int* x, const 
   }
 }
 
-SamplingKernels Kernels() { return {AffinePoints, PackBitsBilinear, AllInside, CentroidMoments}; }
+SamplingKernels Kernels() { return {AffinePoints, PackBitsBilinear, AllInside, CentroidMoments, HWY_TARGET}; }
 
 }  // namespace mdbrief::descriptor_kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
@@ -239,9 +239,7 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace mdbrief::descriptor_kernels {
 
-HWY_EXPORT(Kernels);
-
-SamplingKernels activeSamplingKernels() { return MDBRIEF_ACTIVE_KERNELS(Kernels)(); }
+SamplingKernels activeSamplingKernels() { return MDBRIEF_ACTIVE_KERNELS(Kernels); }
 
 }  // namespace mdbrief::descriptor_kernels
 #endif

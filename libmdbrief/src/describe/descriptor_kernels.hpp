@@ -35,7 +35,7 @@ struct SamplingKernels {
   // Intensity moments sum(value * u), sum(value * v) of n bilinear samples (row pairs, as
   // packBitsBilinear).
   void (*centroidMoments)(const uint8_t* pairs, size_t pairStep, const int* x, const int* y, const int* u,
-                          const int* v, int n, long long& m10, long long& m01);
+                          const int* v, int n, long long& m10, long long& m01);  int64_t target = 0;  // the Highway target these kernels were compiled for (HWY_AVX2, ...)
 };
 
 // The kernels of the active SIMD level (simd_level.hpp).

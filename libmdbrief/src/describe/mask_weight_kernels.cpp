@@ -37,7 +37,7 @@ size_t Weights(const uint32_t* rows, size_t count, int nwords, const uint32_t* w
   return count;
 }
 
-MaskWeights Kernel() { return Weights; }
+MaskWeightKernels Kernel() { return {Weights, HWY_TARGET}; }
 
 }  // namespace mdbrief::mask_weight_kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
@@ -45,9 +45,7 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace mdbrief::mask_weight_kernels {
 
-HWY_EXPORT(Kernel);
-
-MaskWeights activeMaskWeights() { return MDBRIEF_ACTIVE_KERNELS(Kernel)(); }
+MaskWeightKernels activeMaskWeights() { return MDBRIEF_ACTIVE_KERNELS(Kernel); }
 
 }  // namespace mdbrief::mask_weight_kernels
 #endif

@@ -14,7 +14,12 @@ namespace mdbrief::mask_weight_kernels {
 using MaskWeights = size_t (*)(const uint32_t* rows, size_t count, int nwords, const uint32_t* weightOfOnes,
                                uint32_t* weights);
 
+struct MaskWeightKernels {
+  MaskWeights weights = nullptr;
+  int64_t target = 0;  // the Highway target the kernel was compiled for (HWY_AVX2, ...)
+};
+
 // The kernel of the active SIMD level.
-MaskWeights activeMaskWeights();
+MaskWeightKernels activeMaskWeights();
 
 }  // namespace mdbrief::mask_weight_kernels

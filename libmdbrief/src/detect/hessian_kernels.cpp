@@ -76,7 +76,7 @@ int Candidates(const float* row, const float* maxAbove, const float* maxRow, con
   return count;
 }
 
-HessianKernels Kernels() { return {ResponseRow, RowMax3, Candidates}; }
+HessianKernels Kernels() { return {ResponseRow, RowMax3, Candidates, HWY_TARGET}; }
 
 }  // namespace mdbrief::hessian_kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
@@ -84,9 +84,7 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace mdbrief::hessian_kernels {
 
-HWY_EXPORT(Kernels);
-
-HessianKernels activeHessianKernels() { return MDBRIEF_ACTIVE_KERNELS(Kernels)(); }
+HessianKernels activeHessianKernels() { return MDBRIEF_ACTIVE_KERNELS(Kernels); }
 
 }  // namespace mdbrief::hessian_kernels
 #endif

@@ -18,7 +18,7 @@ struct HessianKernels {
   // eight neighbours, in increasing order, into xs (room for end - begin entries); maxAbove,
   // maxRow and maxBelow are rowMax3 of the rows above, at and below. Returns how many.
   int (*candidates)(const float* row, const float* maxAbove, const float* maxRow, const float* maxBelow, int begin,
-                    int end, float threshold, int32_t* xs);
+                    int end, float threshold, int32_t* xs);  int64_t target = 0;  // the Highway target these kernels were compiled for (HWY_AVX2, ...)
 };
 
 // The kernels of the active SIMD level.

@@ -117,7 +117,7 @@ void Rows(const int16_t* upper, const int16_t* lower, int16_t b0, int16_t b1, in
   }
 }
 
-ResizeKernels Kernels() { return {Columns, Rows}; }
+ResizeKernels Kernels() { return {Columns, Rows, HWY_TARGET}; }
 
 }  // namespace mdbrief::resize_kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
@@ -125,9 +125,7 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace mdbrief::resize_kernels {
 
-HWY_EXPORT(Kernels);
-
-ResizeKernels activeResizeKernels() { return MDBRIEF_ACTIVE_KERNELS(Kernels)(); }
+ResizeKernels activeResizeKernels() { return MDBRIEF_ACTIVE_KERNELS(Kernels); }
 
 namespace {
 

@@ -32,7 +32,7 @@ struct ResizeKernels {
   // out[x] = (src[first] a0 + src[second] a1) / 16, rounded down (at most 255 x 2049 / 16).
   void (*columns)(const uint8_t* src, const ColumnPlan& plan, int16_t* out);
   // out[x] = ((upper[x] b0) / 2^16 + (lower[x] b1) / 2^16 + 2) / 4, each division rounded down.
-  void (*rows)(const int16_t* upper, const int16_t* lower, int16_t b0, int16_t b1, int cols, uint8_t* out);
+  void (*rows)(const int16_t* upper, const int16_t* lower, int16_t b0, int16_t b1, int cols, uint8_t* out);  int64_t target = 0;  // the Highway target these kernels were compiled for (HWY_AVX2, ...)
 };
 
 // The kernels of the active SIMD level.

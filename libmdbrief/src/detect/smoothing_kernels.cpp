@@ -183,7 +183,7 @@ void Block5(const uint8_t* const* rows, int radius, const uint32_t* w, const uin
   Block5Of(rows, radius, w, columnWeights, out, std::make_integer_sequence<int, kMaxRadius + 1>());
 }
 
-SmoothingKernels Kernels() { return {Widen, RowPair, Columns, PairRows, Block5}; }
+SmoothingKernels Kernels() { return {Widen, RowPair, Columns, PairRows, Block5, HWY_TARGET}; }
 
 }  // namespace mdbrief::smoothing_kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
@@ -191,9 +191,7 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace mdbrief::smoothing_kernels {
 
-HWY_EXPORT(Kernels);
-
-SmoothingKernels activeSmoothingKernels() { return MDBRIEF_ACTIVE_KERNELS(Kernels)(); }
+SmoothingKernels activeSmoothingKernels() { return MDBRIEF_ACTIVE_KERNELS(Kernels); }
 
 }  // namespace mdbrief::smoothing_kernels
 #endif

@@ -45,7 +45,7 @@ struct SmoothingKernels {
   // the column pass's (w[0..radius] each, 1/256 and 1/65536, summing to one). out[5 i + j] is
   // row i, column j of the block in 8 fractional bits, as `columns` computes before rounding.
   void (*block5)(const uint8_t* const* rows, int radius, const uint32_t* w, const uint32_t* columnWeights,
-                 uint32_t* out);
+                 uint32_t* out);  int64_t target = 0;  // the Highway target these kernels were compiled for (HWY_AVX2, ...)
 };
 
 // Bytes a block5 row is read for beyond the block's 2 radius + 5: its vectors cover 8 columns.

@@ -104,7 +104,7 @@ void DistancesRows(const QueryRow& q, const TrainView& t, const int* rows, int c
 }
 
 #if HWY_TARGET == HWY_SCALAR
-MatcherKernels Kernels() { return {NearestTwoRows, 1, NearestTwoRows, DistancesRows}; }
+MatcherKernels Kernels() { return {NearestTwoRows, 1, NearestTwoRows, DistancesRows, HWY_TARGET}; }
 #else
 
 using DU = hn::ScalableTag<uint32_t>;
@@ -188,7 +188,7 @@ Nearest NearestTwoBlocks(const QueryRow& q, const TrainView& t) {
 }
 
 MatcherKernels Kernels() {
-  return {NearestTwoBlocks, static_cast<int>(hn::Lanes(DU())), NearestTwoRows, DistancesRows};
+  return {NearestTwoBlocks, static_cast<int>(hn::Lanes(DU())), NearestTwoRows, DistancesRows, HWY_TARGET};
 }
 #endif
 
@@ -198,9 +198,7 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace mdbrief::matcher_kernels {
 
-HWY_EXPORT(Kernels);
-
-MatcherKernels activeMatcherKernels() { return MDBRIEF_ACTIVE_KERNELS(Kernels)(); }
+MatcherKernels activeMatcherKernels() { return MDBRIEF_ACTIVE_KERNELS(Kernels); }
 
 }  // namespace mdbrief::matcher_kernels
 #endif

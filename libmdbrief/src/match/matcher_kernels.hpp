@@ -47,7 +47,7 @@ struct MatcherKernels {
   Nearest (*nearestTwoRows)(const QueryRow& q, const TrainView& t);
   // out[i] = distance to row rows[i] of a row-major train set (lanes = 1): for the few
   // candidates of a guided search, where packing them into blocks would cost more.
-  void (*distancesRows)(const QueryRow& q, const TrainView& t, const int* rows, int count, uint32_t* out);
+  void (*distancesRows)(const QueryRow& q, const TrainView& t, const int* rows, int count, uint32_t* out);  int64_t target = 0;  // the Highway target these kernels were compiled for (HWY_AVX2, ...)
 };
 
 // The kernels of the active SIMD level.

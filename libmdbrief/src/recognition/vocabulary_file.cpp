@@ -222,7 +222,7 @@ std::shared_ptr<const Vocabulary::Data> vocabularyData(internal::FramedFile file
     d->maskWeights.resize(n);
     d->maskWeights[0] = 0;
     const size_t empty =
-        mask_weight_kernels::activeMaskWeights()(d->masks + nw, n - 1, nw, weightOfOnes.data(), d->maskWeights.data() + 1) + 1;
+        mask_weight_kernels::activeMaskWeights().weights(d->masks + nw, n - 1, nw, weightOfOnes.data(), d->maskWeights.data() + 1) + 1;
     if (empty < n) broken("node " + std::to_string(empty) + " has an empty mask");
   }
   return d;
