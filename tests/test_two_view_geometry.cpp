@@ -527,7 +527,7 @@ TEST(TwoViewOptions, TableNamesEveryOptionWithItsDefault) {
   for (const auto& f : twoViewOptionFields()) keywords.push_back(f.keyword);
   EXPECT_EQ(keywords, (std::vector<std::string>{"max_angle", "max_pixels", "confidence", "max_iterations", "seed",
                                                  "refine", "in_front", "max_false_alarms"}));
-  EXPECT_EQ(defaults.maxFalseAlarms, 1.0);
+  EXPECT_EQ(defaults.maxFalseAlarms, 0.01);
   TwoViewOptions o;
   o.maxFalseAlarms = 0;
   EXPECT_THROW(validate(o), OptionError);

@@ -112,8 +112,9 @@ cv::Vec3d vectorFrom(const py::handle& object, const char* argument) {
 const char* const kOptionsDoc = R"doc(
 Options (keywords; mdbrief.option_fields("two_view") lists them with their ranges):
 max_angle (0.005 rad), or max_pixels (2.0) when pixels_per_radian is given; confidence (0.999),
-max_iterations (3000), seed (1), refine (True), in_front (True), max_false_alarms (1.0: a fit
-fails with "inliers no more than chance" when random matches would give one model as good).)doc";
+max_iterations (3000), seed (1), refine (True), in_front (True), max_false_alarms (0.01: a fit
+fails with "inliers no more than chance" when random matches would give a model as good in 1 fit
+of 100 or more).)doc";
 
 }  // namespace
 

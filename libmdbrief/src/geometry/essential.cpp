@@ -147,7 +147,7 @@ EssentialResult fitEssential(const std::vector<cv::Vec3d>& a, const std::vector<
   constexpr double kNearBest = 0.9;
   constexpr size_t kCandidates = 8;
   std::vector<std::pair<int, Eigen::Matrix3d>> candidates;
-  int bestCount = 0, needed = options.maxIterations;
+  int bestCount = 0, needed = options.maxIterations, models = 0;
   std::vector<int> sample(kSample);
   for (int it = 0; it < needed; ++it) {
     for (int s = 0; s < kSample; ++s) {
@@ -157,6 +157,7 @@ EssentialResult fitEssential(const std::vector<cv::Vec3d>& a, const std::vector<
     // Up to 10 essential matrices per sample, each scored.
     for (const auto& e : opengv::relative_pose::fivept_nister(adapter, sample)) {
       if (!e.allFinite()) continue;
+      ++models;
       const int count = countInliers(e);
       if (count < kNearBest * bestCount) continue;
       candidates.emplace_back(count, e);
@@ -248,8 +249,7 @@ EssentialResult fitEssential(const std::vector<cv::Vec3d>& a, const std::vector<
     return m.within(kb, r) &&
            (!options.inFront || geometry::inFront(pose.rotation, pose.translation, m.a[ka], m.b[kb], parallel));
   });
-  // Up to 10 essential matrices per sample (Nister's solver).
-  result.log10FalseAlarms = geometry::significanceLog10(10, n, std::min(count, bestCount), kSample, chance);
+  result.log10FalseAlarms = geometry::significanceLog10(models, n, std::min(count, bestCount), kSample, chance);
   geometry::failIfChance(result, options.maxFalseAlarms, n, kSample);
   if (!result.ok()) result.pose = {}, result.essential = cv::Matx33d();
   return result;

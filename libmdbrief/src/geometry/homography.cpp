@@ -155,7 +155,7 @@ HomographyResult fitHomography(const std::vector<cv::Vec3d>& a, const std::vecto
   std::uniform_int_distribution<int> pick(0, n - 1);
   cv::Matx33d best;
   std::vector<unsigned char> bestInliers, inliers;
-  int bestCount = 0, needed = o.maxIterations;
+  int bestCount = 0, needed = o.maxIterations, models = 0;
   std::vector<int> sample(kSample);
   for (int it = 0; it < needed; ++it) {
     for (int s = 0; s < kSample; ++s) {
@@ -165,6 +165,7 @@ HomographyResult fitHomography(const std::vector<cv::Vec3d>& a, const std::vecto
     auto h = solveHomography(m.a, m.b, sample);
     if (h) h = orient(*h, m.a, m.b, sample);
     if (!h) continue;
+    ++models;
     const int count = countInliers(*h, m, inliers);
     if (count > bestCount) {
       best = *h;
@@ -227,7 +228,7 @@ HomographyResult fitHomography(const std::vector<cv::Vec3d>& a, const std::vecto
         return facing && m.within(kb, r);
       });
   result.log10FalseAlarms =
-      geometry::significanceLog10(1, n, std::min(result.inlierCount, sampledCount), kSample, chance);
+      geometry::significanceLog10(models, n, std::min(result.inlierCount, sampledCount), kSample, chance);
   geometry::failIfChance(result, o.maxFalseAlarms, n, kSample);
   if (!result.ok()) result.homography = cv::Matx33d();
   return result;

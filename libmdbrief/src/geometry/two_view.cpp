@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -212,12 +213,25 @@ void fail(TwoViewResult& result, TwoViewFailure failure, int matches, int minima
   result.inlierCount = 0;
 }
 
-double significanceLog10(int modelsPerSample, int matches, int inliers, int sample, double chance) {
-  const auto log10Choose = [](int n, int k) {
-    return (std::lgamma(n + 1.0) - std::lgamma(k + 1.0) - std::lgamma(n - k + 1.0)) / std::log(10.0);
-  };
-  return std::log10(static_cast<double>(modelsPerSample) * std::max(matches - sample, 1)) +
-         log10Choose(matches, inliers) + log10Choose(inliers, sample) + (inliers - sample) * std::log10(chance);
+double binomialTailLog10(int trials, int successes, double p) {
+  if (successes <= 0 || p >= 1) return 0;
+  if (successes > trials || !(p > 0)) return -std::numeric_limits<double>::infinity();
+  // log-sum-exp of the terms from `successes` up; past the mode they fall geometrically, so the
+  // sum stops once they no longer change it.
+  const double lp = std::log(p), lq = std::log1p(-p), top = std::lgamma(trials + 1.0);
+  const auto term = [&](int i) { return top - std::lgamma(i + 1.0) - std::lgamma(trials - i + 1.0) + i * lp + (trials - i) * lq; };
+  double largest = term(successes), sum = 0;
+  for (int i = successes; i <= trials; ++i) {
+    const double t = term(i);
+    if (t > largest) sum *= std::exp(largest - t), largest = t;
+    sum += std::exp(t - largest);
+    if (i > trials * p && t - largest < -46) break;  // below 1e-20 of the sum
+  }
+  return std::min(0.0, (largest + std::log(sum)) / std::log(10.0));
+}
+
+double significanceLog10(int models, int matches, int inliers, int sample, double chance) {
+  return std::log10(std::max(models, 1)) + binomialTailLog10(matches - sample, inliers - sample, chance);
 }
 
 void failIfChance(TwoViewResult& result, double maxFalseAlarms, int matches, int sample) {

@@ -42,10 +42,12 @@ void fail(TwoViewResult& result, TwoViewFailure failure, int matches, int minima
 
 double angleBetween(const cv::Vec3d& u, const cv::Vec3d& v);
 
-// log10 of a model's number of false alarms (TwoViewOptions::maxFalseAlarms): up to
-// `modelsPerSample` models from each minimal `sample`, `inliers` of `matches`, each match an
-// inlier by chance with probability `chance`.
-double significanceLog10(int modelsPerSample, int matches, int inliers, int sample, double chance);
+// log10 P[Binomial(trials, p) >= successes].
+double binomialTailLog10(int trials, int successes, double p);
+// log10 of a model's number of false alarms (TwoViewOptions::maxFalseAlarms): `models` scored,
+// `inliers` of `matches` for a minimal `sample`, each other match an inlier by chance with
+// probability `chance`.
+double significanceLog10(int models, int matches, int inliers, int sample, double chance);
 // Marks `result` NotSignificant when its log10FalseAlarms exceeds maxFalseAlarms; keeps the figure.
 void failIfChance(TwoViewResult& result, double maxFalseAlarms, int matches, int sample);
 

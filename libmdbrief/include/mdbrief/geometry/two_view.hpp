@@ -61,19 +61,19 @@ struct TwoViewOptions {
   // rotation) passes: its depth has no sign to check. Default on.
   bool inFront = true;
   // fitEssential, fitHomography: a model counts as found when its number of false alarms is below
-  // this: the a-contrario test of ORSA (Moisan and Stival 2004; Moisan, Moulon and Monasse 2012).
-  // For k inliers of n matches, a minimal sample of s giving up to m models (10 essential
-  // matrices, 1 homography) and p the probability that a random match is an inlier,
-  //   NFA = m (n - s) C(n, k) C(k, s) p^(k - s),
-  // the expected number of models with k such inliers that random matches would give. k is the
-  // count of the best minimal sample's model (a refit on its inliers may add some, but is no
-  // longer tested by s matches). p is measured on the fitted model by pairing each a with another
-  // match's b (four shifted pairings), and is at least what bearings spread over the whole sphere
-  // give at the threshold. A model at or above it fails with NotSignificant; a minimal sample alone
-  // (k = s) never passes the default. In (0, 1e300]. Default 1: fewer than one such model
-  // expected by chance. Random bearings then fail at least 99 times in 100
+  // this (an a-contrario test; Moisan and Stival 2004). For the best minimal sample's model, with
+  // k inliers of n matches, sample size s, and p the probability that a random match is an
+  // inlier of it,
+  //   NFA = (models scored) x P[Binomial(n - s, p) >= k - s],
+  // the expected number of models as good among those RANSAC tried if the matches were random:
+  // below 0.01, random matches give such a model in fewer than 1 fit in 100. k counts the
+  // sample's model (a refit on its inliers may add some, but they no longer test it). p is
+  // measured on the fitted model by pairing each a with another match's b (four shifted
+  // pairings), and is at least what bearings spread over the whole sphere give at the
+  // threshold. A model at or above it fails with NotSignificant; a minimal sample alone (k = s)
+  // never passes. In (0, 1e300]. Default 0.01. Random bearings fail in at least 99 fits of 100
   // (tests/test_two_view_geometry.cpp).
-  double maxFalseAlarms = 1.0;
+  double maxFalseAlarms = 0.01;
 };
 
 // The fields of TwoViewOptions (option_fields.hpp); Python's keywords.
