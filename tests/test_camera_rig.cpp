@@ -134,12 +134,14 @@ TEST(CameraRig, EurocPairThroughTheirBodyFrame) {
                                                                sample("euroc_cam1_sensor.yaml")});
   EXPECT_EQ(rig.format(), CameraFormat::Euroc);
   ASSERT_EQ(rig.size(), 2u);
-  EXPECT_EQ(rig.at(0).id, sample("euroc_cam0_sensor.yaml"));
+  // Each camera named by its file's stem (no ASL folder here).
+  EXPECT_EQ(rig.at(0).id, "euroc_cam0_sensor");
+  EXPECT_EQ(rig.at(1).id, "euroc_cam1_sensor");
   EXPECT_EQ(rig.at(0).camera->modelName(), "kannala_brandt");
   EXPECT_EQ(rig.at(1).camera->modelName(), "radtan");
   // Same orientation; the body's +y (camera x) offset of 11 cm: the right camera at +x.
   expectNear(rig.relativePose(0, 1), RigidTransform{cv::Matx33d::eye(), {0.11, 0.0, 0.0}}, 1e-12);
-  expectNear(rig.relativePose(sample("euroc_cam1_sensor.yaml"), sample("euroc_cam0_sensor.yaml")),
+  expectNear(rig.relativePose("euroc_cam1_sensor", "euroc_cam0_sensor"),
              RigidTransform{cv::Matx33d::eye(), {-0.11, 0.0, 0.0}}, 1e-12);
   // A bearing of camera 1 is R b seen from camera 0; a point's coordinates move by t.
   const cv::Vec3d point1(0.5, -0.2, 3.0);
@@ -157,7 +159,7 @@ TEST(CameraRig, FilesWithoutExtrinsicsAndBadRigsAreRefusedClearly) {
   const CameraRig mixed = readCameraRig(std::vector<std::string>{sample("euroc_cam0_sensor.yaml"),
                                                                  sample("opencv_standard.yaml")});
   const std::string what = errorOf([&] { mixed.relativePose(0, 1); });
-  EXPECT_NE(what.find(": camera '" + sample("opencv_standard.yaml") + "' has no extrinsics"), std::string::npos)
+  EXPECT_NE(what.find(": camera 'opencv_standard' has no extrinsics"), std::string::npos)
       << what;
   // COLMAP's cameras.txt holds intrinsics only.
   const CameraRig colmap = readCameraRig(sample("colmap_cameras.txt"));
@@ -174,6 +176,31 @@ TEST(CameraRig, FilesWithoutExtrinsicsAndBadRigsAreRefusedClearly) {
               readCameraRig(std::vector<std::string>{sample("euroc_cam0_sensor.yaml"), sample("euroc_cam0_sensor.yaml")});
             }).find("given twice"),
             std::string::npos);
+  // The same file under another name (issue 45: the identity pose came back).
+  const std::string other = (fs::path(sample("euroc_cam0_sensor.yaml")).parent_path() / "." / "euroc_cam0_sensor.yaml").string();
+  EXPECT_NE(errorOf([&] { readCameraRig(std::vector<std::string>{sample("euroc_cam0_sensor.yaml"), other}); })
+                .find("the same file as"),
+            std::string::npos);
+}
+
+// EuRoC's ASL layout names each camera by its folder (cam0/sensor.yaml -> "cam0"), the ids a
+// user types; two files that would share an id keep their paths instead.
+TEST(CameraRig, AslFoldersNameTheirCameras) {
+  const fs::path dir = fs::temp_directory_path() / ("mdbrief_rig_asl_" + std::to_string(::getpid()));
+  for (const char* name : {"cam0", "cam1", "other/cam0"}) {
+    fs::create_directories(dir / name);
+    fs::copy_file(sample("euroc_cam0_sensor.yaml"), dir / name / "sensor.yaml", fs::copy_options::overwrite_existing);
+  }
+  const CameraRig rig =
+      readCameraRig(std::vector<std::string>{(dir / "cam0/sensor.yaml").string(), (dir / "cam1/sensor.yaml").string()});
+  EXPECT_EQ(rig.at(0).id, "cam0");
+  EXPECT_EQ(rig.at(1).id, "cam1");
+  EXPECT_EQ(rig.index("cam1"), 1u);
+  const std::vector<std::string> clash{(dir / "cam0/sensor.yaml").string(), (dir / "other/cam0/sensor.yaml").string()};
+  const CameraRig both = readCameraRig(clash);
+  EXPECT_EQ(both.at(0).id, clash[0]);
+  EXPECT_EQ(both.at(1).id, clash[1]);
+  fs::remove_all(dir);
 }
 
 TEST(CameraRig, BadExtrinsicsAreRefusedNamingTheKey) {

@@ -118,13 +118,23 @@ def main(calibration_path, vocabulary_path, work):
                "  intrinsics: [461.6, 460.3, 366.3, 249.1]\n  resolution: [752, 480]\n")
     camchain.write_text("cam0:\n" + fisheye + "cam1:\n  T_cn_cnm1:\n  - [1.0, 0.0, 0.0, -0.11]\n"
                         "  - [0.0, 1.0, 0.0, 0.0]\n  - [0.0, 0.0, 1.0, 0.0]\n  - [0.0, 0.0, 0.0, 1.0]\n" + fisheye)
+    for name, x in (("cam0", 0.0), ("cam1", 0.11)):  # the same rig in EuRoC's ASL layout
+        (work / name).mkdir(exist_ok=True)
+        (work / name / "sensor.yaml").write_text(
+            f"sensor_type: camera\nT_BS:\n  cols: 4\n  rows: 4\n  data: [1, 0, 0, {x}, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]\n"
+            "camera_model: pinhole\nintrinsics: [461.6, 460.3, 366.3, 249.1]\nresolution: [752, 480]\n"
+            "distortion_model: equidistant\ndistortion_coefficients: [-0.0125, 0.0578, -0.0850, 0.0436]\n")
     # [guide:rig]
-    rig = mdbrief.load_rig(str(camchain))  # or load_rig(["cam0/sensor.yaml", "cam1/sensor.yaml"])
+    rig = mdbrief.load_rig(str(camchain))  # a Kalibr camchain
     left, right = rig.camera("cam0"), rig.camera("cam1")
     rotation, translation = rig.relative_pose("cam0", "cam1")  # x_cam0 = R @ x_cam1 + t
+    euroc = mdbrief.load_rig([str(work / "cam0/sensor.yaml"), str(work / "cam1/sensor.yaml")])  # named by folder
+    euroc_rotation, euroc_translation = euroc.relative_pose("cam0", "cam1")
     # ... then with the matches' bearings of the left and right images:
     #   labels = mdbrief.check_known_pose(bearings_left, bearings_right, rotation, translation)
     # [guide]
+    check(np.allclose(euroc_rotation, rotation) and np.allclose(euroc_translation, translation, atol=1e-12),
+          "the ASL layout's pose differs from the camchain's")
     points = np.random.default_rng(3).uniform([-2, -1.5, 1], [2, 1.5, 5], (200, 3))  # cam0's frame
     pixels_left = left.bearing_to_pixel(points)
     pixels_right = right.bearing_to_pixel((points - translation) @ rotation)  # R^T (x - t), row-wise

@@ -5,8 +5,10 @@
 // Usage: guide_stereo_rig WORK_DIR
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <mdbrief/mdbrief.hpp>
@@ -30,6 +32,20 @@ void writeCamchain(const std::string& path) {
                       << camera << "  rostopic: /cam1/image_raw\n";
 }
 
+// The same rig in EuRoC's ASL layout: DIR/cam0/sensor.yaml and DIR/cam1/sensor.yaml, each
+// camera's pose in the body frame (T_BS), cam1 11 cm to cam0's right.
+void writeAslSensors(const std::string& dir) {
+  const std::string camera =
+      "camera_model: pinhole\nintrinsics: [461.6, 460.3, 366.3, 249.1]\nresolution: [752, 480]\n"
+      "distortion_model: equidistant\ndistortion_coefficients: [-0.0125, 0.0578, -0.0850, 0.0436]\n";
+  for (const auto& [name, x] : {std::pair{"cam0", "0.0"}, std::pair{"cam1", "0.11"}}) {
+    std::filesystem::create_directories(dir + "/" + name);
+    std::ofstream(dir + "/" + name + "/sensor.yaml")
+        << "sensor_type: camera\nT_BS:\n  cols: 4\n  rows: 4\n  data: [1.0, 0.0, 0.0, " << x
+        << ", 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]\nrate_hz: 20\n" << camera;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) try {
@@ -37,17 +53,24 @@ int main(int argc, char** argv) try {
   const std::string camchainPath = std::string(argv[1]) + "/camchain.yaml";
   writeCamchain(camchainPath);
 
+  const std::string asl = argv[1];
+  writeAslSensors(asl);
+
   // [guide:rig]
-  // Every camera of a rig file (Kalibr camchain, basalt calib.json, ORB-SLAM3 stereo settings;
-  // EuRoC's sensor.yaml files: readCameraRig({"cam0/sensor.yaml", "cam1/sensor.yaml"})).
+  // Every camera of a rig file (Kalibr camchain, basalt calib.json, ORB-SLAM3 stereo settings).
   const mdbrief::CameraRig rig = mdbrief::readCameraRig(camchainPath);
   const std::shared_ptr<mdbrief::Camera> left = rig.at(rig.index("cam0")).camera;
   const std::shared_ptr<mdbrief::Camera> right = rig.at(rig.index("cam1")).camera;
   // x_cam0 = R x_cam1 + t: cam1's pose in cam0's frame, as the two-view geometry's RelativePose.
   const mdbrief::RelativePose pose = rig.relativePose("cam0", "cam1");
+  // EuRoC's sensor.yaml files, one per camera folder: each camera is named by its folder.
+  const mdbrief::CameraRig euroc = mdbrief::readCameraRig({asl + "/cam0/sensor.yaml", asl + "/cam1/sensor.yaml"});
+  const mdbrief::RelativePose eurocPose = euroc.relativePose("cam0", "cam1");
   // ... match left and right images, take the matches' bearings (pixelToBearing), then:
   //   mdbrief::TwoViewResult labels = mdbrief::checkKnownPose(bearingsLeft, bearingsRight, pose);
   // [guide]
+  if (cv::norm(eurocPose.translation - pose.translation) > 1e-12 || cv::norm(eurocPose.rotation - pose.rotation) > 1e-12)
+    return fail("the ASL layout's pose differs from the camchain's");
 
   // Points 1-5 m in front of the rig, seen by both cameras: true matches, then shuffled ones.
   std::vector<cv::Vec3d> bearingsLeft, bearingsRight;

@@ -1,5 +1,6 @@
 #include "mdbrief/camera/rig.hpp"
 
+#include <filesystem>
 #include <set>
 #include <stdexcept>
 
@@ -64,29 +65,54 @@ RigidTransform CameraRig::relativePose(const std::string& i, const std::string& 
   return relativePose(index(i), index(j));
 }
 
+namespace {
+
+// A rig file's camera id: the folder's name for the ASL layout (cam0/sensor.yaml -> "cam0"),
+// else the file's stem (left_sensor_fisheye.yaml -> "left_sensor_fisheye").
+std::string fileRigId(const std::string& path) {
+  const std::filesystem::path p(path);
+  if (p.filename() == "sensor.yaml" && p.has_parent_path() && !p.parent_path().filename().empty() &&
+      p.parent_path().filename() != "." && p.parent_path().filename() != "..")
+    return p.parent_path().filename().string();
+  return p.stem().string();
+}
+
+}  // namespace
+
 CameraRig readCameraRig(const std::vector<std::string>& paths, const CameraFileOptions& options) {
   if (paths.empty()) throw std::invalid_argument("readCameraRig: no calibration file given");
   if (!options.cameraId.empty())
     throw std::invalid_argument("readCameraRig: a rig of files takes each file's only camera; the camera choice '" +
                                 options.cameraId + "' does not apply");
-  std::set<std::string> seen;
   std::vector<RigCamera> cameras;
   std::string source;
   CameraFormat format = CameraFormat::Auto;
-  for (const std::string& path : paths) {
-    if (!seen.insert(path).second) throw std::invalid_argument(path + ": given twice in the rig's files");
+  for (size_t k = 0; k < paths.size(); ++k) {
+    const std::string& path = paths[k];
     const CameraRig one = readCameraRig(path, options);
+    // The same file under two names (./cams/e0.yaml and cams/e0.yaml, a link) would make a rig
+    // whose cameras coincide.
+    for (size_t j = 0; j < k; ++j) {
+      std::error_code error;
+      if (std::filesystem::equivalent(paths[j], path, error))
+        throw std::invalid_argument(path + ": the same file as " + paths[j] + ", given twice in the rig's files");
+    }
     if (one.size() != 1)
       throw std::runtime_error(path + ": holds " + std::to_string(one.size()) +
                                " cameras; a rig of files takes one camera per file (read this file alone as a rig)");
     // A camera without extrinsics cannot be placed among the others: its own frame is no rig's.
     RigCamera camera = one.at(0);
-    camera.id = path;
+    camera.id = fileRigId(path);
     if (one.format() != CameraFormat::Euroc) camera.cameraToRig.reset();
     cameras.push_back(std::move(camera));
     if (format == CameraFormat::Auto) format = one.format();
     source += (source.empty() ? "" : ", ") + path;
   }
+  // Ids that two files share (two sensor.yaml in folders of one name) give way to the paths.
+  std::set<std::string> ids;
+  for (const auto& c : cameras) ids.insert(c.id);
+  if (ids.size() != cameras.size())
+    for (size_t k = 0; k < cameras.size(); ++k) cameras[k].id = paths[k];
   return CameraRig(source, format, std::move(cameras));
 }
 

@@ -35,7 +35,9 @@ struct RigidTransform {
 // One camera of a rig.
 struct RigCamera {
   // Its id in the file (as CameraFileOptions::cameraId chooses it: "cam0", "0", "1", COLMAP's
-  // CAMERA_ID; empty for a one-camera format), or the path of its file in a rig of files.
+  // CAMERA_ID; empty for a one-camera format). In a rig of files, the file's: its folder's name
+  // in the ASL layout (cam0/sensor.yaml -> "cam0"), else its stem (left.yaml -> "left"); the
+  // paths as given when two files would share one.
   std::string id;
   std::shared_ptr<Camera> camera;
   // Maps the camera's frame (camera.hpp: x right, y down, z forward) into the rig's reference
@@ -80,10 +82,10 @@ class CameraRig {
 CameraRig readCameraRig(const std::string& path, const CameraFileOptions& options = {});
 
 // A rig of one-camera files (EuRoC's cam0/sensor.yaml and cam1/sensor.yaml), in the order
-// given, each camera's id its path. Only EuRoC's T_BS places the cameras of separate files
+// given, each camera's id from its file (RigCamera::id: "cam0", "cam1"). Only EuRoC's T_BS places the cameras of separate files
 // (all relative to the same body); a camera of another format has no extrinsics in such a rig. Throws std::runtime_error naming a file that holds
-// several cameras, or std::invalid_argument for no path, a path given twice or a camera
-// choice in options.
+// several cameras, or std::invalid_argument for no path, a file given twice (under any name)
+// or a camera choice in options.
 CameraRig readCameraRig(const std::vector<std::string>& paths, const CameraFileOptions& options = {});
 
 }  // namespace mdbrief
