@@ -98,8 +98,7 @@ py::tuple run(MdBrief& feature, const py::handle& image, const py::handle& mask,
 }  // namespace
 
 void bindFeatures(py::module_& m) {
-  py::class_<MdBrief, FeaturePtr>(m, "MdBrief", initialisedObjectsOnly(),
-                                  "Keypoint detection and BRIEF / dBRIEF / mdBRIEF description.")
+  boundClass<MdBrief, FeaturePtr>(m, "MdBrief", "Keypoint detection and BRIEF / dBRIEF / mdBRIEF description.")
       .def(py::init([](std::shared_ptr<Camera> camera, const std::string& preset, const py::kwargs& kwargs) {
              return makeFeature(camera, presetSettings(presetFrom(preset)).features, kwargs);
            }),
@@ -150,10 +149,10 @@ void bindFeatures(py::module_& m) {
       .def_property_readonly("camera", [](const MdBrief& f) { return std::const_pointer_cast<Camera>(f.camera()); })
       .def_property_readonly("descriptor_size", &MdBrief::descriptorSize, "Bytes per descriptor.")
       .def_property_readonly("default_norm", &MdBrief::defaultNorm, "cv2.NORM_HAMMING.")
-      .def("__repr__", onInitialised<MdBrief>([](const MdBrief& f) {
+      .def("__repr__", [](const MdBrief& f) {
         return "<mdbrief.MdBrief " + toString(f.options().detector.method) + " + " +
                toString(f.options().descriptor.kind) + "-" + std::to_string(f.options().descriptor.bits) + ">";
-      }));
+      });
 
   m.def(
       "_native_seconds",

@@ -118,7 +118,7 @@ fails with "inliers no more than chance" when random matches would give one mode
 }  // namespace
 
 void bindGeometry(py::module_& m) {
-  py::class_<PyTwoViewResult>(m, "TwoViewResult", initialisedObjectsOnly(), R"doc(
+  boundClass<PyTwoViewResult>(m, "TwoViewResult", R"doc(
 A two-view fit or check of matched bearings: per match, the inlier flag and the residual (an
 angle, radians); the model. When the fit fails, ok is False, reason says why ("too few matches",
 "all matches on the same point", "all matches on a line", "no model found", "inliers no more than
@@ -173,11 +173,11 @@ chance"), no match is an inlier and residuals is empty.)doc")
             return std::move(t);
           },
           "(3,) t of that pose (unit length for a fit); None without a pose.")
-      .def("__repr__", onInitialised<PyTwoViewResult>([](const PyTwoViewResult& r) {
+      .def("__repr__", [](const PyTwoViewResult& r) {
              if (!r.result.ok()) return "<mdbrief.TwoViewResult " + r.kind + ": " + r.result.reason + ">";
              return "<mdbrief.TwoViewResult " + r.kind + ": " + std::to_string(r.result.inlierCount) + " of " +
                     std::to_string(r.result.inliers.size()) + " inliers>";
-           }));
+           });
 
   m.def(
       "fit_essential",
