@@ -231,8 +231,11 @@ Cameras pickle (as model, size and parameters).)doc")
             return py::make_tuple(c.modelName(), c.imageSize().width, c.imageSize().height, parameterDict(c));
           },
           [](const py::tuple& t) {
-            if (t.size() != 4) throw py::value_error("Camera: bad pickled state");
-            return cameraFromKeywords(t[0].cast<std::string>(), t[1].cast<int>(), t[2].cast<int>(),
+            if (t.size() != 4 || !py::isinstance<py::str>(t[0]) || !py::isinstance<py::int_>(t[1]) ||
+                !py::isinstance<py::int_>(t[2]) || !py::isinstance<py::dict>(t[3]))
+              throw py::value_error("Camera: bad pickled state (Camera.__getstate__ gives (model: str, width: int, "
+                                    "height: int, parameters: dict))");
+            return cameraFromKeywords(t[0].cast<std::string>(), sideFrom(t[1], "width"), sideFrom(t[2], "height"),
                                       t[3].cast<py::dict>());
           }))
       .def_property_readonly("model", &Camera::modelName, "Model name as in the project's YAML ('ocam', ...).")

@@ -85,7 +85,15 @@ TestSet makeTestSet(const std::string& name, const py::handle& rows, const std::
 }
 
 TestSet testSetFromState(const py::tuple& state) {
-  if (state.size() != 3) throw py::value_error("TestSet: bad pickled state");
+  const auto texts = [](const py::handle& list) {
+    if (!py::isinstance<py::list>(list)) return false;
+    for (const py::handle item : list)
+      if (!py::isinstance<py::str>(item)) return false;
+    return true;
+  };
+  if (state.size() != 3 || !py::isinstance<py::str>(state[0]) || !texts(state[2]))
+    throw py::value_error("TestSet: bad pickled state (TestSet.__getstate__ gives (name: str, tests: list, "
+                          "training_images: list of str))");
   return makeTestSet(state[0].cast<std::string>(), state[1], state[2].cast<std::vector<std::string>>());
 }
 

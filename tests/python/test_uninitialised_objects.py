@@ -78,7 +78,10 @@ def signatures(function):
     found = []
     lines = (function.__doc__ or "").splitlines()
     # One signature on the first line, or "Overloaded function." and then numbered ones.
-    lines = [line for line in lines if re.match(r"^\d+\. ", line)] if lines[:1] == ["Overloaded function."] else lines[:1]
+    if lines[:1] == ["Overloaded function."]:
+        lines = [line for line in lines if re.match(r"^\d+\. ", line)]
+    else:
+        lines = lines[:1]
     for line in lines:
         match = re.match(r"^(?:\d+\. )?[\w.]*\((.*)\) -> ", line)
         if not match:
