@@ -30,9 +30,11 @@ void bindVocabulary(py::module_& m);
 // An object made with Cls.__new__(Cls) and never initialised holds no C++ object; pybind11 would
 // hand fresh, unconstructed memory to any function taking it (as self or as an argument), which
 // crashed or read garbage. boundClass makes that memory's allocation (the type's operator_new,
-// which pybind11 calls only for this) raise TypeError naming the class instead, so every
-// function of the module refuses such an object. std::shared_ptr<T> arguments, which pybind11
-// loads without the value, are checked by CheckedSharedCaster below.
+// which pybind11 2.10 calls only for this, in type_caster_generic::load_value) raise TypeError
+// naming the class instead, so every function of the module refuses such an object.
+// std::shared_ptr<T> arguments, which pybind11 loads without the value, are checked by
+// CheckedSharedCaster below. tests/python/test_uninitialised_objects.py feeds such objects to
+// every function and method, so a pybind11 that allocates elsewhere fails there.
 [[noreturn]] void raiseNeverInitialised(PyTypeObject* type);
 void guardClass(const std::type_info& type, void* (*refuseValue)(std::size_t));
 

@@ -65,9 +65,9 @@ void initialiseOnlyOnce(py::handle cls, const char* method) {
                          METH_VARARGS | METH_KEYWORDS, docs.back().c_str()});
   py::object function = py::reinterpret_steal<py::object>(PyCFunction_New(&definitions.back(), original.ptr()));
   if (!function) throw py::error_already_set();
-  py::object method_ = py::reinterpret_steal<py::object>(PyInstanceMethod_New(function.ptr()));
-  if (!method_) throw py::error_already_set();
-  py::setattr(cls, method, method_);
+  py::object bound = py::reinterpret_steal<py::object>(PyInstanceMethod_New(function.ptr()));
+  if (!bound) throw py::error_already_set();
+  py::setattr(cls, method, bound);
 }
 
 }  // namespace
