@@ -178,7 +178,7 @@ CameraFileOptions fileOptions(const std::string& format, const py::handle& image
 }
 
 // A camera of the rig by index or id, IndexError / KeyError as Python's containers raise.
-std::size_t rigIndex(const CameraRig& rig, const py::handle& which) {
+std::size_t rigIndex(const CameraRig& rig, const py::handle& which, const char* argument) {
   if (py::isinstance<py::str>(which)) {
     try {
       return rig.index(which.cast<std::string>());
@@ -186,7 +186,9 @@ std::size_t rigIndex(const CameraRig& rig, const py::handle& which) {
       throw py::key_error(e.what());
     }
   }
-  if (!py::isinstance<py::int_>(which)) throw py::type_error("a camera is chosen by its index (int) or id (str)");
+  if (!py::isinstance<py::int_>(which))
+    throw py::type_error(std::string(argument) + ": a camera is chosen by its index (int) or id (str), got " +
+                         Py_TYPE(which.ptr())->tp_name);
   const long long i = which.cast<long long>();
   if (i < 0 || static_cast<unsigned long long>(i) >= rig.size())
     throw py::index_error("camera index " + std::to_string(i) + " out of range (the rig has " +
@@ -197,7 +199,7 @@ std::size_t rigIndex(const CameraRig& rig, const py::handle& which) {
 }  // namespace
 
 void bindCamera(py::module_& m) {
-  py::class_<Camera, std::shared_ptr<Camera>>(m, "Camera", initialisedObjectsOnly(), R"doc(
+  boundClass<Camera, std::shared_ptr<Camera>>(m, "Camera", R"doc(
 A calibrated camera model (pinhole, radial, OCamCalib, Kannala-Brandt, double sphere, UCM/EUCM,
 radial-tangential). Pixels follow OpenCV: u = column, v = row, origin at the centre of the
 top-left pixel. Bearings are unit vectors, x right, y down, z along the optical axis.
@@ -229,8 +231,11 @@ Cameras pickle (as model, size and parameters).)doc")
             return py::make_tuple(c.modelName(), c.imageSize().width, c.imageSize().height, parameterDict(c));
           },
           [](const py::tuple& t) {
-            if (t.size() != 4) throw py::value_error("Camera: bad pickled state");
-            return cameraFromKeywords(t[0].cast<std::string>(), t[1].cast<int>(), t[2].cast<int>(),
+            if (t.size() != 4 || !py::isinstance<py::str>(t[0]) || !py::isinstance<py::int_>(t[1]) ||
+                !py::isinstance<py::int_>(t[2]) || !py::isinstance<py::dict>(t[3]))
+              throw py::value_error("Camera: bad pickled state (Camera.__getstate__ gives (model: str, width: int, "
+                                    "height: int, parameters: dict))");
+            return cameraFromKeywords(t[0].cast<std::string>(), sideFrom(t[1], "width"), sideFrom(t[2], "height"),
                                       t[3].cast<py::dict>());
           }))
       .def_property_readonly("model", &Camera::modelName, "Model name as in the project's YAML ('ocam', ...).")
@@ -264,10 +269,10 @@ Cameras pickle (as model, size and parameters).)doc")
       .def(
           "save", [](const Camera& c, const py::handle& path) { saveCamera(c, pathFrom(path, "path")); },
           py::arg("path"), "Writes to_yaml() to path (str, bytes or os.PathLike) atomically.")
-      .def("__repr__", onInitialised<Camera>([](const Camera& c) {
+      .def("__repr__", [](const Camera& c) {
         return "<mdbrief.Camera " + c.modelName() + " " + std::to_string(c.imageSize().width) + "x" +
                std::to_string(c.imageSize().height) + ">";
-      }));
+      });
 
   m.def(
       "load_camera",
@@ -297,7 +302,7 @@ opencv_model="fisheye" or "standard" says which model four OpenCV coefficients a
 file does not. Raises FileNotFoundError for a missing file and ValueError naming the key for a
 bad one.)doc");
 
-  py::class_<CameraRig>(m, "CameraRig", R"doc(
+  boundClass<CameraRig>(m, "CameraRig", R"doc(
 The cameras of a rig (mdbrief.load_rig) and the extrinsics between them. relative_pose(i, j)
 returns (R, t), numpy (3, 3) and (3,), that map a point of camera j's frame into camera i's:
 x_i = R @ x_j + t (t is camera j's centre seen from camera i, in the file's unit).)doc")
@@ -314,14 +319,16 @@ x_i = R @ x_j + t (t is camera j's centre seen from camera i, in the file's unit
       .def_property_readonly("format", [](const CameraRig& r) { return toString(r.format()); },
                              "The format the file was read as.")
       .def("__len__", &CameraRig::size)
-      .def("camera", [](const CameraRig& r, const py::handle& which) { return r.at(rigIndex(r, which)).camera; },
-           py::arg("which"), "The camera by index (int) or id (str).")
+      .def(
+          "camera",
+          [](const CameraRig& r, const py::handle& which) { return r.at(rigIndex(r, which, "which")).camera; },
+          py::arg("which"), "The camera by index (int) or id (str).")
       .def("has_relative_pose", [](const CameraRig& r, const py::handle& i, const py::handle& j) {
-        return r.hasRelativePose(rigIndex(r, i), rigIndex(r, j));
+        return r.hasRelativePose(rigIndex(r, i, "i"), rigIndex(r, j, "j"));
       }, py::arg("i"), py::arg("j"), "Whether relative_pose(i, j) is known.")
       .def("relative_pose", [](const CameraRig& r, const py::handle& i, const py::handle& j) {
         RigidTransform pose;
-        const std::size_t a = rigIndex(r, i), b = rigIndex(r, j);
+        const std::size_t a = rigIndex(r, i, "i"), b = rigIndex(r, j, "j");
         try {
           pose = r.relativePose(a, b);
         } catch (const std::runtime_error& e) {
@@ -352,6 +359,9 @@ naming the camera when the file gives no extrinsics for it.)doc")
         if (one) {
           files.push_back(pathFrom(paths, "paths"));
         } else {
+          if (!py::isinstance<py::iterable>(paths))
+            throw py::type_error(std::string("paths must be a path (str, bytes or os.PathLike) or a list of them, ") +
+                                 "got " + Py_TYPE(paths.ptr())->tp_name);
           for (const py::handle& item : paths) files.push_back(pathFrom(item, "paths"));
         }
         for (const std::string& file : files) requireFile(file);

@@ -30,7 +30,7 @@ py::list resultsToPython(const std::vector<QueryResult>& results) {
 }  // namespace
 
 void bindDatabase(py::module_& m) {
-  py::class_<Database>(m, "Database", initialisedObjectsOnly(), R"doc(
+  boundClass<Database>(m, "Database", R"doc(
 Images of a place-recognition database as bags of words of one Vocabulary, with an inverted
 index; query returns the entries of highest L1 score. Entry ids are the order of adding, from 0.)doc")
       .def(py::init<Vocabulary>(), py::arg("vocabulary"))
@@ -69,7 +69,7 @@ word in common are not returned. score is the L1 score in (0, 1].)doc")
             return bowToPython(db.entry(static_cast<uint32_t>(id)));
           },
           py::arg("id"), "The bag of words of an entry.")
-      .def("__len__", onInitialised<Database>(&Database::size))
+      .def("__len__", &Database::size)
       .def_property_readonly("vocabulary", &Database::vocabulary)
       .def(
           "save", [](const Database& db, const py::handle& path) { db.save(pathFrom(path, "path")); }, py::arg("path"),
@@ -89,10 +89,10 @@ word in common are not returned. score is the L1 score in (0, 1].)doc")
 Reads a database file saved with this vocabulary. Raises FileNotFoundError for a missing file and
 ValueError naming the file and the problem for a bad one, among them a file saved with another
 vocabulary.)doc")
-      .def("__repr__", onInitialised<Database>([](const Database& db) {
+      .def("__repr__", [](const Database& db) {
         return "<mdbrief.Database " + std::to_string(db.size()) + " entries, " +
                std::to_string(db.vocabulary().wordCount()) + " words>";
-      }));
+      });
 }
 
 }  // namespace mdbrief::python

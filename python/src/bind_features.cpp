@@ -1,6 +1,6 @@
 // mdbrief.MdBrief: the cv::Feature2D adapter (feature2d.hpp) with every MdBriefOptions field as a
 // keyword argument. The keywords, their docs and ranges come from the library's field table
-// (mdBriefOptionFields()); defaults from a default-constructed MdBriefOptions.
+// (mdBriefOptionFields(), with `method` for its `detector`); defaults from a default-constructed MdBriefOptions.
 #include <optional>
 #include <string>
 
@@ -16,6 +16,17 @@ namespace {
 
 using FeaturePtr = std::shared_ptr<MdBrief>;
 
+// `detector=`, the keyword's name before 0.2, still works with a DeprecationWarning; its errors
+// name it as given.
+const OptionTable<MdBriefOptions>& keywordTable(const py::dict& keywords) {
+  if (!keywords.contains("detector")) return mdBriefKeywords();
+  if (keywords.contains("method"))
+    throw py::type_error("MdBrief() got both method= and detector=, its deprecated name: give method= only");
+  if (PyErr_WarnEx(PyExc_DeprecationWarning, "MdBrief: detector= is deprecated, use method=", 1) != 0)
+    throw py::error_already_set();
+  return mdBriefOptionFields();
+}
+
 // pattern may also be a TestSet (one just trained, say): then the options' pattern is
 // `patternText` (default: the set's name), and the set itself describes.
 FeaturePtr makeFeature(std::shared_ptr<Camera> camera, MdBriefOptions base, const py::dict& keywords,
@@ -26,7 +37,7 @@ FeaturePtr makeFeature(std::shared_ptr<Camera> camera, MdBriefOptions base, cons
     base.descriptor.pattern = patternText.value_or(tests->name);
   }
   const MdBriefOptions options = optionsFromKeywords(
-      mdBriefOptionFields(), py::kwargs(keywords), "MdBrief", [](const MdBriefOptions& o) { validate(o); },
+      keywordTable(keywords), py::kwargs(keywords), "MdBrief", [](const MdBriefOptions& o) { validate(o); },
       tests ? std::vector<std::string>{"pattern"} : std::vector<std::string>{}, base);
   try {
     return tests ? std::make_shared<MdBrief>(camera, options, *tests) : std::make_shared<MdBrief>(camera, options);
@@ -48,13 +59,15 @@ void requireCameraSize(const MdBrief& feature, const cv::Mat& image) {
 // Pickled as the camera, every option by keyword and the test set in use, so a set given as a
 // TestSet or a file need not exist where it is unpickled.
 py::tuple featureState(const MdBrief& f) {
-  return py::make_tuple(std::const_pointer_cast<Camera>(f.camera()), keywordDict(mdBriefOptionFields(), f.options()),
+  return py::make_tuple(std::const_pointer_cast<Camera>(f.camera()), keywordDict(mdBriefKeywords(), f.options()),
                         py::cast(f.extractor().testSet()));
 }
 
 FeaturePtr featureFromState(const py::tuple& state) {
-  if (state.size() != 3 || !py::isinstance<py::dict>(state[1]) || !py::isinstance<TestSet>(state[2]))
-    throw py::value_error("MdBrief: bad pickled state");
+  if (state.size() != 3 || !(state[0].is_none() || py::isinstance<Camera>(state[0])) ||
+      !py::isinstance<py::dict>(state[1]) || !py::isinstance<TestSet>(state[2]))
+    throw py::value_error("MdBrief: bad pickled state (MdBrief.__getstate__ gives (camera: Camera or None, "
+                          "options: dict, test_set: TestSet))");
   py::dict keywords = state[1].cast<py::dict>();
   const std::string pattern = keywords.contains("pattern") ? pathFrom(keywords["pattern"], "pattern") : "";
   keywords["pattern"] = state[2];
@@ -69,7 +82,7 @@ std::string initDoc() {
          "keyword that changes the preset's value; pattern may also be a TestSet (mdbrief.train()'s).\n"
          "MdBrief objects pickle (camera, options and the test set in use). The defaults\n"
          "(docs/guide/README.md, options and presets; docs/RESULTS.md says why):\n\n" +
-         keywordDoc(mdBriefOptionFields(), MdBriefOptions{}) +
+         keywordDoc(mdBriefKeywords(), MdBriefOptions{}) +
          "\nA bad value raises ValueError naming the keyword, its range and the value; an unknown keyword,\n"
          "TypeError; an unknown preset, ValueError listing the presets.";
 }
@@ -97,9 +110,18 @@ py::tuple run(MdBrief& feature, const py::handle& image, const py::handle& mask,
 
 }  // namespace
 
+const OptionTable<MdBriefOptions>& mdBriefKeywords() {
+  static const OptionTable<MdBriefOptions> table = [] {
+    OptionTable<MdBriefOptions> t = mdBriefOptionFields();
+    for (OptionField<MdBriefOptions>& f : t)
+      if (f.member == "detector.method") f.keyword = "method";
+    return t;
+  }();
+  return table;
+}
+
 void bindFeatures(py::module_& m) {
-  py::class_<MdBrief, FeaturePtr>(m, "MdBrief", initialisedObjectsOnly(),
-                                  "Keypoint detection and BRIEF / dBRIEF / mdBRIEF description.")
+  boundClass<MdBrief, FeaturePtr>(m, "MdBrief", "Keypoint detection and BRIEF / dBRIEF / mdBRIEF description.")
       .def(py::init([](std::shared_ptr<Camera> camera, const std::string& preset, const py::kwargs& kwargs) {
              return makeFeature(camera, presetSettings(presetFrom(preset)).features, kwargs);
            }),
@@ -145,15 +167,15 @@ void bindFeatures(py::module_& m) {
       .def(py::pickle(&featureState, &featureFromState))
       .def_property_readonly("test_set", [](const MdBrief& f) { return f.extractor().testSet(); },
                              "The tests in use (the pattern's first `bits`).")
-      .def_property_readonly("options", [](const MdBrief& f) { return keywordDict(mdBriefOptionFields(), f.options()); },
+      .def_property_readonly("options", [](const MdBrief& f) { return keywordDict(mdBriefKeywords(), f.options()); },
                              "Every option, by keyword name.")
       .def_property_readonly("camera", [](const MdBrief& f) { return std::const_pointer_cast<Camera>(f.camera()); })
       .def_property_readonly("descriptor_size", &MdBrief::descriptorSize, "Bytes per descriptor.")
       .def_property_readonly("default_norm", &MdBrief::defaultNorm, "cv2.NORM_HAMMING.")
-      .def("__repr__", onInitialised<MdBrief>([](const MdBrief& f) {
+      .def("__repr__", [](const MdBrief& f) {
         return "<mdbrief.MdBrief " + toString(f.options().detector.method) + " + " +
                toString(f.options().descriptor.kind) + "-" + std::to_string(f.options().descriptor.bits) + ">";
-      }));
+      });
 
   m.def(
       "_native_seconds",

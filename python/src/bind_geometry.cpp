@@ -1,7 +1,9 @@
 // mdbrief.fit_essential, fit_homography, check_known_pose: two-view geometry on matched bearing
 // vectors (mdbrief/geometry/two_view.hpp), each giving a TwoViewResult; mdbrief.pixels_per_radian
 // for thresholds in pixels.
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,8 +35,21 @@ py::array matrixArray(const cv::Matx33d& m) {
   return std::move(out);
 }
 
+// A ray whose length overflows or underflows (1e200, 1e-170) scaled to a largest component of 1,
+// which keeps its direction: the library normalises by the length. Others are unchanged, so the
+// library sees what it always saw. False for a ray with no direction (not finite, or zero).
+bool directionKept(cv::Vec3d& v) {
+  if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) return false;
+  const double length = cv::norm(v);
+  if (length > 0 && std::isfinite(length)) return true;
+  const double largest = std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
+  if (!(largest > 0)) return false;
+  v = cv::Vec3d(v[0] / largest, v[1] / largest, v[2] / largest);
+  return true;
+}
+
 // An (N, 3) array of bearings: finite, non-zero rows (any length: the library normalises).
-std::vector<cv::Vec3d> bearingsFrom(const py::handle& object, const char* argument) {
+std::vector<cv::Vec3d> bearingsFrom(const py::handle& object, const char* argument, const char* callable) {
   bool single = false;
   const auto a = pointsFromArray(object, 3, argument, single);
   if (single)
@@ -43,10 +58,28 @@ std::vector<cv::Vec3d> bearingsFrom(const py::handle& object, const char* argume
   const double* p = a.data();
   for (size_t k = 0; k < out.size(); ++k) {
     out[k] = cv::Vec3d(p[3 * k], p[3 * k + 1], p[3 * k + 2]);
-    if (!std::isfinite(out[k][0]) || !std::isfinite(out[k][1]) || !std::isfinite(out[k][2]) || !(cv::norm(out[k]) > 0))
-      throw py::value_error(std::string(argument) + "[" + std::to_string(k) + "] must be finite and non-zero");
+    if (!directionKept(out[k]))
+      throw py::value_error(std::string(callable) + ": " + argument + "[" + std::to_string(k) +
+                            "] must be finite and non-zero");
   }
   return out;
+}
+
+// The library's messages name its C++ function and parameters (checkKnownPose: pose.rotation);
+// Python users called `callable` with bearings_a, bearings_b, rotation and translation.
+[[noreturn]] void raiseInPythonNames(const std::invalid_argument& e, const char* function, const char* callable) {
+  std::string message = e.what();
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    for (std::size_t at = message.find(from); at != std::string::npos; at = message.find(from, at + to.size()))
+      message.replace(at, from.size(), to);
+  };
+  replace(std::string(function) + ":", std::string(callable) + ":");
+  replace("pose.rotation", "rotation");
+  replace("pose.translation", "translation");
+  replace("bearing a[", "bearings_a[");
+  replace("bearing b[", "bearings_b[");
+  replace("pixelsPerRadian", "pixels_per_radian");
+  throw py::value_error(message);
 }
 
 // None, or one positive value per match.
@@ -76,8 +109,8 @@ struct Inputs {
 Inputs inputsFrom(const py::handle& bearingsA, const py::handle& bearingsB, const py::handle& pixelsPerRadian,
                   const py::kwargs& kwargs, const char* callable) {
   Inputs in;
-  in.a = bearingsFrom(bearingsA, "bearings_a");
-  in.b = bearingsFrom(bearingsB, "bearings_b");
+  in.a = bearingsFrom(bearingsA, "bearings_a", callable);
+  in.b = bearingsFrom(bearingsB, "bearings_b", callable);
   if (in.a.size() != in.b.size())
     throw py::value_error("bearings_a has " + std::to_string(in.a.size()) + " rows and bearings_b " +
                           std::to_string(in.b.size()) + ": one row each per match");
@@ -119,7 +152,7 @@ of 100 or more).)doc";
 }  // namespace
 
 void bindGeometry(py::module_& m) {
-  py::class_<PyTwoViewResult>(m, "TwoViewResult", initialisedObjectsOnly(), R"doc(
+  boundClass<PyTwoViewResult>(m, "TwoViewResult", R"doc(
 A two-view fit or check of matched bearings: per match, the inlier flag and the residual (an
 angle, radians); the model. When the fit fails, ok is False, reason says why ("too few matches",
 "all matches on the same point", "all matches on a line", "no model found", "inliers no more than
@@ -174,11 +207,11 @@ chance"), no match is an inlier and residuals is empty.)doc")
             return std::move(t);
           },
           "(3,) t of that pose (unit length for a fit); None without a pose.")
-      .def("__repr__", onInitialised<PyTwoViewResult>([](const PyTwoViewResult& r) {
+      .def("__repr__", [](const PyTwoViewResult& r) {
              if (!r.result.ok()) return "<mdbrief.TwoViewResult " + r.kind + ": " + r.result.reason + ">";
              return "<mdbrief.TwoViewResult " + r.kind + ": " + std::to_string(r.result.inlierCount) + " of " +
                     std::to_string(r.result.inliers.size()) + " inliers>";
-           }));
+           });
 
   m.def(
       "fit_essential",
@@ -186,12 +219,14 @@ chance"), no match is an inlier and residuals is empty.)doc")
         const Inputs in = inputsFrom(a, b, scale, kwargs, "fit_essential");
         PyTwoViewResult out;
         out.kind = "essential";
-        {
+        try {
           py::gil_scoped_release release;
           EssentialResult fit = fitEssential(in.a, in.b, in.options, in.scale);
           out.model = fit.essential;
           out.pose = fit.pose;
           out.result = std::move(fit);
+        } catch (const std::invalid_argument& e) {
+          raiseInPythonNames(e, "fitEssential", "fit_essential");
         }
         return out;
       },
@@ -212,11 +247,13 @@ Returns a TwoViewResult with rotation and translation (X_a = R X_b + t, |t| = 1)
         Inputs in = inputsFrom(a, b, scale, kwargs, "fit_homography");
         PyTwoViewResult out;
         out.kind = "homography";
-        {
+        try {
           py::gil_scoped_release release;
           HomographyResult fit = fitHomography(in.a, in.b, in.options, in.scale);
           out.model = fit.homography;
           out.result = std::move(fit);
+        } catch (const std::invalid_argument& e) {
+          raiseInPythonNames(e, "fitHomography", "fit_homography");
         }
         return out;
       },
@@ -237,9 +274,16 @@ Threshold and pixels_per_radian as for fit_essential.)doc") +
         PyTwoViewResult out;
         out.kind = "known pose";
         out.pose = pose;
-        {
+        // Any scale of the translation is the same pose; one the library cannot normalise is scaled.
+        RelativePose checked = pose;
+        if (!directionKept(checked.translation))
+          throw py::value_error("check_known_pose: translation must be finite and non-zero (with no baseline, "
+                                "matches have no epipolar geometry)");
+        try {
           py::gil_scoped_release release;
-          out.result = checkKnownPose(in.a, in.b, pose, in.options, in.scale);
+          out.result = checkKnownPose(in.a, in.b, checked, in.options, in.scale);
+        } catch (const std::invalid_argument& e) {
+          raiseInPythonNames(e, "checkKnownPose", "check_known_pose");
         }
         return out;
       },

@@ -52,7 +52,7 @@ void bindOptions(py::module_& m) {
   m.def(
       "option_fields",
       [](const std::string& callable) -> py::list {
-        if (callable == "MdBrief") return describe(mdBriefOptionFields());
+        if (callable == "MdBrief") return describe(mdBriefKeywords());
         if (callable == "train") return describe(train::trainOptionFields());
         if (callable == "match") return describe(matchOptionFields());
         if (callable == "match_guided") return describe(guidedMatchOptionFields());

@@ -62,6 +62,9 @@ TestSet makeTestSet(const std::string& name, const py::handle& rows, const std::
   TestSet set;
   set.name = name;
   set.trainingImages = trainingImages;
+  if (!py::isinstance<py::iterable>(rows))
+    throw py::type_error(std::string("TestSet: tests must be rows of 4 ints (x1, y1, x2, y2), got ") +
+                         Py_TYPE(rows.ptr())->tp_name);
   for (const py::handle row : rows) {
     std::vector<int> v;
     try {
@@ -82,7 +85,15 @@ TestSet makeTestSet(const std::string& name, const py::handle& rows, const std::
 }
 
 TestSet testSetFromState(const py::tuple& state) {
-  if (state.size() != 3) throw py::value_error("TestSet: bad pickled state");
+  const auto texts = [](const py::handle& list) {
+    if (!py::isinstance<py::list>(list)) return false;
+    for (const py::handle item : list)
+      if (!py::isinstance<py::str>(item)) return false;
+    return true;
+  };
+  if (state.size() != 3 || !py::isinstance<py::str>(state[0]) || !texts(state[2]))
+    throw py::value_error("TestSet: bad pickled state (TestSet.__getstate__ gives (name: str, tests: list, "
+                          "training_images: list of str))");
   return makeTestSet(state[0].cast<std::string>(), state[1], state[2].cast<std::vector<std::string>>());
 }
 
@@ -197,7 +208,7 @@ std::string trainDoc() {
 }  // namespace
 
 void bindPatterns(py::module_& m) {
-  py::class_<TestSet>(m, "TestSet", initialisedObjectsOnly(),
+  boundClass<TestSet>(m, "TestSet",
                       "A binary test set: (x1, y1, x2, y2) offsets in the 32x32 patch, in [-16, 15].")
       .def(py::init(&makeTestSet), py::arg("name"), py::arg("tests"),
            py::arg("training_images") = std::vector<std::string>{},
@@ -207,7 +218,7 @@ void bindPatterns(py::module_& m) {
       .def_property_readonly("tests", &testsArray, "(N, 4) int8 array, the first rows form the shortest descriptor.")
       .def_readonly("training_images", &TestSet::trainingImages,
                     "Digests of the images the set was learned from (empty for a random set).")
-      .def("__len__", onInitialised<TestSet>([](const TestSet& s) { return s.tests.size(); }))
+      .def("__len__", [](const TestSet& s) { return s.tests.size(); })
       .def("save", &saveTestSet, py::arg("path"),
            "Writes the set as mdbrief-train's <name>.json (path: str, bytes or os.PathLike), atomically;\n"
            "load_pattern(path) and MdBrief(camera, pattern=path) read it back.")
@@ -222,9 +233,9 @@ void bindPatterns(py::module_& m) {
             }
           },
           py::arg("n"), "The first n tests (a multiple of 32).")
-      .def("__repr__", onInitialised<TestSet>([](const TestSet& s) {
+      .def("__repr__", [](const TestSet& s) {
         return "<mdbrief.TestSet " + s.name + ", " + std::to_string(s.tests.size()) + " tests>";
-      }));
+      });
 
   m.def("patterns", &builtinTestSetNames, "Names of the compiled-in test sets, sorted.");
   m.def("default_pattern", &defaultTestSetName, "The set MdBrief uses when pattern is ''.");

@@ -25,7 +25,7 @@ Vocabulary readVocabulary(const py::handle& pathArgument, Vocabulary (*reader)(c
 }  // namespace
 
 void bindVocabulary(py::module_& m) {
-  py::class_<Vocabulary>(m, "Vocabulary", initialisedObjectsOnly(), R"doc(
+  boundClass<Vocabulary>(m, "Vocabulary", R"doc(
 A vocabulary of binary visual words for place recognition: a tree of k-majority centroids (and,
 masked, of the masks of the bits the members agree on), trained by mdbrief-train-vocabulary.
 Read one with Vocabulary.load (the library's file) or Vocabulary.import_dbow2_text (DBoW2/DBoW3
@@ -113,11 +113,11 @@ descriptors'.)doc")
             return out;
           },
           py::arg("descriptors"), py::arg("masks") = py::none(), "Only the words of transform: (N,) uint32.")
-      .def("__repr__", onInitialised<Vocabulary>([](const Vocabulary& v) {
+      .def("__repr__", [](const Vocabulary& v) {
         return "<mdbrief.Vocabulary " + std::to_string(v.wordCount()) + " words, k=" + std::to_string(v.branching()) +
                " L=" + std::to_string(v.depth()) + ", " + std::to_string(v.bits()) + " bits, " +
                (v.masked() ? "masked" : "plain") + ">";
-      }));
+      });
 }
 
 }  // namespace mdbrief::python

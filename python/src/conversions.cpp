@@ -82,6 +82,10 @@ py::array_t<double, py::array::c_style> pointsFromArray(const py::handle& object
                                                         bool& single) {
   py::array_t<double, py::array::c_style | py::array::forcecast> a;
   try {
+    // numpy casts True to 1.0: a boolean array (a mask passed by mistake) would pass as points.
+    const py::array any = py::array::ensure(object);
+    if (any && any.dtype().kind() == 'b')
+      throw py::type_error(std::string(argument) + " must be an array of numbers, got booleans");
     a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(object);
   } catch (const py::error_already_set&) {
     throw py::type_error(std::string(argument) + " must be an array of numbers");

@@ -26,8 +26,8 @@ cv::Mat descriptorsFromArray(const py::handle& object, const char* argument, py:
 // A copy of a CV_8UC1 matrix as an (N, cols) uint8 array; an empty matrix gives shape (0, cols).
 py::array_t<uint8_t> arrayFromMat(const cv::Mat& mat, int cols);
 
-// (N, k) float64 points: accepts any array-like of shape (N, k), or (k,) for a single point
-// (then `single` is set).
+// (N, k) float64 points: accepts any array-like of numbers of shape (N, k), or (k,) for a single
+// point (then `single` is set); booleans are refused (TypeError).
 py::array_t<double, py::array::c_style> pointsFromArray(const py::handle& object, int k, const char* argument,
                                                         bool& single);
 

@@ -16,4 +16,5 @@ PYBIND11_MODULE(_mdbrief, m) {
   mdbrief::python::bindSimdLevel(m);
   mdbrief::python::bindVocabulary(m);
   mdbrief::python::bindDatabase(m);
+  mdbrief::python::finishClasses(m);
 }

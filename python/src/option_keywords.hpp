@@ -11,6 +11,7 @@
 
 #include "bindings.hpp"
 #include "conversions.hpp"
+#include "mdbrief/api/feature2d.hpp"
 #include "mdbrief/base/option_fields.hpp"
 
 namespace mdbrief::python {
@@ -132,5 +133,10 @@ std::string keywordDoc(const OptionTable<Options>& table, const Options& default
   }
   return doc.str();
 }
+
+// MdBrief's keywords: the library's table with the detection method spelt `method`, as
+// DetectorOptions::method and the README spell it (the table's `detector` is the command line's
+// --detector). bind_features.cpp.
+const OptionTable<MdBriefOptions>& mdBriefKeywords();
 
 }  // namespace mdbrief::python

@@ -110,7 +110,7 @@ def test_options_are_keywords_with_the_library_defaults(camera):
     assert mdbrief.MdBrief(camera, **defaults).options == defaults
     changed = mdbrief.MdBrief(camera, detector="hessian", levels=6, scale_factor=1.25, bits=128,
                               orientation="keypoint", spread=True, support_scale=2.5).options
-    assert changed["detector"] == "hessian" and changed["levels"] == 6 and changed["scale_factor"] == 1.25
+    assert changed["method"] == "hessian" and changed["levels"] == 6 and changed["scale_factor"] == 1.25
     assert changed["bits"] == 128 and changed["orientation"] == "keypoint" and changed["spread"] is True
     assert changed["support_scale"] == 2.5
     for name in defaults:

@@ -140,7 +140,7 @@ def test_bad_arguments():
         mdbrief.fit_essential(a, a, threshold=2)
     with pytest.raises(ValueError, match=r"rotation must have shape \(3, 3\)"):
         mdbrief.check_known_pose(a, a, np.eye(2), T)
-    with pytest.raises(ValueError, match="pose.rotation is not a rotation"):
+    with pytest.raises(ValueError, match="^check_known_pose: rotation is not a rotation"):
         mdbrief.check_known_pose(a, a, 2 * np.eye(3), T)
     with pytest.raises(ValueError, match="translation must be finite and non-zero"):
         mdbrief.check_known_pose(a, a, np.eye(3), np.zeros(3))
