@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <tuple>
@@ -13,6 +15,7 @@
 #include <tbb/parallel_for.h>
 
 #include "csv_table.hpp"
+#include "scenes/room_renderer.hpp"
 #include "toolkit/image_file.hpp"
 
 namespace mdbrief::eval {
@@ -20,6 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kLocalisationRadiusPx = 3.0;  // a rendered match is right within this of the truth
 
 // The image names of an ASL folder's data.csv (#timestamp [ns],filename), in file order.
 std::vector<std::string> aslImageNames(const fs::path& csv) {
@@ -72,6 +76,7 @@ struct StereoPairResult {
   bool fitOk = false;
   int fitInliers = 0;
   double poseErrorDeg = kInf;
+  std::vector<std::pair<int, double>> localisation;  // rendered pairs: (b's level, error px) per right match
 };
 
 struct Keypoints {
@@ -98,8 +103,9 @@ Keypoints keypointRays(const Camera& camera, const std::vector<cv::KeyPoint>& kp
 // With pyramids, b's side of every match is refined (match_refinement.hpp) before it is scored;
 // a match the refinement fails on keeps its keypoint.
 std::vector<StereoPairResult> scorePair(const Features& fa, const Features& fb, const Camera& cameraA,
-                                        const Camera& cameraB, const RelativePose& truth, const StereoOptions& o,
-                                        const ImagePyramid* pyramidA = nullptr, const ImagePyramid* pyramidB = nullptr) {
+                                        const Camera& cameraB, const StereoPair& pair, const RelativePose& truth,
+                                        const StereoOptions& o, const ImagePyramid* pyramidA = nullptr,
+                                        const ImagePyramid* pyramidB = nullptr) {
   const NeighbourTable table = nearestNeighbourTable(fa, fb);
   const Keypoints ra = keypointRays(cameraA, fa.keypoints), rb = keypointRays(cameraB, fb.keypoints);
   TwoViewOptions label = o.fit;
@@ -112,12 +118,14 @@ std::vector<StereoPairResult> scorePair(const Features& fa, const Features& fb, 
     std::vector<cv::Vec3d> a, b;
     std::vector<double> scale;
     std::vector<cv::DMatch> kept;
+    std::vector<cv::Point2d> pointB;
     for (const auto& [qa, tb] : mutualRatioMatches(table, ratio)) {
       if (!ra.bearing[qa] || !rb.bearing[tb]) continue;
       a.push_back(*ra.bearing[qa]);
       b.push_back(*rb.bearing[tb]);
       scale.push_back(rb.scale[tb]);
       kept.emplace_back(qa, tb, 0.f);
+      pointB.push_back(fb.keypoints[tb].pt);
     }
     if (pyramidA && pyramidB) {
       const auto refined = refineMatches(*pyramidA, cameraA, fa.keypoints, *pyramidB, cameraB, fb.keypoints, kept, o.refinement);
@@ -126,9 +134,17 @@ std::vector<StereoPairResult> scorePair(const Features& fa, const Features& fb, 
         if (!s) continue;
         b[k] = refined[k].bearingB;
         scale[k] = *s;
+        pointB[k] = refined[k].pointB;
         ++r.refined;
       }
     }
+    if (pair.truthInB)
+      for (size_t k = 0; k < kept.size(); ++k) {
+        const auto truthB = pair.truthInB(fa.keypoints[kept[k].queryIdx].pt);
+        if (!truthB) continue;
+        const double error = cv::norm(pointB[k] - *truthB);
+        if (error <= kLocalisationRadiusPx) r.localisation.emplace_back(fb.keypoints[kept[k].trainIdx].octave, error);
+      }
     r.matches = static_cast<int>(a.size());
     const TwoViewResult known = checkKnownPose(a, b, truth, label, scale);
     for (size_t k = 0; k < a.size(); ++k)
@@ -145,6 +161,10 @@ std::vector<StereoPairResult> scorePair(const Features& fa, const Features& fb, 
   return out;
 }
 
+StereoSet fromRig(const std::string& name, const CameraRig& rig) {
+  return {name, rig.at(0).camera, rig.at(1).camera, rig.relativePose(0, 1), {}};
+}
+
 }  // namespace
 
 std::vector<StereoSet> loadStereoSets(const std::string& data) {
@@ -153,26 +173,68 @@ std::vector<StereoSet> loadStereoSets(const std::string& data) {
   if (!fs::is_directory(root)) return sets;
   const fs::path euroc = root / "euroc-v1-01";
   if (fs::is_directory(euroc)) {
-    StereoSet s{"euroc-v1-01",
-                readCameraRig(std::vector<std::string>{(euroc / "cam0/sensor.yaml").string(),
-                                                       (euroc / "cam1/sensor.yaml").string()}),
-                {}};
+    StereoSet s = fromRig("euroc-v1-01", readCameraRig(std::vector<std::string>{(euroc / "cam0/sensor.yaml").string(),
+                                                                             (euroc / "cam1/sensor.yaml").string()}));
     const auto left = aslImageNames(euroc / "cam0/data.csv"), right = aslImageNames(euroc / "cam1/data.csv");
     for (const auto& name : left)
       if (std::find(right.begin(), right.end(), name) != right.end())
-        s.pairs.push_back({(euroc / "cam0/data" / name).string(), (euroc / "cam1/data" / name).string()});
+        s.pairs.push_back({(euroc / "cam0/data" / name).string(), (euroc / "cam1/data" / name).string(), {}, {}, {}, {}});
     if (s.pairs.empty()) throw std::runtime_error(euroc.string() + ": no image in both cam0/data.csv and cam1/data.csv");
     sets.push_back(std::move(s));
   }
   const fs::path mynt = root / "mynteye-fisheye";
   if (fs::is_directory(mynt)) {
-    StereoSet s{"mynteye-fisheye",
-                readCameraRig(std::vector<std::string>{(mynt / "left_sensor_fisheye.yaml").string(),
-                                                       (mynt / "right_sensor_fisheye.yaml").string()}),
-                {{(mynt / "left_fisheye_img_0.png").string(), (mynt / "right_fisheye_img_0.png").string()}}};
+    StereoSet s = fromRig("mynteye-fisheye",
+                          readCameraRig(std::vector<std::string>{(mynt / "left_sensor_fisheye.yaml").string(),
+                                                                 (mynt / "right_sensor_fisheye.yaml").string()}));
+    s.pairs.push_back({(mynt / "left_fisheye_img_0.png").string(), (mynt / "right_fisheye_img_0.png").string(), {}, {},
+                       {}, {}});
     sets.push_back(std::move(s));
   }
   return sets;
+}
+
+StereoSet renderedStereoRig(const std::string& opencvDocDir, const CameraPtr& camera) {
+  auto room = std::make_shared<RoomScene>();
+  const char* photos[6] = {"building.jpg", "home.jpg", "aero1.jpg", "baboon.jpg", "fruits.jpg", "messi5.jpg"};
+  for (int w = 0; w < 6; ++w) room->walls[w] = readGrey((fs::path(opencvDocDir) / photos[w]).string());
+  StereoSet set{"rendered-rig", camera, camera, {}, {}};
+  // Side-by-side pairs at several places and headings (tests/test_two_view_rendered_rig.cpp's
+  // stereo placements): centre, heading and pitch of a, baseline along a's x, b's turn.
+  struct Placement {
+    cv::Vec3d centre;
+    double headingDeg, pitchDeg, baseline, turnDeg;
+  };
+  const Placement placements[] = {{{0.0, 0.0, 0.0}, 0, 0, 0.12, 0},
+                                  {{0.3, -0.2, 0.5}, 30, 10, 0.12, 5},
+                                  {{-0.5, 0.2, -0.3}, -45, -10, 0.25, 10},
+                                  {{0.6, 0.1, 1.0}, 150, 5, 0.40, 15}};
+  for (size_t k = 0; k < std::size(placements); ++k) {
+    const Placement& p = placements[k];
+    CameraPose a, b;
+    a.rotation = yawPitchRotation(p.headingDeg, p.pitchDeg);
+    a.centre = p.centre;
+    b.rotation = yawPitchRotation(p.turnDeg, 0) * a.rotation;
+    b.centre = a.centre + a.rotation.t() * cv::Vec3d(p.baseline, 0, 0);
+    StereoPair pair;
+    pair.left = "rendered-" + std::to_string(k) + "-a";
+    pair.right = "rendered-" + std::to_string(k) + "-b";
+    pair.leftImage = simulateCapture(renderRoom(*set.left, a, *room, {2}), 1.0, 0.0, 2.0, 2 * k + 1);
+    pair.rightImage = simulateCapture(renderRoom(*set.right, b, *room, {2}), 0.85, 12.0, 2.0, 2 * k + 2);
+    // X_a = R X_b + t: X_world = R_b^T X_b + C_b, X_a = R_a (X_world - C_a).
+    pair.pose = RelativePose{a.rotation * b.rotation.t(), a.rotation * (b.centre - a.centre)};
+    const CameraPtr lens = set.left;
+    pair.truthInB = [lens, room, a, b](const cv::Point2d& pixelA) -> std::optional<cv::Point2d> {
+      cv::Vec3d ray;
+      if (!lens->pixelToBearing(pixelA, ray)) return std::nullopt;
+      const auto point = roomPointSeen(a, *room, ray);
+      cv::Point2d pixel;
+      if (!point || !lens->bearingToPixel(b.rotation * (*point - b.centre), pixel)) return std::nullopt;
+      return pixel;
+    };
+    set.pairs.push_back(std::move(pair));
+  }
+  return set;
 }
 
 double poseAuc(std::vector<double> errorsDeg, double limit) {
@@ -197,29 +259,34 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
                      "right", "residual_median_px", "fit_ok", "fit_inliers", "pose_error_deg"});
   CsvTable summaryCsv({"set", "pipeline", "ratio", "shown", "pairs", "keypoints", "matches_per_pair",
                        "right_per_pair", "precision", "residual_median_px", "residual_p90_px", "fits_ok", "auc5",
-                       "auc10", "auc20", "median_pose_error_deg"});
+                       "auc10", "auc20", "median_pose_error_deg", "localisation_rms_px"});
   std::vector<StereoSummary> rows;
   for (const auto& set : sets) {
-    const auto& cameraA = set.rig.at(0).camera;
-    const auto& cameraB = set.rig.at(1).camera;
-    const RelativePose truth = set.rig.relativePose(0, 1);
+    const CameraPtr& cameraA = set.left;
+    const CameraPtr& cameraB = set.right;
     std::vector<cv::Mat> left(set.pairs.size()), right(set.pairs.size());
-    for (size_t i = 0; i < set.pairs.size(); ++i) left[i] = readGrey(set.pairs[i].left), right[i] = readGrey(set.pairs[i].right);
+    for (size_t i = 0; i < set.pairs.size(); ++i) {
+      const StereoPair& pair = set.pairs[i];
+      left[i] = pair.leftImage.empty() ? readGrey(pair.left) : pair.leftImage;
+      right[i] = pair.rightImage.empty() ? readGrey(pair.right) : pair.rightImage;
+    }
+    const bool rendered = !set.pairs.empty() && set.pairs.front().truthInB;
     std::printf("\nstereo %s (%zu pairs, %d keypoints per image; counts and pose at each pipeline's best ratio, the "
                 "residual of right matches at ratio %.2f)\n",
                 set.name.c_str(), set.pairs.size(), o.budget, o.residualRatio);
-    std::printf("  %-28s %5s %8s %7s %7s %7s %7s %7s %9s %9s\n", "pipeline", "ratio", "right", "precis", "AUC@5",
-                "AUC@10", "AUC@20", "fits", "res-med", "res-p90");
+    std::printf("  %-28s %5s %8s %7s %7s %7s %7s %7s %9s %9s%s\n", "pipeline", "ratio", "right", "precis", "AUC@5",
+                "AUC@10", "AUC@20", "fits", "res-med", "res-p90", rendered ? "  loc-RMS   per level of b (right matches)" : "");
     for (const auto& p : pipelines) {
       std::vector<std::vector<StereoPairResult>> results(set.pairs.size());
       tbb::parallel_for(size_t(0), set.pairs.size(), [&](size_t i) {
         const Features fa = trackerFeatures(p, left[i], cameraA, {}, o.budget);
         const Features fb = trackerFeatures(p, right[i], cameraB, {}, o.budget);
+        const RelativePose truth = set.pairs[i].pose.value_or(set.pose);
         if (p.kind == TrackerPipeline::Kind::Library && o.refine) {
           const ImagePyramid pa(left[i], p.options.detector.pyramid), pb(right[i], p.options.detector.pyramid);
-          results[i] = scorePair(fa, fb, *cameraA, *cameraB, truth, o, &pa, &pb);
+          results[i] = scorePair(fa, fb, *cameraA, *cameraB, set.pairs[i], truth, o, &pa, &pb);
         } else {
-          results[i] = scorePair(fa, fb, *cameraA, *cameraB, truth, o);
+          results[i] = scorePair(fa, fb, *cameraA, *cameraB, set.pairs[i], truth, o);
         }
       });
       std::vector<StereoSummary> perRatio;
@@ -232,6 +299,9 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
         long matches = 0, right = 0;
         int ok = 0;
         std::vector<double> residuals, errors;
+        double squares = 0;
+        int located = 0;
+        std::vector<double> levelSquares;
         for (size_t i = 0; i < set.pairs.size(); ++i) {
           const StereoPairResult& t = results[i][r];
           s.keypoints += 0.5 * (t.keypointsA + t.keypointsB);
@@ -240,6 +310,14 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
           ok += t.fitOk;
           residuals.insert(residuals.end(), t.rightResidualsPx.begin(), t.rightResidualsPx.end());
           errors.push_back(t.poseErrorDeg);
+          for (const auto& [level, error] : t.localisation) {
+            squares += error * error, ++located;
+            if (p.kind != TrackerPipeline::Kind::Library) continue;
+            if (static_cast<int>(s.rightPerLevel.size()) <= level)
+              s.rightPerLevel.resize(level + 1, 0), levelSquares.resize(level + 1, 0.0);
+            ++s.rightPerLevel[level];
+            levelSquares[level] += error * error;
+          }
           pairsCsv.row()
               .add(set.name)
               .add(fs::path(set.pairs[i].left).filename().string())
@@ -265,6 +343,9 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
         s.fitsOk = static_cast<double>(ok) / n;
         s.auc5 = poseAuc(errors, 5), s.auc10 = poseAuc(errors, 10), s.auc20 = poseAuc(errors, 20);
         s.medianPoseErrorDeg = quantile(errors, 0.5);
+        s.localisationRmsPx = located ? std::sqrt(squares / located) : 0.0;
+        for (size_t level = 0; level < levelSquares.size(); ++level)
+          s.localisationRmsPerLevel.push_back(s.rightPerLevel[level] ? std::sqrt(levelSquares[level] / s.rightPerLevel[level]) : 0.0);
         perRatio.push_back(s);
       }
       // Best AUC at 5 degrees, then at 10, then the most right matches.
@@ -274,9 +355,15 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
       const auto atResidualRatio = std::find_if(perRatio.begin(), perRatio.end(),
                                                 [&](const auto& x) { return std::abs(x.ratio - o.residualRatio) < 1e-9; });
       const StereoSummary& residual = atResidualRatio != perRatio.end() ? *atResidualRatio : *best;
-      std::printf("  %-28s %5.2f %8.1f %7.3f %7.3f %7.3f %7.3f %6.0f%% %7.3fpx %7.3fpx\n", p.name.c_str(), best->ratio,
+      std::printf("  %-28s %5.2f %8.1f %7.3f %7.3f %7.3f %7.3f %6.0f%% %7.3fpx %7.3fpx", p.name.c_str(), best->ratio,
                   best->rightPerPair, best->precision, best->auc5, best->auc10, best->auc20, 100 * best->fitsOk,
                   residual.residualMedianPx, residual.residualP90Px);
+      if (rendered) {
+        std::printf(" %7.3fpx  ", residual.localisationRmsPx);
+        for (size_t level = 0; level < residual.localisationRmsPerLevel.size(); ++level)
+          if (residual.rightPerLevel[level]) std::printf(" L%zu %.3f (%d)", level, residual.localisationRmsPerLevel[level], residual.rightPerLevel[level]);
+      }
+      std::printf("\n");
       for (const auto& s : perRatio) {
         summaryCsv.row()
             .add(s.set)
@@ -294,7 +381,8 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
             .add(s.auc5)
             .add(s.auc10)
             .add(s.auc20)
-            .add(s.medianPoseErrorDeg);
+            .add(s.medianPoseErrorDeg)
+            .add(s.localisationRmsPx);
         rows.push_back(s);
       }
     }

@@ -7,6 +7,8 @@
 // precision, the right matches' distance from their epipolar planes in pixels (median, 90th
 // percentile), and the relative pose that the library's fitEssential gives on the matches'
 // bearings, scored by its angular error against the known pose (AUC at 5, 10 and 20 degrees).
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,19 +19,30 @@
 namespace mdbrief::eval {
 
 struct StereoPair {
-  std::string left, right;  // image files
+  std::string left, right;  // image files, or names of rendered images
+  cv::Mat leftImage, rightImage;  // rendered pairs: the images themselves (files are read otherwise)
+  // Rendered pairs: the pose of b in a's frame, and where a pixel of a lies in b (exact).
+  std::optional<RelativePose> pose;
+  std::function<std::optional<cv::Point2d>(const cv::Point2d&)> truthInB;
 };
 
 // One stereo camera and its pairs.
 struct StereoSet {
-  std::string name;  // "euroc-v1-01", "mynteye-fisheye"
-  CameraRig rig;     // camera 0 left, camera 1 right, both with their pose in the body frame
+  std::string name;  // "euroc-v1-01", "mynteye-fisheye", "rendered-rig"
+  CameraPtr left, right;
+  RelativePose pose;  // of the right camera in the left's frame, unless a pair has its own
   std::vector<StereoPair> pairs;
 };
 
 // The sets found under `data`/stereo (the data folder of ../shared). Throws std::runtime_error
 // naming the file at fault; an empty list when the folder is missing.
 std::vector<StereoSet> loadStereoSets(const std::string& data);
+
+// A stereo rig of `camera` rendered in a textured box room (scenes/room_renderer.hpp; the
+// opencv-doc photos on its walls, from `opencvDocDir`): four side-by-side pairs with an exact
+// pose and an exact position in b of every pixel of a. Throws std::runtime_error naming a photo
+// that cannot be read.
+StereoSet renderedStereoRig(const std::string& opencvDocDir, const CameraPtr& camera);
 
 struct StereoOptions {
   int budget = 1000;  // keypoints per image, each pipeline its own
@@ -52,6 +65,12 @@ struct StereoSummary {
   double fitsOk = 0;                               // share of pairs whose fit succeeded
   double auc5 = 0, auc10 = 0, auc20 = 0;           // pose error max(rotation, translation direction)
   double medianPoseErrorDeg = 0;                   // +inf when half the fits failed
+  // Rendered pairs: the distance of the right matches (within 3 px of the truth) from where a's
+  // point truly lies in b, root mean square over all, and per level of b's keypoint (its octave
+  // for the library; empty for OpenCV's pipelines, whose octaves mean other scales).
+  double localisationRmsPx = 0;
+  std::vector<double> localisationRmsPerLevel;
+  std::vector<int> rightPerLevel;
 };
 
 // Area under the recall curve of pose errors up to `limit` degrees, divided by `limit` (a failed

@@ -148,16 +148,19 @@ void addTrackerCommand(CLI::App& app) {
     std::vector<std::string> images;
     for (const auto& name : named ? a->datasets : trackerDatasets()) {
       if (name == kStereoDataset) {
+        // The real pairs, then the rendered rig (the first --fisheye-camera) whose truth is exact.
         try {
           stereo = loadStereoSets(a->paths.data);
           if (stereo.empty()) throw std::runtime_error(a->paths.data + "/stereo: not found");
+          for (const auto& set : stereo)
+            for (const auto& pair : set.pairs) images.insert(images.end(), {pair.left, pair.right});
+          stereo.push_back(renderedStereoRig(a->paths.opencvDocDir,
+                                             loadCameraOrThrow(parseCameraReference(a->paths.fisheyeCameras.at(0)))));
         } catch (const std::exception& e) {
           if (named) throw InputError(name + ": " + e.what());
           std::fprintf(stderr, "tracker: skipping %s: %s\n", name.c_str(), e.what());
-          continue;
+          stereo.clear();
         }
-        for (const auto& set : stereo)
-          for (const auto& pair : set.pairs) images.insert(images.end(), {pair.left, pair.right});
         continue;
       }
       std::vector<std::string> read;

@@ -1,5 +1,9 @@
 #include "scenes/room_renderer.hpp"
 
+#include <algorithm>
+
+#include <cmath>
+
 #include <limits>
 #include <stdexcept>
 
@@ -67,6 +71,33 @@ cv::Mat renderRoom(const Camera& camera, const CameraPose& pose, const RoomScene
   for (int v = 0; v < size.height; ++v)
     for (int u = 0; u < size.width; ++u) valid.at<uchar>(v, u) = camera.isValid(cv::Point2d(u, v)) ? 255 : 0;
   out.setTo(0, valid == 0);
+  return out;
+}
+
+std::optional<cv::Vec3d> roomPointSeen(const CameraPose& pose, const RoomScene& scene, const cv::Vec3d& bearing) {
+  const cv::Vec3d d = pose.rotation.t() * bearing;
+  double t = std::numeric_limits<double>::infinity();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (d[axis] > 0) t = std::min(t, (scene.maxCorner[axis] - pose.centre[axis]) / d[axis]);
+    if (d[axis] < 0) t = std::min(t, (scene.minCorner[axis] - pose.centre[axis]) / d[axis]);
+  }
+  if (!std::isfinite(t) || !(t > 0)) return std::nullopt;
+  return pose.centre + t * d;
+}
+
+cv::Matx33d yawPitchRotation(double yawDeg, double pitchDeg) {
+  const double y = yawDeg * CV_PI / 180.0, p = pitchDeg * CV_PI / 180.0;
+  const cv::Matx33d yaw(std::cos(y), 0, std::sin(y), 0, 1, 0, -std::sin(y), 0, std::cos(y));
+  const cv::Matx33d pitch(1, 0, 0, 0, std::cos(p), -std::sin(p), 0, std::sin(p), std::cos(p));
+  return pitch * yaw;
+}
+
+cv::Mat simulateCapture(const cv::Mat& rendered, double gain, double offset, double noiseSigma, uint64_t seed) {
+  cv::Mat noise(rendered.size(), CV_32F), grey, out;
+  cv::RNG(seed).fill(noise, cv::RNG::NORMAL, 0.0, noiseSigma);
+  rendered.convertTo(grey, CV_32F, gain, offset);
+  cv::Mat(grey + noise).convertTo(out, CV_8U);
+  out.setTo(0, rendered == 0);
   return out;
 }
 

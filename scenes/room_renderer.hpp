@@ -4,6 +4,8 @@
 // rig). Each wall is a plane holding a photo, repeated mirrored past its edges; the camera must
 // be inside the box, where every ray meets exactly one wall.
 #include <array>
+#include <cstdint>
+#include <optional>
 
 #include <opencv2/core.hpp>
 
@@ -27,5 +29,17 @@ struct RoomScene {
 // centre outside the box.
 cv::Mat renderRoom(const Camera& camera, const CameraPose& pose, const RoomScene& scene,
                    const RenderOptions& options = {});
+
+// Where the ray of camera-frame `bearing` from a camera at `pose` leaves the room: the wall
+// point it sees (world units). Empty for a zero or non-finite bearing.
+std::optional<cv::Vec3d> roomPointSeen(const CameraPose& pose, const RoomScene& scene, const cv::Vec3d& bearing);
+
+// The rotation of a camera turned by `yawDeg` about its y axis, then tilted by `pitchDeg` about
+// its x axis (world -> camera, as CameraPose::rotation).
+cv::Matx33d yawPitchRotation(double yawDeg, double pitchDeg);
+
+// A rendered image as a camera captures it: intensities times `gain` plus `offset`, Gaussian
+// noise of `noiseSigma` grey levels (seeded), pixels outside the camera's area left 0.
+cv::Mat simulateCapture(const cv::Mat& rendered, double gain, double offset, double noiseSigma, uint64_t seed);
 
 }  // namespace mdbrief

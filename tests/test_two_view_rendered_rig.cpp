@@ -22,13 +22,6 @@
 namespace mdbrief {
 namespace {
 
-cv::Matx33d rotation(double yawDeg, double pitchDeg) {
-  const double y = yawDeg * CV_PI / 180.0, p = pitchDeg * CV_PI / 180.0;
-  const cv::Matx33d yaw(std::cos(y), 0, std::sin(y), 0, 1, 0, -std::sin(y), 0, std::cos(y));
-  const cv::Matx33d pitch(1, 0, 0, 0, std::cos(p), -std::sin(p), 0, std::sin(p), std::cos(p));
-  return pitch * yaw;
-}
-
 // A rig placed in the room: camera a's centre and heading, camera b `baseline` metres along a's
 // x axis (a side-by-side stereo pair) or z axis (forward motion), turned by `turnDeg` about its y.
 struct RigPlacement {
@@ -36,17 +29,6 @@ struct RigPlacement {
   double headingDeg, pitchDeg, baseline, turnDeg;
   bool forward;
 };
-
-// Sensor noise, and camera b's exposure differing from a's.
-cv::Mat asCaptured(const cv::Mat& rendered, double gain, double offset, uint64_t seed) {
-  cv::Mat noise(rendered.size(), CV_32F), out;
-  cv::RNG(seed).fill(noise, cv::RNG::NORMAL, 0.0, 2.0);
-  cv::Mat grey;
-  rendered.convertTo(grey, CV_32F, gain, offset);
-  cv::Mat(grey + noise).convertTo(out, CV_8U);
-  out.setTo(0, rendered == 0);
-  return out;
-}
 
 TEST(TwoViewRenderedRig, TheGeneralModelAgreesWithTheKnownPoseOnARenderedFisheyeStereoRig) {
   const auto doc = testing::opencvDocDataDir();
@@ -69,14 +51,14 @@ TEST(TwoViewRenderedRig, TheGeneralModelAgreesWithTheKnownPoseOnARenderedFisheye
     for (size_t k = 0; k < placements.size(); ++k) {
       const RigPlacement& rig = placements[k];
       CameraPose a, b;
-      a.rotation = rotation(rig.headingDeg, rig.pitchDeg);
+      a.rotation = yawPitchRotation(rig.headingDeg, rig.pitchDeg);
       a.centre = rig.centre;
       const cv::Vec3d along = rig.forward ? cv::Vec3d(0, 0, rig.baseline) : cv::Vec3d(rig.baseline, 0, 0);
-      b.rotation = rotation(rig.turnDeg, 0) * a.rotation;
+      b.rotation = yawPitchRotation(rig.turnDeg, 0) * a.rotation;
       b.centre = a.centre + a.rotation.t() * along;
       // Two sub-rays per axis: the results of three, in half the time.
-      const cv::Mat imageA = asCaptured(renderRoom(*camera, a, room, {2}), 1.0, 0.0, 2 * k + 1);
-      const cv::Mat imageB = asCaptured(renderRoom(*camera, b, room, {2}), 0.85, 12.0, 2 * k + 2);
+      const cv::Mat imageA = simulateCapture(renderRoom(*camera, a, room, {2}), 1.0, 0.0, 2.0, 2 * k + 1);
+      const cv::Mat imageB = simulateCapture(renderRoom(*camera, b, room, {2}), 0.85, 12.0, 2.0, 2 * k + 2);
       std::vector<cv::KeyPoint> ka, kb;
       cv::Mat da, ma, db, mb;
       features->detectAndComputeWithMasks(imageA, cv::noArray(), ka, da, ma);
