@@ -15,6 +15,7 @@
 #include <tbb/global_control.h>
 
 #include "cli/commands.hpp"
+#include "toolkit/input_file_flag.hpp"
 #include "cli/extraction_flags.hpp"
 #include "mdbrief/camera/io.hpp"
 #include "mdbrief/api/feature2d.hpp"
@@ -145,8 +146,10 @@ void addBenchCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "bench", "Time detection + description and matching on this machine against OpenCV's ORB, AKAZE, BRISK and "
                "BFMatcher, at every SIMD level this CPU runs");
-  cmd->add_option("--image", flags->image, "Image to detect on (default: opencv-doc's graf1.png)");
-  cmd->add_option("--camera", flags->camera.path, "Its calibration (default: a pinhole for an undistorted photo)");
+  cmd->add_option("--image", flags->image, "Image to detect on (default: opencv-doc's graf1.png)")
+      ->check(inputFileCheck());
+  cmd->add_option("--camera", flags->camera.path, "Its calibration (default: a pinhole for an undistorted photo)")
+      ->check(inputFileCheck());
   addCameraFileFlags(*cmd, flags->camera, "--camera");
   cmd->add_option("--nfeatures", flags->nfeatures, "Keypoints to detect (ORB's budget too)")->capture_default_str();
   cmd->add_option("--level", flags->level, "A SIMD level (portable, sse4, neon, avx2, avx512), or all")

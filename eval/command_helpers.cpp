@@ -44,6 +44,13 @@ CameraReference parseCameraReference(const std::string& value) {
   return {value.substr(0, hash), value.substr(hash + 1)};
 }
 
+std::string cameraReferencePath(const std::string& value) {
+  const auto hash = value.rfind('#');
+  std::error_code ec;
+  if (hash == std::string::npos || hash == 0 || std::filesystem::exists(value, ec)) return value;
+  return value.substr(0, hash);
+}
+
 CameraPtr loadCameraOrThrow(const CameraReference& camera) {
   try {
     CameraFileOptions options;

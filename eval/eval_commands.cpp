@@ -55,12 +55,14 @@ void addSimCommand(CLI::App& app) {
   auto docDir = std::make_shared<std::string>();
   auto noProjected = std::make_shared<bool>(false), noDetected = std::make_shared<bool>(false);
   addOpencvDocFlag(cmd, *docDir);
-  cmd->add_option("--texture", o->texturePath, "Plane texture (default: graf1.png of --opencv-doc-dir)");
+  cmd->add_option("--texture", o->texturePath, "Plane texture (default: graf1.png of --opencv-doc-dir)")
+      ->check(inputFileCheck());
   cmd->add_option("--camera", *cams, "name=calibration.yaml, or name=calibration.yaml#id for one camera of a "
                                      "rig file; repeatable (default: pinhole, radial, fisheye (lafida_fisheye0), "
                                      "fisheye_rim, double_sphere of configs/cameras in the working directory); "
                                      "all share the pinhole's path, a name ending in _rim runs to the rim of its "
-                                     "lens");
+                                     "lens")
+      ->check(inputFileCheck([](const std::string& v) { return cameraReferencePath(v.substr(v.find('=') + 1)); }));
   cmd->add_option("--out", o->outDir, "Output folder for the CSVs and view images")->required();
   cmd->add_option("--views", o->views, "Positions of the distance-evolution path")->check(CLI::Range(2, 1000))->capture_default_str();
   cmd->add_option("--recognition-views", o->recognitionViews, "Views of the recognition sequence")->check(CLI::Range(2, 1000))->capture_default_str();
@@ -118,16 +120,21 @@ void addDatasetFlags(CLI::App* cmd, DatasetFlags& d) {
   cmd->add_option("--fisheye-camera", d.fisheyeCameras,
                   "Calibrations to render the fisheye sequences with, file or file#id for one camera of "
                   "a rig file (default: three fisheye models of configs/cameras in the working directory)")
+      ->check(inputFileCheck(cameraReferencePath))
       ->capture_default_str();
   cmd->add_option("--texture", d.textures, "Photos rendered as planes (default: img1 of every Oxford sequence "
-                                           "found and six photos of --opencv-doc-dir)");
+                                           "found and six photos of --opencv-doc-dir)")
+      ->check(inputFileCheck());
   addOpencvDocFlag(cmd, d.opencvDocDir);
   cmd->add_option("--poses", d.poses, "Rendered poses per fisheye sequence")->check(CLI::Range(2, 50))->capture_default_str();
-  cmd->add_option("--user-images", d.userImages, "User sequence: reference image first");
-  cmd->add_option("--user-camera", d.userCamera, "User sequence: camera calibration");
+  cmd->add_option("--user-images", d.userImages, "User sequence: reference image first")
+      ->check(inputFileCheck());
+  cmd->add_option("--user-camera", d.userCamera, "User sequence: camera calibration")
+      ->check(inputFileCheck());
   addCameraIdFlag(cmd, d.userCameraId, "--user-camera-id", "--user-camera");
   cmd->add_option("--user-homographies", d.userHomographies,
-                  "User sequence: 3x3 bearing-space homographies image 1 -> image k (k = 2..)");
+                  "User sequence: 3x3 bearing-space homographies image 1 -> image k (k = 2..)")
+      ->check(inputFileCheck());
   cmd->add_flag("--no-perspective", d.noPerspective, "Skip the Oxford sequences");
   cmd->add_flag("--no-fisheye", d.noFisheye, "Skip the rendered fisheye sequences");
 }
@@ -313,10 +320,12 @@ void addTimingCommand(CLI::App& app) {
   auto texture = std::make_shared<std::string>();
   auto docDir = std::make_shared<std::string>();
   cmd->add_option("--camera", *camPath, "Camera of the timed images (default relative to the working directory)")
+      ->check(inputFileCheck())
       ->capture_default_str();
   addCameraIdFlag(cmd, *camId);
   cmd->add_option("--texture", *texture, "Photo rendered through the camera at 4 poses (default: graf1.png of "
-                                         "--opencv-doc-dir)");
+                                         "--opencv-doc-dir)")
+      ->check(inputFileCheck());
   addOpencvDocFlag(cmd, *docDir);
   cmd->add_option("--repeats", o->repeats, "Repeats (median reported)")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--keypoints", o->keypoints, "Detector budget")->check(CLI::Range(10, 100000))->capture_default_str();
@@ -350,9 +359,11 @@ void addExportUserSampleCommand(CLI::App& app) {
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("--camera", a->camera, "Calibration to render with (default relative to the working directory)")
+      ->check(inputFileCheck())
       ->capture_default_str();
   addCameraIdFlag(cmd, a->cameraId);
-  cmd->add_option("--texture", a->texture, "Photo rendered as the plane (default: graf3.png of --opencv-doc-dir)");
+  cmd->add_option("--texture", a->texture, "Photo rendered as the plane (default: graf3.png of --opencv-doc-dir)")
+      ->check(inputFileCheck());
   addOpencvDocFlag(cmd, a->opencvDocDir);
   cmd->add_option("--poses", a->poses, "Images (the poses of the fisheye sequences)")->check(CLI::Range(2, 50))->capture_default_str();
   cmd->add_option("--out", a->out, "Output folder")->required();
@@ -374,8 +385,10 @@ void addExportRotatedViewsCommand(CLI::App& app) {
     int views = 6;
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("--image", a->photo, "Photo taken with the calibrated camera")->required();
-  cmd->add_option("--camera", a->camera, "Its calibration")->required();
+  cmd->add_option("--image", a->photo, "Photo taken with the calibrated camera")
+      ->check(inputFileCheck())->required();
+  cmd->add_option("--camera", a->camera, "Its calibration")
+      ->check(inputFileCheck())->required();
   addCameraIdFlag(cmd, a->cameraId);
   cmd->add_option("--views", a->views, "Images, the photo included")->check(CLI::Range(2, 20))->capture_default_str();
   cmd->add_option("--out", a->out, "Output folder")->required();

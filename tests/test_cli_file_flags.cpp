@@ -1,0 +1,262 @@
+// Every input-file flag of every command of `mdbrief` and `mdbrief-eval` is checked before any
+// work (issue 45: `bench --image` read /dev/zero until memory ran out, blocked on a FIFO and
+// called a folder an internal error). The flags are found in the commands' CLI11 apps by their
+// check (toolkit/input_file_flag.hpp); a text flag without it must be listed below as not an
+// input file, so a new file flag cannot be added unchecked. Each checked flag is then given a
+// folder, a FIFO and /dev/zero in a subprocess with a time limit.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "eval/eval_cli.hpp"
+#include "eval/eval_commands.hpp"
+#include "toolkit/input_file_flag.hpp"
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Text flags that do not name an input file: outputs, names, folders, ids, sizes, and values
+// that are either a built-in name or a file (read by the library, which checks the file itself).
+const std::set<std::string> kNotInputFiles = {
+    // mdbrief
+    "extract --output", "extract --camera-id", "extract --camera-size", "extract --pattern",
+    "match --output", "match --camera-id", "match --camera-size", "match --camera-b-id", "match --camera-b-size",
+    "draw --output", "draw --camera-id", "draw --camera-size", "draw --other-camera-id", "draw --other-camera-size",
+    "draw --pattern",
+    "camera convert --output", "camera convert --camera-id", "camera convert --camera-size",
+    "bench --camera-id", "bench --camera-size", "bench --level",
+    // mdbrief-eval (sim and eval also in mdbrief)
+    "sim --out", "sim --opencv-doc-dir",
+    "eval --out", "eval --oxford-dir", "eval --sequences", "eval --opencv-doc-dir", "eval --user-camera-id",
+    "eval --test-set",
+    "pipelines --out", "pipelines --oxford-dir", "pipelines --sequences", "pipelines --opencv-doc-dir",
+    "pipelines --user-camera-id", "pipelines --only",
+    "tracker --out", "tracker --data", "tracker --opencv-doc-dir", "tracker --only",
+    "map-poster-points --poster-dir",
+    "retrieval --out", "retrieval --data", "retrieval --opencv-doc-dir", "retrieval --photos",
+    "timing --out", "timing --camera-id", "timing --opencv-doc-dir",
+    "export-user-sample --out", "export-user-sample --camera-id", "export-user-sample --opencv-doc-dir",
+    "export-rotated-views --out", "export-rotated-views --camera-id",
+    "held-out-images --out", "held-out-images --data", "held-out-images --opencv-doc-dir", "held-out-images --only",
+};
+
+struct FileFlag {
+  std::string command, flag;  // flag: "--image", or a positional's name ("images")
+  bool positional = false;
+  int positionalIndex = 0;    // how many positionals come before it
+};
+
+bool takesText(const CLI::Option& option) {
+  const std::string type = option.get_type_name();
+  // Choices ("TEXT:{a,b}") are names, not files.
+  return option.get_expected_min() > 0 && type.rfind("TEXT", 0) == 0 && type.find('{') == std::string::npos;
+}
+
+bool isInputFileFlag(CLI::Option& option) {
+  try {
+    option.get_validator(mdbrief::kInputFileCheck);
+    return true;
+  } catch (const CLI::OptionNotFound&) {
+    return false;
+  }
+}
+
+std::string flagName(const CLI::Option& option) {
+  if (!option.nonpositional()) return option.get_name();
+  return option.get_lnames().empty() ? "-" + option.get_snames().front() : "--" + option.get_lnames().front();
+}
+
+// The flags of app's subcommands and theirs (`camera convert`), the command named by its path.
+void collectFileFlags(CLI::App& app, const std::string& path, std::vector<FileFlag>& flags,
+                      std::vector<std::string>& unlisted) {
+  for (CLI::App* command : app.get_subcommands({})) {
+    const std::string commandPath = path.empty() ? command->get_name() : path + " " + command->get_name();
+    int positionals = 0;
+    for (CLI::Option* option : command->get_options()) {
+      const bool positional = !option->nonpositional();
+      const std::string name = commandPath + " " + flagName(*option);
+      if (isInputFileFlag(*option))
+        flags.push_back({commandPath, flagName(*option), positional, positionals});
+      // A hidden flag (group "") is an old spelling that only says what replaced it (addRenamedFlag).
+      else if (takesText(*option) && !option->get_group().empty() && !kNotInputFiles.count(name))
+        unlisted.push_back(name);
+      positionals += positional;
+    }
+    collectFileFlags(*command, commandPath, flags, unlisted);
+  }
+}
+
+std::vector<FileFlag> fileFlags(CLI::App& app, std::vector<std::string>& unlisted) {
+  std::vector<FileFlag> flags;
+  collectFileFlags(app, "", flags, unlisted);
+  return flags;
+}
+
+void addMdbriefCommands(CLI::App& app) {
+  for (const auto& add : {mdbrief::cli::addExtractCommand, mdbrief::cli::addMatchCommand, mdbrief::cli::addDrawCommand,
+                          mdbrief::cli::addCameraCommand, mdbrief::cli::addBenchCommand})
+    add(app);
+  // mdbrief's sim and eval are mdbrief-eval's (cli/command_sim.cpp, command_eval.cpp).
+  mdbrief::eval::addSimCommand(app);
+  mdbrief::eval::addEvalCommand(app);
+}
+
+struct ToolRun {
+  int code = -1;  // -1: killed after the time limit
+  std::string err;
+};
+
+// Runs program with args, killed after `limit`. Its address space is capped (but under
+// AddressSanitizer, whose shadow memory needs terabytes of it), so that a reader without bound
+// fails instead of filling the machine's memory.
+ToolRun runWithLimit(const std::string& program, const std::vector<std::string>& args, std::chrono::seconds limit) {
+  const fs::path errFile = fs::temp_directory_path() / ("file_flags_err_" + std::to_string(::getpid()));
+  std::vector<std::string> all{program};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  ToolRun run;
+  const pid_t child = ::fork();
+  if (child == 0) {  // only async-signal-safe calls until exec
+#ifndef __SANITIZE_ADDRESS__
+    const rlimit cap{rlim_t{2} << 30, rlim_t{2} << 30};
+    ::setrlimit(RLIMIT_AS, &cap);
+#endif
+    const int null = ::open("/dev/null", O_RDWR);
+    const int err = ::open(errFile.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    if (null < 0 || err < 0) ::_exit(127);
+    ::dup2(null, 0);
+    ::dup2(null, 1);
+    ::dup2(err, 2);
+    ::execve(program.c_str(), argv.data(), environ);
+    ::_exit(127);
+  }
+  if (child < 0) {
+    run.err = "cannot start " + program;
+    return run;
+  }
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  int status = 0;
+  while (::waitpid(child, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      ::kill(child, SIGKILL);
+      ::waitpid(child, &status, 0);
+      run.err = "killed after the time limit";
+      fs::remove(errFile);
+      return run;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  run.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  std::ifstream in(errFile);
+  run.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  fs::remove(errFile);
+  return run;
+}
+
+// The subcommand names `program --help` lists, so that the apps built here are the programs'.
+std::set<std::string> listedCommands(const std::string& program) {
+  const fs::path out = fs::temp_directory_path() / ("file_flags_help_" + std::to_string(::getpid()));
+  const std::string command = "'" + program + "' --help > '" + out.string() + "'";
+  EXPECT_EQ(std::system(command.c_str()), 0) << command;
+  std::ifstream in(out);
+  std::set<std::string> names;
+  bool inList = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("Subcommands:", 0) == 0) inList = true;
+    else if (inList && line.size() > 2 && line[0] == ' ' && line[2] != ' ')
+      names.insert(line.substr(2, line.find(' ', 2) - 2));
+  }
+  fs::remove(out);
+  return names;
+}
+
+std::set<std::string> commandNames(CLI::App& app) {
+  std::set<std::string> names;
+  for (CLI::App* command : app.get_subcommands({})) names.insert(command->get_name());
+  return names;
+}
+
+class BadInputs : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("file_flags_" + std::to_string(::getpid()));
+    fs::create_directories(dir_ / "a folder");
+    ASSERT_EQ(::mkfifo((dir_ / "fifo").c_str(), 0600), 0);
+    std::ofstream(dir_ / "regular.txt") << "x\n";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Each flag with each bad file: exit 2 within the limit, the message naming the file and why.
+  void expectRefused(const std::string& program, CLI::App& app) {
+    std::vector<std::string> unlisted;
+    const std::vector<FileFlag> flags = fileFlags(app, unlisted);
+    EXPECT_TRUE(unlisted.empty()) << "text flags neither checked as input files (toolkit/input_file_flag.hpp) nor "
+                                     "listed in kNotInputFiles: "
+                                  << ::testing::PrintToString(unlisted);
+    EXPECT_FALSE(flags.empty());
+    const std::map<std::string, std::string> bad = {{(dir_ / "a folder").string(), "is a folder"},
+                                                    {(dir_ / "fifo").string(), "is a FIFO"},
+                                                    {"/dev/zero", "is a character device"}};
+    for (const FileFlag& flag : flags)
+      for (const auto& [path, why] : bad) {
+        std::vector<std::string> args;
+        std::istringstream words(flag.command);  // "camera convert": two arguments
+        for (std::string word; words >> word;) args.push_back(word);
+        if (flag.positional) {
+          for (int i = 0; i < flag.positionalIndex; ++i) args.push_back((dir_ / "regular.txt").string());
+        } else {
+          args.push_back(flag.flag);
+        }
+        args.push_back(path);
+        const ToolRun run = runWithLimit(program, args, std::chrono::seconds(30));
+        const std::string what = program + " " + ::testing::PrintToString(args);
+        EXPECT_EQ(run.code, 2) << what << ": " << run.err;
+        EXPECT_NE(run.err.find(path + ": " + why), std::string::npos) << what << ": " << run.err;
+      }
+  }
+
+  fs::path dir_;
+};
+
+TEST(FileFlags, TheAppsWalkedAreThePrograms) {
+  CLI::App mdbrief, eval;
+  addMdbriefCommands(mdbrief);
+  mdbrief::eval::addEvalCommands(eval);
+  EXPECT_EQ(commandNames(mdbrief), listedCommands(MDBRIEF_CLI_PATH));
+  EXPECT_EQ(commandNames(eval), listedCommands(MDBRIEF_EVAL_PATH));
+}
+
+TEST_F(BadInputs, EveryFileFlagOfMdbriefRefusesAFolderAFifoAndADeviceBeforeAnyWork) {
+  CLI::App app;
+  addMdbriefCommands(app);
+  expectRefused(MDBRIEF_CLI_PATH, app);
+}
+
+TEST_F(BadInputs, EveryFileFlagOfMdbriefEvalRefusesAFolderAFifoAndADeviceBeforeAnyWork) {
+  CLI::App app;
+  mdbrief::eval::addEvalCommands(app);
+  expectRefused(MDBRIEF_EVAL_PATH, app);
+}
+
+}  // namespace
