@@ -1,10 +1,12 @@
 #include "eval_commands.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <set>
 
 #include "command_helpers.hpp"
 #include "eval_datasets.hpp"
@@ -22,14 +24,35 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// "name=path" (or "name=path#id", a rig's camera) pairs of the --camera flags; a name ending in
-// "_rim" takes the camera's own longest path (to the rim) instead of the shared one.
-std::vector<SimCamera> parseCameras(const std::vector<std::string>& specs) {
-  std::vector<SimCamera> out;
+// Refuses, before any work, --camera values whose names cannot name sim's outputs: the name is
+// part of file names in --out ("sim_<name>_views.png") and a cell of sim_info.csv, so it is
+// letters, digits, '_', '-' and '.' (no '/', no comma) and is given once (issue 45: two cameras
+// of one name overwrote each other's files; "../../escape" failed after the whole run).
+void checkCameraNames(const std::vector<std::string>& specs) {
+  std::set<std::string> names;
   for (const auto& s : specs) {
     const auto eq = s.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == s.size())
       throw InputError("--camera " + s + ": expected name=path or name=path#camera-id");
+    const std::string name = s.substr(0, eq);
+    const bool plain = std::all_of(name.begin(), name.end(), [](unsigned char c) {
+      return std::isalnum(c) || c == '_' || c == '-' || c == '.';
+    });
+    if (!plain || name[0] == '.')
+      throw InputError("--camera " + s + ": the name '" + name + "' names output files: use letters, digits, '_', "
+                       "'-' and '.' (not first)");
+    if (!names.insert(name).second)
+      throw InputError("--camera " + s + ": the name '" + name + "' is given twice; each camera's outputs need "
+                       "their own name");
+  }
+}
+
+// "name=path" (or "name=path#id", a rig's camera) pairs of the --camera flags (checkCameraNames);
+// a name ending in "_rim" takes the camera's own longest path (to the rim) instead of the shared one.
+std::vector<SimCamera> parseCameras(const std::vector<std::string>& specs) {
+  std::vector<SimCamera> out;
+  for (const auto& s : specs) {
+    const auto eq = s.find('=');
     const std::string name = s.substr(0, eq);
     const bool rim = name.size() > 4 && name.compare(name.size() - 4, 4, "_rim") == 0;
     out.push_back({name, loadCameraOrThrow(parseCameraReference(s.substr(eq + 1))), rim ? -1.0 : 0.0});
@@ -79,6 +102,7 @@ void addSimCommand(CLI::App& app) {
     if (o->bits % 32) throw InputError("--bits " + std::to_string(o->bits) + ": must be a multiple of 32");
     o->runProjected = !*noProjected;
     o->runDetected = !*noDetected;
+    checkCameraNames(*cams);
     // Every file sim writes is a "sim_*" in --out: an input of such a name there may be one.
     std::vector<std::string> inputs{o->texturePath}, outputs;
     for (const auto& spec : *cams) inputs.push_back(parseCameraReference(spec.substr(spec.find('=') + 1)).path);
@@ -143,6 +167,7 @@ void addDatasetFlags(CLI::App* cmd, DatasetFlags& d) {
 // the held-out check.
 std::vector<EvalGroup> loadGroups(const DatasetFlags& d, std::vector<std::string>& imagePaths) {
   if (!d.userImages.empty() && d.userCamera.empty()) throw InputError("--user-images needs --user-camera");
+  if (!d.noFisheye) requireDistinctLabels(d.fisheyeCameras, "--fisheye-camera");
   std::vector<EvalGroup> groups;
   imagePaths = d.userImages;
   if (!d.noPerspective) {

@@ -65,6 +65,7 @@ void addRetrievalCommand(CLI::App& app) {
                   "Output folder: retrieval.csv, retrieval_speed.csv and the vocabularies (binary, DBoW2 text)")
       ->required();
   cmd->callback([a] {
+    requireDistinctLabels(a->paths.fisheyeCameras, "--fisheye-camera");
     const std::string photos = a->photos.empty() ? a->paths.data + "/natural/bsds500" : a->photos;
     std::vector<std::filesystem::path> files;
     try {

@@ -119,6 +119,7 @@ void addTrackerCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--out", a->options.outDir, "Output folder for tracker_pairs.csv and tracker_summary.csv")->required();
   cmd->callback([a] {
+    requireDistinctLabels(a->paths.fisheyeCameras, "--fisheye-camera");
     std::vector<TrackerPipeline> pipelines;
     for (const auto& p : standardTrackerPipelines())
       if (a->only.empty() || std::any_of(a->only.begin(), a->only.end(),

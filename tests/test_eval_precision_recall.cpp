@@ -300,6 +300,42 @@ TEST(EvalCli, AnEvaluationOfNothingKeepsThePreviousResults) {
   EXPECT_EQ(testing::readFile(out / "pipelines_summary.csv"), old);
 }
 
+// Issue 45: two sim cameras of one name overwrote each other's files (exit 0), a name with a
+// path or a comma failed after the whole run or broke sim_info.csv, and two --fisheye-camera
+// files of one stem shared rows of eval_summary.csv. Each is refused before any work.
+TEST(EvalCli, NamesThatWouldClashOrEscapeAreRefusedBeforeTheWork) {
+  testing::TempDir dir("eval_names");
+  const fs::path out = dir.path / "out";
+  fs::create_directories(out);
+  fs::create_directories(dir.path / "a");
+  fs::create_directories(dir.path / "b");
+  const std::string camera = (testing::sourceDir() / "configs/cameras/lafida_fisheye0.yaml").string();
+  for (const char* folder : {"a", "b"}) fs::copy_file(camera, dir.path / folder / "cam.yaml");
+  const std::string photo = (dir.path / "photo.png").string();
+  cv::Mat pixels(48, 64, CV_8UC1);
+  cv::randu(pixels, 0, 256);
+  ASSERT_TRUE(cv::imwrite(photo, pixels));
+  const auto sim = [&](std::vector<std::string> cameras) {
+    std::vector<std::string> args{"sim", "--texture", photo, "--out", out.string()};
+    for (const auto& c : cameras) args.insert(args.end(), {"--camera", c});
+    return args;
+  };
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {sim({"fe=" + camera, "fe=" + camera}), "the name 'fe' is given twice"},
+      {sim({"../../escape=" + camera}), "the name '../../escape' names output files"},
+      {sim({"a,b=" + camera}), "the name 'a,b' names output files"},
+      {{"eval", "--no-perspective", "--fisheye-camera", (dir.path / "a/cam.yaml").string(), "--fisheye-camera",
+        (dir.path / "b/cam.yaml").string(), "--texture", photo, "--out", out.string()},
+       "both are named 'cam'"},
+  };
+  for (const auto& [args, expected] : cases) {
+    const EvalRun r = runEval(args);
+    EXPECT_EQ(r.code, 2) << args[0] << ": " << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << args[0] << ": " << r.err;
+  }
+  EXPECT_TRUE(fs::is_empty(out));
+}
+
 // Issue 29: an output that names an input is refused before the work, the input unchanged.
 TEST(EvalCli, AnOutputThatIsAnInputIsRefused) {
   testing::TempDir dir("eval_same");
