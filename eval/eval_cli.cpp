@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "eval_commands.hpp"
+#include "toolkit/command_line.hpp"
 
 namespace mdbrief::eval {
 
@@ -23,6 +24,7 @@ int runEvalCli(const std::vector<std::string>& args, std::ostream& out, std::ost
   CLI::App app{"Reproduction of the mdBRIEF paper's experiments", "mdbrief-eval"};
   app.require_subcommand(1);
   addEvalCommands(app);
+  refuseBadSimdEnvironment(app);
   auto oneLine = [](std::string s) {
     std::replace(s.begin(), s.end(), '\n', ' ');
     return s;

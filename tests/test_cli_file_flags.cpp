@@ -6,33 +6,27 @@
 // folder, a FIFO and /dev/zero in a subprocess with a time limit.
 #include <gtest/gtest.h>
 
-#include <fcntl.h>
-#include <signal.h>
-#include <sys/resource.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "cli/commands.hpp"
 #include "eval/eval_cli.hpp"
 #include "eval/eval_commands.hpp"
+#include "program_runner.hpp"
 #include "toolkit/input_file_flag.hpp"
-
-extern char** environ;
 
 namespace {
 
 namespace fs = std::filesystem;
+using mdbrief::testing::ProgramRun;
 
 // Text flags that do not name an input file: outputs, names, folders, ids, sizes, and values
 // that are either a built-in name or a file (read by the library, which checks the file itself).
@@ -120,60 +114,6 @@ void addMdbriefCommands(CLI::App& app) {
   mdbrief::eval::addEvalCommand(app);
 }
 
-struct ToolRun {
-  int code = -1;  // -1: killed after the time limit
-  std::string err;
-};
-
-// Runs program with args, killed after `limit`. Its address space is capped (but under
-// AddressSanitizer, whose shadow memory needs terabytes of it), so that a reader without bound
-// fails instead of filling the machine's memory.
-ToolRun runWithLimit(const std::string& program, const std::vector<std::string>& args, std::chrono::seconds limit) {
-  const fs::path errFile = fs::temp_directory_path() / ("file_flags_err_" + std::to_string(::getpid()));
-  std::vector<std::string> all{program};
-  all.insert(all.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& a : all) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  ToolRun run;
-  const pid_t child = ::fork();
-  if (child == 0) {  // only async-signal-safe calls until exec
-#ifndef __SANITIZE_ADDRESS__
-    const rlimit cap{rlim_t{2} << 30, rlim_t{2} << 30};
-    ::setrlimit(RLIMIT_AS, &cap);
-#endif
-    const int null = ::open("/dev/null", O_RDWR);
-    const int err = ::open(errFile.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    if (null < 0 || err < 0) ::_exit(127);
-    ::dup2(null, 0);
-    ::dup2(null, 1);
-    ::dup2(err, 2);
-    ::execve(program.c_str(), argv.data(), environ);
-    ::_exit(127);
-  }
-  if (child < 0) {
-    run.err = "cannot start " + program;
-    return run;
-  }
-  const auto deadline = std::chrono::steady_clock::now() + limit;
-  int status = 0;
-  while (::waitpid(child, &status, WNOHANG) == 0) {
-    if (std::chrono::steady_clock::now() > deadline) {
-      ::kill(child, SIGKILL);
-      ::waitpid(child, &status, 0);
-      run.err = "killed after the time limit";
-      fs::remove(errFile);
-      return run;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  run.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  std::ifstream in(errFile);
-  run.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  fs::remove(errFile);
-  return run;
-}
-
 // The subcommand names `program --help` lists, so that the apps built here are the programs'.
 std::set<std::string> listedCommands(const std::string& program) {
   const fs::path out = fs::temp_directory_path() / ("file_flags_help_" + std::to_string(::getpid()));
@@ -229,7 +169,7 @@ class BadInputs : public ::testing::Test {
           args.push_back(flag.flag);
         }
         args.push_back(path);
-        const ToolRun run = runWithLimit(program, args, std::chrono::seconds(30));
+        const ProgramRun run = mdbrief::testing::runProgram(program, args, std::chrono::seconds(30));
         const std::string what = program + " " + ::testing::PrintToString(args);
         EXPECT_EQ(run.code, 2) << what << ": " << run.err;
         EXPECT_NE(run.err.find(path + ": " + why), std::string::npos) << what << ": " << run.err;
