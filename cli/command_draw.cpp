@@ -212,7 +212,7 @@ void addDrawCommand(CLI::App& app) {
   cmd->add_option("--matches", args->matches, "Output of match (IMAGE's features as A, --other's as B)")
       ->check(inputFileCheck());
   cmd->add_option("--homography", args->homography,
-                  "Ground truth for --matches: the pixel homography from IMAGE to --other (nine numbers, row by row)")
+                  "Ground truth for --matches: a file of the pixel homography from IMAGE to --other (nine numbers, row by row)")
       ->check(inputFileCheck());
   cmd->add_option("--other-camera", args->otherCamera.path,
                   "Calibration of --other when another camera took it; --other-camera-id alone: another camera of "

@@ -121,6 +121,23 @@ TEST(EvalPrecisionRecall, HomographyFileErrorsNameTheFile) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
   }
+  // Issue 45: a tenth number and an all-zero matrix were accepted.
+  for (const auto& [content, why] : std::vector<std::pair<std::string, std::string>>{
+           {"1 0 0\n0 1 0\n0 0 1\n7\n", "found more: '7'"},
+           {"0 0 0\n0 0 0\n0 0 0\n", "singular"},
+           {"1 2 3\n2 4 6\n0 0 1\n", "singular"}}) {
+    std::ofstream(path) << content;
+    try {
+      readHomography(path.string());
+      ADD_FAILURE() << "accepted: " << content;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(path.string() + ": "), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  }
+  // Valid files read as before, whatever the spacing and the scale.
+  std::ofstream(path) << "  2e-3 0 0 0 2e-3 0\n0 0 2e-3\n\n";
+  EXPECT_EQ(readHomography(path.string()), cv::Matx33d(2e-3, 0, 0, 0, 2e-3, 0, 0, 0, 2e-3));
   std::filesystem::remove(path);
   EXPECT_THROW(readHomography(path.string()), std::runtime_error);
 }
