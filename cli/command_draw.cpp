@@ -15,6 +15,8 @@
 #include "cli/match_consistency.hpp"
 #include "cli/storage_io.hpp"
 #include "mdbrief/detect/image_pyramid.hpp"
+#include "mdbrief/geometry/two_view.hpp"
+#include "toolkit/option_flags.hpp"
 #include "toolkit/homography_file.hpp"
 
 namespace mdbrief::cli {
@@ -221,7 +223,7 @@ void addDrawCommand(CLI::App& app) {
   addCameraFileFlags(*cmd, args->otherCamera, "--other-camera");
   addModelFlag(*cmd, args->model);
   cmd->add_option("--inlier-threshold", args->thresholdPx, "A match is correct within this many pixels of the model")
-      ->check(CLI::Range(0.0, 1e6))
+      ->check(fieldRangeCheck(twoViewOptionFields(), "max_pixels"))
       ->capture_default_str();
   cmd->add_flag("--no-keypoints", args->hideKeypoints, "Do not draw the keypoint circles");
   cmd->add_option("--keypoint", args->keypoint, "Draw the test pairs of this keypoint (row of the extract output)");

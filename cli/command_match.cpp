@@ -16,6 +16,7 @@
 #include "mdbrief/match/matcher.hpp"
 #include "mdbrief/api/presets.hpp"
 #include "toolkit/option_flags.hpp"
+#include "mdbrief/geometry/two_view.hpp"
 
 namespace mdbrief::cli {
 namespace {
@@ -162,7 +163,7 @@ void addMatchCommand(CLI::App& app) {
   addCameraFileFlags(*cmd, args->cameraB, "--camera-b");
   addModelFlag(*cmd, args->model);
   cmd->add_option("--inlier-threshold", args->thresholdPx, "--inliers: a match agrees within this many pixels of the fit")
-      ->check(CLI::Range(0.0, 1e6))
+      ->check(fieldRangeCheck(twoViewOptionFields(), "max_pixels"))
       ->capture_default_str();
   cmd->add_option("-o,--output", args->output, "Output FileStorage file (.yml, .yml.gz, .json)")->required();
   cmd->callback([args] { runMatch(*args); });

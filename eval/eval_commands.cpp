@@ -18,6 +18,10 @@
 #include "simulation.hpp"
 #include "timing_table.hpp"
 #include "toolkit/data_folders.hpp"
+#include "mdbrief/describe/descriptor.hpp"
+#include "mdbrief/detect/detector.hpp"
+#include "mdbrief/detect/image_pyramid.hpp"
+#include "toolkit/option_flags.hpp"
 
 namespace mdbrief::eval {
 namespace {
@@ -251,12 +255,9 @@ void addEvalCommand(CLI::App& app) {
                   "OpenCV one")
       ->check(CLI::IsMember(namesOf(kKeypointSourceNames)))
       ->capture_default_str();
-  const FieldRange supportScale =
-      descriptorOptionFields()[findField(descriptorOptionFields(), "support_scale", &OptionField<DescriptorOptions>::keyword)]
-          .range(DescriptorOptions{});
   cmd->add_option("--support-scales", a->supportScales,
                   "Only the footprint study: dBRIEF-256 and mdBRIEF-256 at these DescriptorOptions::supportScale values")
-      ->check(CLI::Range(supportScale.low, supportScale.high));
+      ->check(fieldRangeCheck(descriptorOptionFields(), "support_scale"));
   cmd->add_option("--test-set", a->testSets,
                   "Only the test-set study, with these sets (registry names or JSON files; repeatable)");
   cmd->callback([a] {
@@ -300,17 +301,17 @@ void addPipelinesCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--out", a->options.outDir, "Output folder for pipelines_summary.csv")->required();
   cmd->add_option("--hessian-sigma", a->options.library.hessianSigma, "DetectorOptions::hessianSigma")
-      ->check(CLI::Range(0.5, 8.0))
+      ->check(fieldRangeCheck(detectorOptionFields(), "hessian_sigma"))
       ->capture_default_str();
   cmd->add_option("--hessian-threshold", a->options.library.hessianThreshold, "DetectorOptions::hessianThreshold")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(fieldRangeCheck(detectorOptionFields(), "hessian_threshold"))
       ->capture_default_str();
   cmd->add_option("--levels", a->options.library.pyramid.levels, "Pyramid levels of the library's detectors")
-      ->check(CLI::Range(1, 32))
+      ->check(fieldRangeCheck(pyramidOptionFields(), "levels"))
       ->capture_default_str();
   cmd->add_option("--scale-factor", a->options.library.pyramid.scaleFactor,
                   "Pyramid scale factor of the library's detectors")
-      ->check(CLI::Range(1.01, 2.0))
+      ->check(fieldRangeCheck(pyramidOptionFields(), "scale_factor"))
       ->capture_default_str();
   cmd->add_flag("--spread", a->options.library.spread, "DetectorOptions::spread for the library's detectors");
   cmd->add_flag("--conformal", a->options.library.conformal,

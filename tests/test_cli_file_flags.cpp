@@ -3,13 +3,18 @@
 // called a folder an internal error). The flags are found in the commands' CLI11 apps by their
 // check (toolkit/input_file_flag.hpp); a text flag without it must be listed below as not an
 // input file, so a new file flag cannot be added unchecked. Each checked flag is then given a
-// folder, a FIFO and /dev/zero in a subprocess with a time limit.
+// folder, a FIFO and /dev/zero in a subprocess with a time limit. The numeric flags are walked
+// too: one that sets a library option takes exactly its option's range (toolkit/option_flags.hpp
+// fieldRangeCheck), any other range must be listed as the tool's own.
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
+#include <functional>
+#include <limits>
 #include <fstream>
 #include <map>
 #include <set>
@@ -20,13 +25,20 @@
 #include "cli/commands.hpp"
 #include "eval/eval_cli.hpp"
 #include "eval/eval_commands.hpp"
+#include "mdbrief/describe/descriptor.hpp"
+#include "mdbrief/detect/detector.hpp"
+#include "mdbrief/detect/image_pyramid.hpp"
+#include "mdbrief/geometry/two_view.hpp"
+#include "mdbrief/match/matcher.hpp"
 #include "program_runner.hpp"
 #include "toolkit/input_file_flag.hpp"
+#include "toolkit/option_flags.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using mdbrief::testing::ProgramRun;
+using namespace mdbrief;
 
 // Text flags that do not name an input file: outputs, names, folders, ids, sizes, and values
 // that are either a built-in name or a file (read by the library, which checks the file itself).
@@ -197,6 +209,104 @@ TEST_F(BadInputs, EveryFileFlagOfMdbriefEvalRefusesAFolderAFifoAndADeviceBeforeA
   CLI::App app;
   mdbrief::eval::addEvalCommands(app);
   expectRefused(MDBRIEF_EVAL_PATH, app);
+}
+
+// Numeric flags that are parameters of the tools' own experiments, not of a library option.
+const std::set<std::string> kToolOwnRanges = {
+    "sim --views", "sim --recognition-views", "sim --keypoints", "sim --bits", "sim --mask-deg",
+    "sim --detected-views", "sim --detected-keypoints", "sim --mask-angles",
+    "eval --poses", "eval --keypoints", "eval --radius",
+    "pipelines --poses", "pipelines --budgets", "pipelines --radius",
+    "tracker --budget", "tracker --ratios",
+    "retrieval --training-count", "retrieval --branching", "retrieval --depth", "retrieval --nfeatures",
+    "retrieval --recall-at",
+    "timing --repeats", "timing --keypoints",
+    "export-user-sample --poses", "export-rotated-views --views",
+};
+
+struct TableField {
+  std::string keyword;
+  FieldRange range;
+  bool integer;
+};
+
+std::vector<TableField> numericFields() {
+  std::vector<TableField> fields;
+  const auto add = [&](const auto& table, const auto& defaults) {
+    for (const auto& f : table)
+      if (f.keyword && (f.type == FieldType::Integer || f.type == FieldType::Real))
+        fields.push_back({f.keyword, f.range(defaults), f.type == FieldType::Integer});
+  };
+  add(twoViewOptionFields(), TwoViewOptions{});
+  add(pyramidOptionFields(), PyramidOptions{});
+  add(detectorOptionFields(), DetectorOptions{});
+  add(descriptorOptionFields(), DescriptorOptions{});
+  add(matchOptionFields(), MatchOptions{});
+  return fields;
+}
+
+std::string numberText(double v) {
+  std::ostringstream text;
+  text.precision(17);
+  text << v;
+  return text.str();
+}
+
+void walkOptions(CLI::App& app, const std::string& path, const std::function<void(const std::string&, CLI::Option&)>& visit) {
+  for (CLI::App* command : app.get_subcommands({})) {
+    const std::string commandPath = path.empty() ? command->get_name() : path + " " + command->get_name();
+    for (CLI::Option* option : command->get_options()) visit(commandPath + " " + flagName(*option), *option);
+    walkOptions(*command, commandPath, visit);
+  }
+}
+
+// Issue 45: --inlier-threshold took [0, 1e6] while the library's maxPixels is (0, 1000], so 0,
+// 5000 or nan failed after the matching with a message about maxPixels.
+TEST(FlagRanges, EveryFlagOfALibraryOptionTakesTheOptionsRangeAndNoOther) {
+  const std::vector<TableField> fields = numericFields();
+  std::set<std::string> fielded;
+  std::vector<std::string> unlisted;
+  const auto visit = [&](const std::string& name, CLI::Option& option) {
+    for (const TableField& field : fields) {
+      CLI::Validator* check = nullptr;
+      try {
+        check = option.get_validator(kOptionFieldCheck + field.keyword);
+      } catch (const CLI::OptionNotFound&) {
+        continue;
+      }
+      fielded.insert(name);
+      const FieldRange& r = field.range;
+      std::vector<double> probes{r.low, r.high};
+      if (field.integer) {
+        probes.insert(probes.end(), {r.low - 1, r.high + 1});
+      } else {
+        probes.insert(probes.end(), {std::nextafter(r.low, -HUGE_VAL), std::nextafter(r.high, HUGE_VAL),
+                                     (r.low + r.high) / 2, std::nan(""), HUGE_VAL, -HUGE_VAL});
+      }
+      for (const double v : probes) {
+        std::string text = numberText(v);
+        EXPECT_EQ((*check)(text).empty(), r.contains(v)) << name << " " << text << " against " << field.keyword << " "
+                                                         << r.text(field.integer);
+      }
+      return;
+    }
+    // CLI::Range's description: "<TYPE> in [low - high]".
+    if (option.get_type_name().find(" in [") != std::string::npos && !kToolOwnRanges.count(name))
+      unlisted.push_back(name);
+  };
+  for (const bool eval : {false, true}) {
+    CLI::App app;
+    if (eval) mdbrief::eval::addEvalCommands(app);
+    else addMdbriefCommands(app);
+    walkOptions(app, "", visit);
+  }
+  EXPECT_TRUE(unlisted.empty()) << "ranges neither from an option table (fieldRangeCheck) nor listed as the tool's "
+                                   "own: "
+                                << ::testing::PrintToString(unlisted);
+  for (const char* name : {"match --inlier-threshold", "draw --inlier-threshold", "pipelines --levels",
+                           "pipelines --scale-factor", "pipelines --hessian-sigma", "pipelines --hessian-threshold",
+                           "eval --support-scales"})
+    EXPECT_TRUE(fielded.count(name)) << name;
 }
 
 }  // namespace
