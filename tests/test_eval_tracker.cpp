@@ -131,6 +131,8 @@ TEST(PosterDev, BadFilesAreNamedWithTheProblem) {
   const std::string json = (fake.dir.path / "ground_truth.json").string();
   fake.write("{ not json");
   EXPECT_EQ(fake.problem(), json + ": not a JSON object");
+  fake.write(R"({"calibration": "calib_results.txt", "calibration": "other.txt"})");
+  EXPECT_EQ(fake.problem(), json + ": key 'calibration' appears twice in one object");
   fake.write(R"({"calibration": "calib_results.txt"})");
   EXPECT_EQ(fake.problem(), json + ": missing \"printed_region_pattern_px\"");
   std::string text = fake.json;
