@@ -5,6 +5,7 @@
 #include <opencv2/core.hpp>
 
 #include "cli/commands.hpp"
+#include "toolkit/command_line.hpp"
 #include "toolkit/opencv_log.hpp"
 
 namespace mdbrief::cli {
@@ -25,6 +26,7 @@ int runCli(int argc, char** argv, const std::vector<CommandAdder>& commands) {
                "mdbrief"};
   app.require_subcommand(1);
   for (const auto& add : commands) add(app);
+  refuseBadSimdEnvironment(app);
   try {
     app.parse(argc, argv);
     return 0;

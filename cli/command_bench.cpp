@@ -15,6 +15,7 @@
 #include <tbb/global_control.h>
 
 #include "cli/commands.hpp"
+#include "toolkit/input_file_flag.hpp"
 #include "cli/extraction_flags.hpp"
 #include "mdbrief/camera/io.hpp"
 #include "mdbrief/api/feature2d.hpp"
@@ -31,6 +32,7 @@ namespace {
 
 struct BenchFlags {
   std::string image, level = "all";
+  bool levelGiven = false;  // --level replaces MDBRIEF_SIMD_LEVEL
   CameraFileFlags camera;
   int nfeatures = 1000;
   int repeat = 15;
@@ -68,6 +70,18 @@ std::function<void()> openCvRun(const cv::Ptr<cv::Feature2D>& feature, const cv:
 void run(const BenchFlags& flags) {
   if (flags.repeat < 1 || flags.repeat > 1000) throw InputError("--repeat: must be in [1, 1000]");
   if (flags.nfeatures < 1 || flags.nfeatures > 100000) throw InputError("--nfeatures: must be in [1, 100000]");
+  // The levels first, before any work: --level replaces MDBRIEF_SIMD_LEVEL; without it the
+  // variable caps them as it caps every kernel.
+  std::vector<SimdLevel> levels = supportedSimdLevels();
+  if (flags.levelGiven) limitSimdLevel(levels.back());
+  if (flags.level != "all") {
+    const SimdLevel wanted = parseSimdLevel(flags.level);
+    if (std::find(levels.begin(), levels.end(), wanted) == levels.end())
+      throw InputError("--level: this CPU or build does not run '" + flags.level + "'");
+    levels = {wanted};
+  }
+  const SimdLevel top = activeSimdLevel();
+  if (!flags.levelGiven) levels.erase(std::find(levels.begin(), levels.end(), top) + 1, levels.end());
   std::string imagePath = flags.image;
   if (imagePath.empty()) {
     const auto doc = opencvDocFolder();
@@ -86,13 +100,6 @@ void run(const BenchFlags& flags) {
     throw InputError("--camera: " + flags.camera.path + " is for " + std::to_string(camera->imageSize().width) + "x" +
                      std::to_string(camera->imageSize().height) + " images, " + imagePath + " is " +
                      std::to_string(image.cols) + "x" + std::to_string(image.rows));
-  std::vector<SimdLevel> levels = supportedSimdLevels();
-  if (flags.level != "all") {
-    const SimdLevel wanted = parseSimdLevel(flags.level);
-    if (std::find(levels.begin(), levels.end(), wanted) == levels.end())
-      throw InputError("--level: this CPU or build does not run '" + flags.level + "'");
-    levels = {wanted};
-  }
 
   // One thread, as the speed figures of docs/speed.md.
   cv::setNumThreads(1);
@@ -134,7 +141,7 @@ void run(const BenchFlags& flags) {
     std::printf("%-18s %9zu %6.2f ms %6.2f ms %6.2f %7.2f %7.2f %6.2f ms %6.2f ms %6.2f\n", name.c_str(),
                 keypoints.size(), ours, orb, ours / orb, ours / akaze, ours / brisk, match, bfMs, match / bfMs);
   }
-  limitSimdLevel(SimdLevel::Avx512);
+  limitSimdLevel(top);
   std::fflush(stdout);
 }
 
@@ -145,14 +152,20 @@ void addBenchCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "bench", "Time detection + description and matching on this machine against OpenCV's ORB, AKAZE, BRISK and "
                "BFMatcher, at every SIMD level this CPU runs");
-  cmd->add_option("--image", flags->image, "Image to detect on (default: opencv-doc's graf1.png)");
-  cmd->add_option("--camera", flags->camera.path, "Its calibration (default: a pinhole for an undistorted photo)");
+  cmd->add_option("--image", flags->image, "Image to detect on (default: opencv-doc's graf1.png)")
+      ->check(inputFileCheck());
+  cmd->add_option("--camera", flags->camera.path, "Its calibration (default: a pinhole for an undistorted photo)")
+      ->check(inputFileCheck());
   addCameraFileFlags(*cmd, flags->camera, "--camera");
   cmd->add_option("--nfeatures", flags->nfeatures, "Keypoints to detect (ORB's budget too)")->capture_default_str();
-  cmd->add_option("--level", flags->level, "A SIMD level (portable, sse4, neon, avx2, avx512), or all")
-      ->capture_default_str();
+  CLI::Option* level =
+      cmd->add_option("--level", flags->level, "A SIMD level (portable, sse4, neon, avx2, avx512), or all")
+          ->capture_default_str();
   cmd->add_option("--repeat", flags->repeat, "Runs per figure; the median is printed")->capture_default_str();
-  cmd->callback([flags] { run(*flags); });
+  cmd->callback([flags, level] {
+    flags->levelGiven = level->count() > 0;
+    run(*flags);
+  });
 }
 
 }  // namespace mdbrief::cli

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "toolkit/input_file_flag.hpp"
 #include "cli/extraction_flags.hpp"
 #include "mdbrief/camera/io.hpp"
 #include "mdbrief/internal/base/io/atomic_file.hpp"
@@ -59,7 +60,8 @@ void addCameraCommand(CLI::App& app) {
       "Write a calibration of any supported format (Kalibr camchain.yaml, basalt calib.json, ORB-SLAM3 settings, "
       "EuRoC / Kimera sensor.yaml, OpenCV calibration YAML or K and D, COLMAP cameras.txt, OCamCalib calib_results.txt, fisheye-calib-adapter YAML, the "
       "project's YAML) as the project's YAML");
-  convert->add_option("input", args->input.path, "Calibration file")->required();
+  convert->add_option("input", args->input.path, "Calibration file")
+      ->check(inputFileCheck())->required();
   addCameraFileFlags(*convert, args->input, "--camera", "--format");
   convert->add_option("-o,--output", args->output, "Output YAML file (default: stdout)");
   convert->callback([args] { runConvert(*args); });

@@ -9,11 +9,14 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli/commands.hpp"
+#include "toolkit/input_file_flag.hpp"
 #include "cli/consistency_flags.hpp"
 #include "cli/extraction_flags.hpp"
 #include "cli/match_consistency.hpp"
 #include "cli/storage_io.hpp"
 #include "mdbrief/detect/image_pyramid.hpp"
+#include "mdbrief/geometry/two_view.hpp"
+#include "toolkit/option_flags.hpp"
 #include "toolkit/homography_file.hpp"
 
 namespace mdbrief::cli {
@@ -200,20 +203,27 @@ void addDrawCommand(CLI::App& app) {
       "model distorts them (green lines, red = first point, blue = second). Keypoints are re-extracted with the "
       "extraction flags: give the flags used for extract so match indices agree.");
   addExtractionFlags(*cmd, args->flags);
-  cmd->add_option("image", args->image, "Image to draw on")->required();
-  cmd->add_option("--keypoints", args->keypoints, "Describe these keypoints (node 'keypoints') instead of detecting");
-  cmd->add_option("--other", args->other, "Second image, drawn to the right, for --matches");
-  cmd->add_option("--other-keypoints", args->otherKeypoints, "Keypoints of the second image (as --keypoints)");
-  cmd->add_option("--matches", args->matches, "Output of match (IMAGE's features as A, --other's as B)");
+  cmd->add_option("image", args->image, "Image to draw on")
+      ->check(inputFileCheck())->required();
+  cmd->add_option("--keypoints", args->keypoints, "Describe these keypoints (node 'keypoints') instead of detecting")
+      ->check(inputFileCheck());
+  cmd->add_option("--other", args->other, "Second image, drawn to the right, for --matches")
+      ->check(inputFileCheck());
+  cmd->add_option("--other-keypoints", args->otherKeypoints, "Keypoints of the second image (as --keypoints)")
+      ->check(inputFileCheck());
+  cmd->add_option("--matches", args->matches, "Output of match (IMAGE's features as A, --other's as B)")
+      ->check(inputFileCheck());
   cmd->add_option("--homography", args->homography,
-                  "Ground truth for --matches: the pixel homography from IMAGE to --other (nine numbers, row by row)");
+                  "Ground truth for --matches: a file of the pixel homography from IMAGE to --other (nine numbers, row by row)")
+      ->check(inputFileCheck());
   cmd->add_option("--other-camera", args->otherCamera.path,
                   "Calibration of --other when another camera took it; --other-camera-id alone: another camera of "
-                  "--camera's file (a rig)");
+                  "--camera's file (a rig)")
+      ->check(inputFileCheck());
   addCameraFileFlags(*cmd, args->otherCamera, "--other-camera");
   addModelFlag(*cmd, args->model);
   cmd->add_option("--inlier-threshold", args->thresholdPx, "A match is correct within this many pixels of the model")
-      ->check(CLI::Range(0.0, 1e6))
+      ->check(fieldRangeCheck(twoViewOptionFields(), "max_pixels"))
       ->capture_default_str();
   cmd->add_flag("--no-keypoints", args->hideKeypoints, "Do not draw the keypoint circles");
   cmd->add_option("--keypoint", args->keypoint, "Draw the test pairs of this keypoint (row of the extract output)");

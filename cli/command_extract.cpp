@@ -5,6 +5,7 @@
 #include <set>
 
 #include "cli/commands.hpp"
+#include "toolkit/input_file_flag.hpp"
 #include "cli/extraction_flags.hpp"
 #include "cli/storage_io.hpp"
 
@@ -75,8 +76,10 @@ void addExtractCommand(CLI::App& app) {
   addExtractionFlags(*cmd, args->flags);
   cmd->add_option("--keypoints", args->keypoints,
                   "Describe the keypoints of node 'keypoints' of this FileStorage file (for every image) instead of "
-                  "detecting");
-  cmd->add_option("images", args->images, "Input images (the calibration's size)")->required();
+                  "detecting")
+      ->check(inputFileCheck());
+  cmd->add_option("images", args->images, "Input images (the calibration's size)")
+      ->check(inputFileCheck())->required();
   cmd->add_option("-o,--output", args->output, "Output file; with several images an existing folder (<stem>.yml each)")
       ->required();
   cmd->callback([args] { runExtract(*args); });

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "toolkit/input_file_flag.hpp"
 #include "cli/consistency_flags.hpp"
 #include "cli/extraction_flags.hpp"
 #include "cli/match_consistency.hpp"
@@ -15,6 +16,7 @@
 #include "mdbrief/match/matcher.hpp"
 #include "mdbrief/api/presets.hpp"
 #include "toolkit/option_flags.hpp"
+#include "mdbrief/geometry/two_view.hpp"
 
 namespace mdbrief::cli {
 namespace {
@@ -136,8 +138,10 @@ void addMatchCommand(CLI::App& app) {
       "Match the descriptors of two extract outputs (brute force; masked Hamming distance when both have masks). "
       "Output: node 'matches', an N x 3 CV_64F matrix whose rows are (query row in A, train row in B, distance in "
       "bits), in query order; also 'query', 'train' (the input files) and 'masked' (0/1).");
-  cmd->add_option("A", args->query, "Query features (extract output)")->required();
-  cmd->add_option("B", args->train, "Train features (extract output)")->required();
+  cmd->add_option("A", args->query, "Query features (extract output)")
+      ->check(inputFileCheck())->required();
+  cmd->add_option("B", args->train, "Train features (extract output)")
+      ->check(inputFileCheck())->required();
   cmd->add_option("--preset", args->preset,
                   "Start from this preset's matcher settings (mdbrief/api/presets.hpp); the flags below change them")
       ->check(CLI::IsMember(namesOf(kPresetNames)))
@@ -149,15 +153,17 @@ void addMatchCommand(CLI::App& app) {
                 "which model (needs the keypoints in A and B)");
   cmd->add_option("--camera", args->camera.path,
                   "Calibration of A (and of B without --camera-b) for --inliers; without it a homography is fitted "
-                  "on the pixels");
+                  "on the pixels")
+      ->check(inputFileCheck());
   addCameraFileFlags(*cmd, args->camera, "--camera");
   cmd->add_option("--camera-b", args->cameraB.path,
                   "Calibration of B when another camera took it; --camera-b-id alone: another camera of --camera's "
-                  "file (a rig)");
+                  "file (a rig)")
+      ->check(inputFileCheck());
   addCameraFileFlags(*cmd, args->cameraB, "--camera-b");
   addModelFlag(*cmd, args->model);
   cmd->add_option("--inlier-threshold", args->thresholdPx, "--inliers: a match agrees within this many pixels of the fit")
-      ->check(CLI::Range(0.0, 1e6))
+      ->check(fieldRangeCheck(twoViewOptionFields(), "max_pixels"))
       ->capture_default_str();
   cmd->add_option("-o,--output", args->output, "Output FileStorage file (.yml, .yml.gz, .json)")->required();
   cmd->callback([args] { runMatch(*args); });

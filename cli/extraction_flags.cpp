@@ -12,6 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "cli/commands.hpp"
+#include "toolkit/input_file_flag.hpp"
 #include "cli/storage_io.hpp"
 #include "mdbrief/camera/io.hpp"
 #include "mdbrief/internal/base/io/framed_file.hpp"
@@ -114,7 +115,8 @@ CameraFile readCalibrationFile(const CameraFileFlags& flags) {
 }
 
 void addExtractionFlags(CLI::App& cmd, ExtractionFlags& flags) {
-  cmd.add_option("--camera", flags.camera.path, "Calibration file (configs/cameras/README.md); required for dbrief/mdbrief");
+  cmd.add_option("--camera", flags.camera.path, "Calibration file (configs/cameras/README.md); required for dbrief/mdbrief")
+      ->check(inputFileCheck());
   addCameraFileFlags(cmd, flags.camera, "--camera");
   cmd.add_option("--preset", flags.preset,
                  "Start from this preset's options (mdbrief/api/presets.hpp); the flags below change them")

@@ -16,6 +16,7 @@
 #include "cli/gzip_compression.hpp"
 #include "mdbrief/internal/base/io/atomic_file.hpp"
 #include "mdbrief/internal/base/io/input_file.hpp"
+#include "mdbrief/internal/base/io/unique_keys.hpp"
 
 namespace mdbrief::cli {
 namespace {
@@ -59,6 +60,11 @@ YAML::Node parseYaml(const std::string& path, const std::string& bytes) {
     throw InputError(path + ": not well-formed YAML/JSON: " + e.what());
   }
   if (!root.IsMap()) throw InputError(path + ": not a FileStorage file (the top level is not a map of named nodes)");
+  try {
+    internal::requireUniqueYamlKeys(path, root, bytes.size());
+  } catch (const std::runtime_error& e) {
+    throw InputError(e.what());
+  }
   return root;
 }
 

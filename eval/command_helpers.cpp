@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 
 #include "eval_datasets.hpp"
 #include "mdbrief/camera/io.hpp"
@@ -42,6 +43,24 @@ CameraReference parseCameraReference(const std::string& value) {
   if (hash == 0 || hash + 1 == value.size())
     throw InputError(value + ": expected a calibration file, or file#id for one camera of a rig file");
   return {value.substr(0, hash), value.substr(hash + 1)};
+}
+
+void requireDistinctLabels(const std::vector<std::string>& values, const std::string& flag) {
+  std::map<std::string, std::string> seen;  // label -> the value that has it
+  for (const auto& value : values) {
+    const std::string label = parseCameraReference(value).label();
+    const auto [at, added] = seen.emplace(label, value);
+    if (!added)
+      throw InputError(flag + " " + at->second + " and " + value + ": both are named '" + label +
+                       "' in the results; give each camera once, from files of different names");
+  }
+}
+
+std::string cameraReferencePath(const std::string& value) {
+  const auto hash = value.rfind('#');
+  std::error_code ec;
+  if (hash == std::string::npos || hash == 0 || std::filesystem::exists(value, ec)) return value;
+  return value.substr(0, hash);
 }
 
 CameraPtr loadCameraOrThrow(const CameraReference& camera) {

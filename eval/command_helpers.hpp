@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 
 #include "eval_commands.hpp"
+#include "toolkit/input_file_flag.hpp"
 #include "mdbrief/camera/camera.hpp"
 
 namespace mdbrief::eval {
@@ -28,6 +29,13 @@ struct CameraReference {
   std::string label() const;
 };
 CameraReference parseCameraReference(const std::string& value);
+// Refuses (InputError) two values of `flag` with one label: the results name a camera by its
+// label, so two files of one stem in different folders, or one file given twice, would share
+// rows (issue 45). For the start of a command, before any work.
+void requireDistinctLabels(const std::vector<std::string>& values, const std::string& flag);
+// The file of such a value as parseCameraReference reads it, without its checks (never throws):
+// for the parse-time check of the file (toolkit/input_file_flag.hpp).
+std::string cameraReferencePath(const std::string& value);
 
 // loadCamera / loadEvaluationImage, throwing InputError.
 CameraPtr loadCameraOrThrow(const std::string& path, const std::string& cameraId = "");

@@ -3,12 +3,11 @@
 #include <algorithm>
 
 #include "eval_commands.hpp"
+#include "toolkit/command_line.hpp"
 
 namespace mdbrief::eval {
 
-int runEvalCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
-  CLI::App app{"Reproduction of the mdBRIEF paper's experiments", "mdbrief-eval"};
-  app.require_subcommand(1);
+void addEvalCommands(CLI::App& app) {
   addSimCommand(app);
   addEvalCommand(app);
   addPipelinesCommand(app);
@@ -19,6 +18,13 @@ int runEvalCli(const std::vector<std::string>& args, std::ostream& out, std::ost
   addExportUserSampleCommand(app);
   addExportRotatedViewsCommand(app);
   addHeldOutImagesCommand(app);
+}
+
+int runEvalCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{"Reproduction of the mdBRIEF paper's experiments", "mdbrief-eval"};
+  app.require_subcommand(1);
+  addEvalCommands(app);
+  refuseBadSimdEnvironment(app);
   auto oneLine = [](std::string s) {
     std::replace(s.begin(), s.end(), '\n', ' ');
     return s;

@@ -6,7 +6,12 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 namespace mdbrief::eval {
+
+// Registers every subcommand of mdbrief-eval on app (the tests walk them).
+void addEvalCommands(CLI::App& app);
 
 // args without the program's name. --help and parse errors are written to `out` / `err` (the
 // subcommands' own progress goes to stdout).

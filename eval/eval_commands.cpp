@@ -1,10 +1,12 @@
 #include "eval_commands.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <set>
 
 #include "command_helpers.hpp"
 #include "eval_datasets.hpp"
@@ -16,20 +18,45 @@
 #include "simulation.hpp"
 #include "timing_table.hpp"
 #include "toolkit/data_folders.hpp"
+#include "mdbrief/describe/descriptor.hpp"
+#include "mdbrief/detect/detector.hpp"
+#include "mdbrief/detect/image_pyramid.hpp"
+#include "toolkit/option_flags.hpp"
 
 namespace mdbrief::eval {
 namespace {
 
 namespace fs = std::filesystem;
 
-// "name=path" (or "name=path#id", a rig's camera) pairs of the --camera flags; a name ending in
-// "_rim" takes the camera's own longest path (to the rim) instead of the shared one.
-std::vector<SimCamera> parseCameras(const std::vector<std::string>& specs) {
-  std::vector<SimCamera> out;
+// Refuses, before any work, --camera values whose names cannot name sim's outputs: the name is
+// part of file names in --out ("sim_<name>_views.png") and a cell of sim_info.csv, so it is
+// letters, digits, '_', '-' and '.' (no '/', no comma) and is given once (issue 45: two cameras
+// of one name overwrote each other's files; "../../escape" failed after the whole run).
+void checkCameraNames(const std::vector<std::string>& specs) {
+  std::set<std::string> names;
   for (const auto& s : specs) {
     const auto eq = s.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == s.size())
       throw InputError("--camera " + s + ": expected name=path or name=path#camera-id");
+    const std::string name = s.substr(0, eq);
+    const bool plain = std::all_of(name.begin(), name.end(), [](unsigned char c) {
+      return std::isalnum(c) || c == '_' || c == '-' || c == '.';
+    });
+    if (!plain || name[0] == '.')
+      throw InputError("--camera " + s + ": the name '" + name + "' names output files: use letters, digits, '_', "
+                       "'-' and '.' (not first)");
+    if (!names.insert(name).second)
+      throw InputError("--camera " + s + ": the name '" + name + "' is given twice; each camera's outputs need "
+                       "their own name");
+  }
+}
+
+// "name=path" (or "name=path#id", a rig's camera) pairs of the --camera flags (checkCameraNames);
+// a name ending in "_rim" takes the camera's own longest path (to the rim) instead of the shared one.
+std::vector<SimCamera> parseCameras(const std::vector<std::string>& specs) {
+  std::vector<SimCamera> out;
+  for (const auto& s : specs) {
+    const auto eq = s.find('=');
     const std::string name = s.substr(0, eq);
     const bool rim = name.size() > 4 && name.compare(name.size() - 4, 4, "_rim") == 0;
     out.push_back({name, loadCameraOrThrow(parseCameraReference(s.substr(eq + 1))), rim ? -1.0 : 0.0});
@@ -55,12 +82,14 @@ void addSimCommand(CLI::App& app) {
   auto docDir = std::make_shared<std::string>();
   auto noProjected = std::make_shared<bool>(false), noDetected = std::make_shared<bool>(false);
   addOpencvDocFlag(cmd, *docDir);
-  cmd->add_option("--texture", o->texturePath, "Plane texture (default: graf1.png of --opencv-doc-dir)");
+  cmd->add_option("--texture", o->texturePath, "Plane texture (default: graf1.png of --opencv-doc-dir)")
+      ->check(inputFileCheck());
   cmd->add_option("--camera", *cams, "name=calibration.yaml, or name=calibration.yaml#id for one camera of a "
                                      "rig file; repeatable (default: pinhole, radial, fisheye (lafida_fisheye0), "
                                      "fisheye_rim, double_sphere of configs/cameras in the working directory); "
                                      "all share the pinhole's path, a name ending in _rim runs to the rim of its "
-                                     "lens");
+                                     "lens")
+      ->check(inputFileCheck([](const std::string& v) { return cameraReferencePath(v.substr(v.find('=') + 1)); }));
   cmd->add_option("--out", o->outDir, "Output folder for the CSVs and view images")->required();
   cmd->add_option("--views", o->views, "Positions of the distance-evolution path")->check(CLI::Range(2, 1000))->capture_default_str();
   cmd->add_option("--recognition-views", o->recognitionViews, "Views of the recognition sequence")->check(CLI::Range(2, 1000))->capture_default_str();
@@ -77,6 +106,7 @@ void addSimCommand(CLI::App& app) {
     if (o->bits % 32) throw InputError("--bits " + std::to_string(o->bits) + ": must be a multiple of 32");
     o->runProjected = !*noProjected;
     o->runDetected = !*noDetected;
+    checkCameraNames(*cams);
     // Every file sim writes is a "sim_*" in --out: an input of such a name there may be one.
     std::vector<std::string> inputs{o->texturePath}, outputs;
     for (const auto& spec : *cams) inputs.push_back(parseCameraReference(spec.substr(spec.find('=') + 1)).path);
@@ -118,16 +148,21 @@ void addDatasetFlags(CLI::App* cmd, DatasetFlags& d) {
   cmd->add_option("--fisheye-camera", d.fisheyeCameras,
                   "Calibrations to render the fisheye sequences with, file or file#id for one camera of "
                   "a rig file (default: three fisheye models of configs/cameras in the working directory)")
+      ->check(inputFileCheck(cameraReferencePath))
       ->capture_default_str();
   cmd->add_option("--texture", d.textures, "Photos rendered as planes (default: img1 of every Oxford sequence "
-                                           "found and six photos of --opencv-doc-dir)");
+                                           "found and six photos of --opencv-doc-dir)")
+      ->check(inputFileCheck());
   addOpencvDocFlag(cmd, d.opencvDocDir);
   cmd->add_option("--poses", d.poses, "Rendered poses per fisheye sequence")->check(CLI::Range(2, 50))->capture_default_str();
-  cmd->add_option("--user-images", d.userImages, "User sequence: reference image first");
-  cmd->add_option("--user-camera", d.userCamera, "User sequence: camera calibration");
+  cmd->add_option("--user-images", d.userImages, "User sequence: reference image first")
+      ->check(inputFileCheck());
+  cmd->add_option("--user-camera", d.userCamera, "User sequence: camera calibration")
+      ->check(inputFileCheck());
   addCameraIdFlag(cmd, d.userCameraId, "--user-camera-id", "--user-camera");
   cmd->add_option("--user-homographies", d.userHomographies,
-                  "User sequence: 3x3 bearing-space homographies image 1 -> image k (k = 2..)");
+                  "User sequence: 3x3 bearing-space homographies image 1 -> image k (k = 2..)")
+      ->check(inputFileCheck());
   cmd->add_flag("--no-perspective", d.noPerspective, "Skip the Oxford sequences");
   cmd->add_flag("--no-fisheye", d.noFisheye, "Skip the rendered fisheye sequences");
 }
@@ -136,6 +171,7 @@ void addDatasetFlags(CLI::App* cmd, DatasetFlags& d) {
 // the held-out check.
 std::vector<EvalGroup> loadGroups(const DatasetFlags& d, std::vector<std::string>& imagePaths) {
   if (!d.userImages.empty() && d.userCamera.empty()) throw InputError("--user-images needs --user-camera");
+  if (!d.noFisheye) requireDistinctLabels(d.fisheyeCameras, "--fisheye-camera");
   std::vector<EvalGroup> groups;
   imagePaths = d.userImages;
   if (!d.noPerspective) {
@@ -219,12 +255,9 @@ void addEvalCommand(CLI::App& app) {
                   "OpenCV one")
       ->check(CLI::IsMember(namesOf(kKeypointSourceNames)))
       ->capture_default_str();
-  const FieldRange supportScale =
-      descriptorOptionFields()[findField(descriptorOptionFields(), "support_scale", &OptionField<DescriptorOptions>::keyword)]
-          .range(DescriptorOptions{});
   cmd->add_option("--support-scales", a->supportScales,
                   "Only the footprint study: dBRIEF-256 and mdBRIEF-256 at these DescriptorOptions::supportScale values")
-      ->check(CLI::Range(supportScale.low, supportScale.high));
+      ->check(fieldRangeCheck(descriptorOptionFields(), "support_scale"));
   cmd->add_option("--test-set", a->testSets,
                   "Only the test-set study, with these sets (registry names or JSON files; repeatable)");
   cmd->callback([a] {
@@ -268,17 +301,17 @@ void addPipelinesCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--out", a->options.outDir, "Output folder for pipelines_summary.csv")->required();
   cmd->add_option("--hessian-sigma", a->options.library.hessianSigma, "DetectorOptions::hessianSigma")
-      ->check(CLI::Range(0.5, 8.0))
+      ->check(fieldRangeCheck(detectorOptionFields(), "hessian_sigma"))
       ->capture_default_str();
   cmd->add_option("--hessian-threshold", a->options.library.hessianThreshold, "DetectorOptions::hessianThreshold")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(fieldRangeCheck(detectorOptionFields(), "hessian_threshold"))
       ->capture_default_str();
   cmd->add_option("--levels", a->options.library.pyramid.levels, "Pyramid levels of the library's detectors")
-      ->check(CLI::Range(1, 32))
+      ->check(fieldRangeCheck(pyramidOptionFields(), "levels"))
       ->capture_default_str();
   cmd->add_option("--scale-factor", a->options.library.pyramid.scaleFactor,
                   "Pyramid scale factor of the library's detectors")
-      ->check(CLI::Range(1.01, 2.0))
+      ->check(fieldRangeCheck(pyramidOptionFields(), "scale_factor"))
       ->capture_default_str();
   cmd->add_flag("--spread", a->options.library.spread, "DetectorOptions::spread for the library's detectors");
   cmd->add_flag("--conformal", a->options.library.conformal,
@@ -313,10 +346,12 @@ void addTimingCommand(CLI::App& app) {
   auto texture = std::make_shared<std::string>();
   auto docDir = std::make_shared<std::string>();
   cmd->add_option("--camera", *camPath, "Camera of the timed images (default relative to the working directory)")
+      ->check(inputFileCheck())
       ->capture_default_str();
   addCameraIdFlag(cmd, *camId);
   cmd->add_option("--texture", *texture, "Photo rendered through the camera at 4 poses (default: graf1.png of "
-                                         "--opencv-doc-dir)");
+                                         "--opencv-doc-dir)")
+      ->check(inputFileCheck());
   addOpencvDocFlag(cmd, *docDir);
   cmd->add_option("--repeats", o->repeats, "Repeats (median reported)")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--keypoints", o->keypoints, "Detector budget")->check(CLI::Range(10, 100000))->capture_default_str();
@@ -350,9 +385,11 @@ void addExportUserSampleCommand(CLI::App& app) {
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("--camera", a->camera, "Calibration to render with (default relative to the working directory)")
+      ->check(inputFileCheck())
       ->capture_default_str();
   addCameraIdFlag(cmd, a->cameraId);
-  cmd->add_option("--texture", a->texture, "Photo rendered as the plane (default: graf3.png of --opencv-doc-dir)");
+  cmd->add_option("--texture", a->texture, "Photo rendered as the plane (default: graf3.png of --opencv-doc-dir)")
+      ->check(inputFileCheck());
   addOpencvDocFlag(cmd, a->opencvDocDir);
   cmd->add_option("--poses", a->poses, "Images (the poses of the fisheye sequences)")->check(CLI::Range(2, 50))->capture_default_str();
   cmd->add_option("--out", a->out, "Output folder")->required();
@@ -374,8 +411,10 @@ void addExportRotatedViewsCommand(CLI::App& app) {
     int views = 6;
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("--image", a->photo, "Photo taken with the calibrated camera")->required();
-  cmd->add_option("--camera", a->camera, "Its calibration")->required();
+  cmd->add_option("--image", a->photo, "Photo taken with the calibrated camera")
+      ->check(inputFileCheck())->required();
+  cmd->add_option("--camera", a->camera, "Its calibration")
+      ->check(inputFileCheck())->required();
   addCameraIdFlag(cmd, a->cameraId);
   cmd->add_option("--views", a->views, "Images, the photo included")->check(CLI::Range(2, 20))->capture_default_str();
   cmd->add_option("--out", a->out, "Output folder")->required();

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mdbrief/camera/io.hpp"
+#include "mdbrief/internal/base/io/unique_keys.hpp"
 #include "mdbrief/internal/base/size_text.hpp"
 
 namespace mdbrief::eval {
@@ -92,8 +93,14 @@ PosterDev loadPosterDev(const std::string& dir) {
   {
     std::ifstream in(gtPath, std::ios::binary);
     if (!in) throw std::runtime_error(gtPath + ": cannot read");
-    gt = json::parse(in, nullptr, false);
-    if (gt.is_discarded() || !gt.is_object()) throw std::runtime_error(gtPath + ": not a JSON object");
+    try {
+      gt = internal::parseJsonUniqueKeys<json>(in);
+    } catch (const json::exception&) {
+      throw std::runtime_error(gtPath + ": not a JSON object");
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(gtPath + ": " + e.what());
+    }
+    if (!gt.is_object()) throw std::runtime_error(gtPath + ": not a JSON object");
   }
   PosterDev p;
   const std::string calibration = (root / field<std::string>(gt, "calibration", gtPath)).string();

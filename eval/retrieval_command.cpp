@@ -40,6 +40,7 @@ void addRetrievalCommand(CLI::App& app) {
                   "named here that cannot be read is an error)")
       ->check(CLI::IsMember(kRetrievalDatasets));
   cmd->add_option("--fisheye-camera", a->paths.fisheyeCameras, "Calibrations the rendered fisheye sequences use, file or file#id for one camera of a rig file")
+      ->check(inputFileCheck(cameraReferencePath))
       ->capture_default_str();
   cmd->add_option("--photos", a->photos,
                   "Photos, sorted by path: the first --training-count train the vocabularies, the rest are "
@@ -64,6 +65,7 @@ void addRetrievalCommand(CLI::App& app) {
                   "Output folder: retrieval.csv, retrieval_speed.csv and the vocabularies (binary, DBoW2 text)")
       ->required();
   cmd->callback([a] {
+    requireDistinctLabels(a->paths.fisheyeCameras, "--fisheye-camera");
     const std::string photos = a->photos.empty() ? a->paths.data + "/natural/bsds500" : a->photos;
     std::vector<std::filesystem::path> files;
     try {

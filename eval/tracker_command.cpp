@@ -119,12 +119,14 @@ void addTrackerCommand(CLI::App& app) {
   cmd->add_option("--only", a->only, "Only the pipelines whose name starts with one of these");
   cmd->add_option("--library", a->library,
                   "Also evaluate the library with these options: name=file (cv::FileStorage, as MdBrief::write "
-                  "writes it); repeatable");
+                  "writes it); repeatable")
+      ->check(inputFileCheck([](const std::string& v) { return v.substr(v.find('=') + 1); }));
   cmd->add_option("--budget", a->options.budget, "Keypoints per image")->check(CLI::Range(10, 100000))->capture_default_str();
   cmd->add_option("--ratios", a->options.ratios, "Ratio-test sweep (1 = mutual nearest neighbours only)")
       ->check(CLI::Range(0.05, 1.0))
       ->capture_default_str();
   cmd->add_option("--fisheye-camera", a->paths.fisheyeCameras, "Calibrations the rendered fisheye sequences use, file or file#id for one camera of a rig file")
+      ->check(inputFileCheck(cameraReferencePath))
       ->capture_default_str();
   cmd->add_flag("--stereo-refine", a->stereo.refine,
                 "The library's pipelines refine their stereo matches (mdbrief/match/match_refinement.hpp)");
@@ -135,6 +137,7 @@ void addTrackerCommand(CLI::App& app) {
                   "Output folder for tracker_pairs.csv, tracker_summary.csv, stereo_pairs.csv and stereo_summary.csv")
       ->required();
   cmd->callback([a] {
+    requireDistinctLabels(a->paths.fisheyeCameras, "--fisheye-camera");
     std::vector<TrackerPipeline> pipelines;
     for (const auto& p : standardTrackerPipelines())
       if (a->only.empty() || std::any_of(a->only.begin(), a->only.end(),

@@ -2,6 +2,8 @@
 // target changes only when the new content is complete, and no temporary is left behind; a
 // failed write (file size limit, full disk) keeps the old file; nodes that are not regular
 // files are never replaced; several files are replaced together.
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 #include <sys/wait.h>
@@ -49,14 +51,6 @@ std::string errorOf(F f) {
   }
   ADD_FAILURE() << "expected a std::runtime_error";
   return "";
-}
-
-// A process id that no process has any more: a child that has exited and been reaped.
-pid_t deadPid() {
-  const pid_t child = ::fork();
-  if (child == 0) ::_exit(0);
-  ::waitpid(child, nullptr, 0);
-  return child;
 }
 
 }  // namespace
@@ -196,21 +190,44 @@ TEST(AtomicFile, CheckOutputPathAcceptsNewAndRegularFilesAndLeavesNothing) {
   EXPECT_NE(missing.find("does not exist"), std::string::npos) << missing;
 }
 
-TEST(AtomicFile, TemporariesOfKilledWritersAreRemovedByTheNextWrite) {
+// Issue 45: the cleanup removed any file named like a temporary, and a live writer's temporary
+// in another pid namespace. Now only a temporary whose writer's lock is free goes.
+TEST(AtomicFile, OnlyTemporariesWhoseWritersLockIsFreeAreRemovedByTheNextWrite) {
   TempDir dir("atomic_orphans");
   const fs::path target = dir.path / "patches.h5";
-  // What a SIGKILL during `mdbrief-train --save-patches` leaves, from a process that is gone,
-  // beside temporaries of running processes (this one and init), which must stay.
-  const std::string orphan = ".patches.tmp" + std::to_string(deadPid()) + "-0.h5";
-  const std::string mine = ".patches.tmp" + std::to_string(::getpid()) + "-7.h5";
-  const std::string init = ".patches.tmp1-0.h5";
-  const std::string otherTarget = ".other.tmp" + std::to_string(deadPid()) + "-0.h5";
-  for (const auto& name : {orphan, mine, init, otherTarget}) std::ofstream(dir.path / name) << "partial";
+  const std::string stale = ".patches.tmp-0123456789abcdef.h5";  // a killed writer's: nobody locks it
+  const std::string held = ".patches.tmp-fedcba9876543210.h5";   // a live writer's, locked
+  const std::string foreign = ".patches.tmp2024-07.h5";          // the user's file, named alike
+  const std::string otherTarget = ".other.tmp-0123456789abcdef.h5";
+  for (const auto& name : {stale, held, foreign, otherTarget}) std::ofstream(dir.path / name) << "partial";
+  // The live writer: another process holds the lock until the pipe closes.
+  int ready[2], done[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  ASSERT_EQ(::pipe(done), 0);
+  const std::string heldPath = (dir.path / held).string();
+  const pid_t writer = ::fork();
+  if (writer == 0) {
+    ::close(done[1]);
+    const int fd = ::open(heldPath.c_str(), O_RDONLY);
+    char c = ::flock(fd, LOCK_EX) == 0 ? 'y' : 'n';
+    if (::write(ready[1], &c, 1) != 1 || ::read(done[0], &c, 1) < 0) ::_exit(1);
+    ::_exit(0);
+  }
+  char locked = 0;
+  ASSERT_EQ(::read(ready[0], &locked, 1), 1);
+  ASSERT_EQ(locked, 'y');
   writeFileAtomically(target, "new");
   EXPECT_EQ(readFile(target), "new");
-  std::vector<std::string> expected{mine, init, otherTarget, "patches.h5"};
+  std::vector<std::string> expected{held, foreign, otherTarget, "patches.h5"};
   std::sort(expected.begin(), expected.end());
   EXPECT_EQ(fileNames(dir.path), expected);
+  // The writer gone, its lock is free: the next write removes its temporary.
+  ::close(done[1]);
+  ::waitpid(writer, nullptr, 0);
+  writeFileAtomically(target, "newer");
+  expected.erase(std::find(expected.begin(), expected.end(), held));
+  EXPECT_EQ(fileNames(dir.path), expected);
+  for (const int fd : {ready[0], ready[1], done[0]}) ::close(fd);
 }
 
 TEST(AtomicFiles, ReplaceTheWholeSetOrNothing) {

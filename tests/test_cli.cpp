@@ -641,14 +641,16 @@ TEST_F(CliTest, HelpExitsZeroForEverySubcommand) {
 }
 
 TEST_F(CliTest, BadUsageExitsTwo) {
+  // The input files exist (any regular file passes the parse-time check), so the usage is at fault.
+  const std::string file = kCamera;
   expectOneLineNaming(run({}), "subcommand");
-  expectOneLineNaming(run({"extract", "--camera", kCamera, "--frobnicate", "x.png", "-o", path("o.yml")}),
+  expectOneLineNaming(run({"extract", "--camera", kCamera, "--frobnicate", file, "-o", path("o.yml")}),
                       "--frobnicate");
-  expectOneLineNaming(run({"extract", "--camera", kCamera, "--descriptor", "surf", "x.png", "-o", path("o.yml")}),
+  expectOneLineNaming(run({"extract", "--camera", kCamera, "--descriptor", "surf", file, "-o", path("o.yml")}),
                       "surf");
-  expectOneLineNaming(run({"extract", "--camera", kCamera, "--form", "exact", "x.png", "-o", path("o.yml")}), "exact");
-  expectOneLineNaming(run({"extract", "--camera", kCamera, "x.png"}), "--output");
-  expectOneLineNaming(run({"match", "a.yml", "b.yml", "--ratio", "1.5", "-o", path("m.yml")}), "--ratio");
+  expectOneLineNaming(run({"extract", "--camera", kCamera, "--form", "exact", file, "-o", path("o.yml")}), "exact");
+  expectOneLineNaming(run({"extract", "--camera", kCamera, file}), "--output");
+  expectOneLineNaming(run({"match", file, file, "--ratio", "1.5", "-o", path("m.yml")}), "--ratio");
 }
 
 TEST_F(CliTest, ExtractRejectsBadInputFiles) {

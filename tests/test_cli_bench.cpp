@@ -2,6 +2,7 @@
 // clear refusals of what it cannot measure.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <string>
 
@@ -9,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli_runner.hpp"
+#include "program_runner.hpp"
 #include "mdbrief/base/simd_level.hpp"
 
 namespace {
@@ -70,6 +72,47 @@ TEST_F(CliBenchTest, RefusesWhatItCannotMeasure) {
   expectOneLineNaming(runMdbrief({"bench", "--image", image_, "--camera", kalibr}), "choose one by its id");
   expectOneLineNaming(runMdbrief({"bench", "--image", image_, "--camera", kalibr, "--camera-id", "cam1"}),
                       "--camera: " + kalibr + " is for 752x480 images");
+}
+
+// Issue 45: MDBRIEF_SIMD_LEVEL=AVX2 gave "invalid descriptor options" without naming the
+// variable, `bench` ignored it, and `bench --level avx2` with it set ran AKAZE and BRISK and
+// printed a header before failing. A bad value is refused before any work naming the variable,
+// --level replaces it, and without --level it caps bench's levels as it caps every kernel.
+TEST_F(CliBenchTest, MdbriefSimdLevelIsRefusedNamedOrReplacedByLevel) {
+  using mdbrief::testing::runProgram;
+  const std::chrono::seconds limit(120);
+  const std::string named = "the environment variable MDBRIEF_SIMD_LEVEL is 'AVX2', not a SIMD level: portable, sse4, "
+                            "neon, avx2, avx512";
+  const std::string keypoints = (dir_ / "k.yml").string();
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"bench", "--image", image_, "--repeat", "1", "--nfeatures", "50"},
+           {"extract", image_, "-o", keypoints},
+           {"sim", "--out", dir_.string()}}) {
+    const auto r = runProgram(MDBRIEF_CLI_PATH, args, limit, {"MDBRIEF_SIMD_LEVEL=AVX2"});
+    EXPECT_EQ(r.code, 2) << args[0] << ": " << r.err;
+    EXPECT_NE(r.err.find(named), std::string::npos) << args[0] << ": " << r.err;
+    EXPECT_EQ(r.err.find("invalid descriptor options"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(keypoints));
+  const auto evalRun = runProgram(MDBRIEF_EVAL_PATH, {"sim", "--out", dir_.string()}, limit, {"MDBRIEF_SIMD_LEVEL=AVX2"});
+  EXPECT_EQ(evalRun.code, 2) << evalRun.err;
+  EXPECT_NE(evalRun.err.find(named), std::string::npos) << evalRun.err;
+  const auto bench = [&](std::vector<std::string> args, const std::string& level) {
+    args.insert(args.begin(), {"bench", "--image", image_, "--repeat", "1", "--nfeatures", "50"});
+    return runProgram(MDBRIEF_CLI_PATH, args, limit, {"MDBRIEF_SIMD_LEVEL=" + level});
+  };
+  // --level replaces the variable, a bad value included.
+  const auto replaced = bench({"--level", "portable"}, "AVX2");
+  EXPECT_EQ(replaced.code, 0) << replaced.err;
+  EXPECT_NE(replaced.out.find("\nportable (SCALAR) "), std::string::npos) << replaced.out;
+  // Without --level the variable caps the levels.
+  const auto capped = bench({}, "portable");
+  EXPECT_EQ(capped.code, 0) << capped.err;
+  const std::string& lines = capped.out;
+  EXPECT_NE(lines.find("\nportable (SCALAR) "), std::string::npos) << lines;
+  for (const mdbrief::SimdLevel level : mdbrief::supportedSimdLevels())
+    if (level != mdbrief::SimdLevel::Portable)
+      EXPECT_EQ(lines.find("\n" + mdbrief::toString(level) + " ("), std::string::npos) << lines;
 }
 
 }  // namespace

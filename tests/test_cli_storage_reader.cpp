@@ -140,7 +140,10 @@ TEST_F(StorageReaderTest, FilesThatAreNotFileStorageMapsAreRefusedWhenOpened) {
       {"- 1\n- 2\n", "the top level is not a map"},
       {"keypoints: [ 1, 2\n", "not well-formed YAML/JSON"},
       {std::string("a: 1\0", 5), "byte 4 is NUL"},
-      {"a: " + std::string(65, '[') + std::string(65, ']'), "nested deeper than 64"}};
+      {"a: " + std::string(65, '[') + std::string(65, ']'), "nested deeper than 64"},
+      // Issue 45: one of two equal keys was dropped without a word.
+      {"{\"keypoints\": [], \"keypoints\": [1]}", "key 'keypoints' appears twice"},
+      {"keypoints: []\ndescriptors: 1\nkeypoints: [1]\n", "key 'keypoints' appears twice, on lines 1 and 3"}};
   for (const auto& [text, reason] : cases) {
     const std::string name = file("bad.json", text);
     try {

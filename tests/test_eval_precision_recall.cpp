@@ -121,6 +121,23 @@ TEST(EvalPrecisionRecall, HomographyFileErrorsNameTheFile) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
   }
+  // Issue 45: a tenth number and an all-zero matrix were accepted.
+  for (const auto& [content, why] : std::vector<std::pair<std::string, std::string>>{
+           {"1 0 0\n0 1 0\n0 0 1\n7\n", "found more: '7'"},
+           {"0 0 0\n0 0 0\n0 0 0\n", "singular"},
+           {"1 2 3\n2 4 6\n0 0 1\n", "singular"}}) {
+    std::ofstream(path) << content;
+    try {
+      readHomography(path.string());
+      ADD_FAILURE() << "accepted: " << content;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(path.string() + ": "), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  }
+  // Valid files read as before, whatever the spacing and the scale.
+  std::ofstream(path) << "  2e-3 0 0 0 2e-3 0\n0 0 2e-3\n\n";
+  EXPECT_EQ(readHomography(path.string()), cv::Matx33d(2e-3, 0, 0, 0, 2e-3, 0, 0, 0, 2e-3));
   std::filesystem::remove(path);
   EXPECT_THROW(readHomography(path.string()), std::runtime_error);
 }
@@ -298,6 +315,42 @@ TEST(EvalCli, AnEvaluationOfNothingKeepsThePreviousResults) {
   }
   EXPECT_EQ(testing::readFile(out / "eval_summary.csv"), old);
   EXPECT_EQ(testing::readFile(out / "pipelines_summary.csv"), old);
+}
+
+// Issue 45: two sim cameras of one name overwrote each other's files (exit 0), a name with a
+// path or a comma failed after the whole run or broke sim_info.csv, and two --fisheye-camera
+// files of one stem shared rows of eval_summary.csv. Each is refused before any work.
+TEST(EvalCli, NamesThatWouldClashOrEscapeAreRefusedBeforeTheWork) {
+  testing::TempDir dir("eval_names");
+  const fs::path out = dir.path / "out";
+  fs::create_directories(out);
+  fs::create_directories(dir.path / "a");
+  fs::create_directories(dir.path / "b");
+  const std::string camera = (testing::sourceDir() / "configs/cameras/lafida_fisheye0.yaml").string();
+  for (const char* folder : {"a", "b"}) fs::copy_file(camera, dir.path / folder / "cam.yaml");
+  const std::string photo = (dir.path / "photo.png").string();
+  cv::Mat pixels(48, 64, CV_8UC1);
+  cv::randu(pixels, 0, 256);
+  ASSERT_TRUE(cv::imwrite(photo, pixels));
+  const auto sim = [&](std::vector<std::string> cameras) {
+    std::vector<std::string> args{"sim", "--texture", photo, "--out", out.string()};
+    for (const auto& c : cameras) args.insert(args.end(), {"--camera", c});
+    return args;
+  };
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {sim({"fe=" + camera, "fe=" + camera}), "the name 'fe' is given twice"},
+      {sim({"../../escape=" + camera}), "the name '../../escape' names output files"},
+      {sim({"a,b=" + camera}), "the name 'a,b' names output files"},
+      {{"eval", "--no-perspective", "--fisheye-camera", (dir.path / "a/cam.yaml").string(), "--fisheye-camera",
+        (dir.path / "b/cam.yaml").string(), "--texture", photo, "--out", out.string()},
+       "both are named 'cam'"},
+  };
+  for (const auto& [args, expected] : cases) {
+    const EvalRun r = runEval(args);
+    EXPECT_EQ(r.code, 2) << args[0] << ": " << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << args[0] << ": " << r.err;
+  }
+  EXPECT_TRUE(fs::is_empty(out));
 }
 
 // Issue 29: an output that names an input is refused before the work, the input unchanged.

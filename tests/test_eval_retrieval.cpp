@@ -165,8 +165,12 @@ TEST(RetrievalCli, BadInputExitsWith2NamingTheOptionOrFile) {
       {with({"--training-count", "2", "--data", noData.string(), "--datasets", "poster-dev"}),
        "poster-dev: " + noData.string()},
       {with({"--training-count", "2", "--data", noData.string(), "--fisheye-camera",
-             (dir.path / "no-camera.yaml").string()}),
+             (dir.path / "a-file").string()}),
        "no data set could be read"},
+      // A calibration that is no file is refused before any data set is looked for.
+      {with({"--training-count", "2", "--data", noData.string(), "--fisheye-camera",
+             (dir.path / "no-camera.yaml").string()}),
+       "--fisheye-camera: " + (dir.path / "no-camera.yaml").string() + ": no such file"},
       {{"--photos", photos.string(), "--training-count", "2", "--data", noData.string(), "--out",
         (dir.path / "a-file" / "out").string()},
        "--out " + (dir.path / "a-file" / "out").string()},

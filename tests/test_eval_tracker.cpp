@@ -131,6 +131,8 @@ TEST(PosterDev, BadFilesAreNamedWithTheProblem) {
   const std::string json = (fake.dir.path / "ground_truth.json").string();
   fake.write("{ not json");
   EXPECT_EQ(fake.problem(), json + ": not a JSON object");
+  fake.write(R"({"calibration": "calib_results.txt", "calibration": "other.txt"})");
+  EXPECT_EQ(fake.problem(), json + ": key 'calibration' appears twice in one object");
   fake.write(R"({"calibration": "calib_results.txt"})");
   EXPECT_EQ(fake.problem(), json + ": missing \"printed_region_pattern_px\"");
   std::string text = fake.json;
@@ -159,6 +161,8 @@ std::string runTrackerCommand(std::vector<std::string> args) {
   try {
     app.parse(static_cast<int>(argv.size()), argv.data());
   } catch (const std::invalid_argument& e) {
+    return e.what();
+  } catch (const CLI::ParseError& e) {
     return e.what();
   }
   return "";
@@ -196,9 +200,9 @@ TEST(TrackerCommand, ALibraryOptionsFileMustBeARegularFile) {
   const std::string fifo = (dir.path / "options.yml").string();
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   EXPECT_EQ(runTrackerCommand({"--library", "mine=" + fifo, "--out", dir.path.string()}),
-            fifo + ": library options file: is a FIFO, not a regular file");
+            "--library: " + fifo + ": is a FIFO, not a regular file");
   EXPECT_EQ(runTrackerCommand({"--library", "mine=/dev/zero", "--out", dir.path.string()}),
-            "/dev/zero: library options file: is a character device, not a regular file");
+            "--library: /dev/zero: is a character device, not a regular file");
 }
 
 // Issue 29: an output that is one of the inputs is refused before the run, the input kept.

@@ -198,13 +198,15 @@ TEST(OptionFields, CommandLineNamesTheFlagRangeAndValue) {
   const auto& table = mdBriefOptionFields();
   mdbrief::testing::TempDir dir("option_flags");
   const std::string output = (dir.path / "out.yml").string();
+  const std::string image = (dir.path / "not-decoded.png").string();
+  std::ofstream(image) << "x";
   std::size_t checked = 0;
   for (const OutOfRange& c : valuesJustOutside(table)) {
     const char* flag = table[c.field].flag;
     ASSERT_NE(flag, nullptr) << table[c.field].member << " has no flag";
-    // Checked before any file is read: the image need not exist.
+    // Checked before the image is read: it need only be a file.
     const CliRun r = runMdbrief({"extract", "--descriptor", "brief", std::string(flag) + "=" + valueArgument(c.value),
-                                 "missing.png", "-o", output});
+                                 image, "-o", output});
     EXPECT_EQ(r.code, 2) << flag;
     EXPECT_NE(r.err.find(std::string(flag) + " " + c.problem), std::string::npos) << r.err;
     ++checked;

@@ -158,6 +158,11 @@ TEST(PatternJson, MalformedFilesThrowNamingFileAndProblem) {
   expectJsonError("{\"name\": \"x\", \"tests\": [[1,2.5,3,4]]}", "non-integer");
   expectJsonError("{\"name\": \"x\", \"tests\": [[1,2,3,4]]}", "multiple of 32");
   expectJsonError("{\"name\": \"x\", \"tests\": []}", "multiple of 32");
+  // Issue 45: the second "tests" silently replaced the first.
+  expectJsonError("{\"name\": \"x\", \"tests\": [" + tests32 + "], \"tests\": [" + tests32 + "]}",
+                  "key 'tests' appears twice");
+  expectJsonError("{\"name\": \"x\", \"info\": {\"a\": 1, \"a\": 2}, \"tests\": [" + tests32 + "]}",
+                  "key 'a' appears twice");
   EXPECT_THROW(loadTestSetJson("/nonexistent/set.json"), std::runtime_error);
 }
 

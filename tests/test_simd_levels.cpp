@@ -88,11 +88,13 @@ TEST(SimdLevel, CapLowersTheActiveLevel) {
 
 // MDBRIEF_SIMD_LEVEL is read on the first kernel call of a process: a fresh process (the death
 // test's "threadsafe" style runs this test again in a new one) with an unknown name is told the
-// names, and one with a known name runs at that level.
+// variable, its value and the names, one with a known name runs at that level, and an explicit
+// level replaces a bad value (issue 45: limitSimdLevel threw it too, so nothing recovered).
 TEST(SimdLevel, EnvironmentNamesTheLevel) {
   ::testing::FLAGS_gtest_death_test_style = "threadsafe";
-  const auto firstCall = [] {
+  const auto firstCall = [](bool limit) {
     try {
+      if (limit) mdbrief::limitSimdLevel(SimdLevel::Portable);
       std::fprintf(stderr, "level %s\n", mdbrief::toString(mdbrief::activeSimdLevel()).c_str());
     } catch (const std::invalid_argument& e) {
       std::fprintf(stderr, "%s\n", e.what());
@@ -100,11 +102,16 @@ TEST(SimdLevel, EnvironmentNamesTheLevel) {
     }
     std::exit(0);
   };
-  setenv("MDBRIEF_SIMD_LEVEL", "avx1024", 1);
-  EXPECT_EXIT(firstCall(), ::testing::ExitedWithCode(2),
-              "SIMD level 'avx1024' is not one of: portable, sse4, neon, avx2, avx512");
+  for (const char* bad : {"avx1024", "AVX2", " avx2"}) {
+    setenv("MDBRIEF_SIMD_LEVEL", bad, 1);
+    EXPECT_EXIT(firstCall(false), ::testing::ExitedWithCode(2),
+                "the environment variable MDBRIEF_SIMD_LEVEL is '" + std::string(bad) +
+                    "', not a SIMD level: portable, sse4, neon, avx2, avx512")
+        << bad;
+    EXPECT_EXIT(firstCall(true), ::testing::ExitedWithCode(0), "level portable") << bad;
+  }
   setenv("MDBRIEF_SIMD_LEVEL", "portable", 1);
-  EXPECT_EXIT(firstCall(), ::testing::ExitedWithCode(0), "level portable");
+  EXPECT_EXIT(firstCall(false), ::testing::ExitedWithCode(0), "level portable");
   unsetenv("MDBRIEF_SIMD_LEVEL");
 }
 

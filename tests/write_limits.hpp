@@ -85,7 +85,7 @@ class SmallTmpfs {
   std::string reason_;
 };
 
-// The names in dir that look like temporaries of the atomic writer (".<stem>.tmp<pid>-<n>...").
+// The names in dir that look like temporaries of the atomic writer (".<stem>.tmp-<16 hex digits>...").
 inline std::vector<std::string> temporaryFiles(const std::filesystem::path& dir) {
   std::vector<std::string> names;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {

@@ -8,7 +8,20 @@
 
 #include <CLI/CLI.hpp>
 
+#include "mdbrief/base/simd_level.hpp"
+
 namespace mdbrief {
+
+// Makes app refuse a bad MDBRIEF_SIMD_LEVEL once the arguments are parsed, before any command
+// runs (activeSimdLevel throws std::invalid_argument naming the variable, its value and the
+// names), unless the command's --level was given: an explicit level replaces the variable.
+inline void refuseBadSimdEnvironment(CLI::App& app) {
+  app.parse_complete_callback([&app] {
+    for (const CLI::App* command : app.get_subcommands())
+      if (const CLI::Option* level = command->get_option_no_throw("--level"); level && level->count() > 0) return;
+    activeSimdLevel();
+  });
+}
 
 // Parses args (without the program name) into app. Empty when the tool goes on; otherwise its
 // exit code: 0 after --help, 2 for bad arguments, CLI11's message written to out or err.

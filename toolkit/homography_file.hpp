@@ -7,8 +7,8 @@
 
 namespace mdbrief {
 
-// Throws std::runtime_error naming the file when it cannot be opened or does not start with
-// nine finite numbers.
+// Throws std::runtime_error naming the file when it cannot be opened, does not hold exactly nine
+// finite numbers (white space around them only) or holds a singular matrix (all zero, say).
 cv::Matx33d readHomography(const std::filesystem::path& path);
 
 // Writes h in that form (17 significant digits, one row per line), atomically. Throws

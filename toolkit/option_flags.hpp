@@ -16,6 +16,28 @@
 
 namespace mdbrief {
 
+// The prefix of fieldRangeCheck's validator names, followed by the field's keyword.
+inline constexpr const char* kOptionFieldCheck = "OPTION_FIELD:";
+
+// The check of a tool's own flag for one field of an options table (a flag OptionFlags does not
+// make): the field's range (at `defaults`, for a range that depends on other fields) and its
+// message, so that the flag takes what the library takes (issue 45: --inlier-threshold took
+// [0, 1e6] for a maxPixels in (0, 1000], and 0 or 5000 failed after the work).
+template <typename Options>
+CLI::Validator fieldRangeCheck(const OptionTable<Options>& table, const std::string& keyword,
+                               const Options& defaults = {}) {
+  const OptionField<Options>& field = table.at(findField(table, keyword, &OptionField<Options>::keyword));
+  const FieldRange range = field.range(defaults);
+  const bool integer = field.type == FieldType::Integer;
+  return CLI::Validator(
+      [range, integer](std::string& value) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(value, v)) return "";  // the type's own conversion reports it
+        return range.contains(v) ? "" : "must be " + range.text(integer) + ", got " + value;
+      },
+      range.text(integer), kOptionFieldCheck + keyword);
+}
+
 template <typename Options>
 class OptionFlags {
  public:

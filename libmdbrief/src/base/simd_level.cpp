@@ -2,6 +2,8 @@
 
 #include <atomic>
 #include <cstdlib>
+#include <stdexcept>
+#include <string>
 
 #include <hwy/highway.h>
 
@@ -53,18 +55,35 @@ int64_t runnableTargets() {
   return runnable;
 }
 
-std::atomic<int> capWidth{width(SimdLevel::Avx512)};
+// MDBRIEF_SIMD_LEVEL, read once: its cap, none when unset or empty, or why its value is no
+// level.
+struct EnvironmentCap {
+  int width = -1;  // -1: no cap
+  std::string problem;
+};
 
-// MDBRIEF_SIMD_LEVEL, parsed on the first kernel call; an unknown name throws there, and again
-// on every later call (a static whose initialiser throws is initialised anew).
-void applyEnvironmentCap() {
-  static const bool applied = [] {
-    if (const char* env = std::getenv("MDBRIEF_SIMD_LEVEL"); env && *env)
-      capWidth.store(width(parseSimdLevel(env)), std::memory_order_relaxed);
-    return true;
+const EnvironmentCap& environmentCap() {
+  static const EnvironmentCap cap = [] {
+    EnvironmentCap c;
+    const char* env = std::getenv("MDBRIEF_SIMD_LEVEL");
+    if (!env || !*env) return c;
+    for (const auto& entry : kSimdLevelNames)
+      if (std::string(env) == entry.name) {
+        c.width = width(entry.value);
+        return c;
+      }
+    std::string names;
+    for (const auto& entry : kSimdLevelNames) names += (names.empty() ? "" : ", ") + std::string(entry.name);
+    c.problem = "the environment variable MDBRIEF_SIMD_LEVEL is '" + std::string(env) + "', not a SIMD level: " +
+                names + " (lower case), or unset it";
+    return c;
   }();
-  (void)applied;
+  return cap;
 }
+
+// limitSimdLevel's cap, which replaces the environment's; -1 until it is called. constexpr
+// initialised, so that no static initialiser of another file can run before it.
+std::atomic<int> explicitWidth{-1};
 
 int64_t bestTarget(int64_t targets) { return targets & -targets; }  // lower bit = better
 
@@ -83,19 +102,20 @@ SimdLevel supportedSimdLevel() {
 }
 
 SimdLevel activeSimdLevel() {
-  applyEnvironmentCap();
   static const std::vector<SimdLevel> supported = supportedSimdLevels();
-  const int cap = capWidth.load(std::memory_order_relaxed);
+  int cap = explicitWidth.load(std::memory_order_relaxed);
+  if (cap < 0) {
+    const EnvironmentCap& environment = environmentCap();
+    if (!environment.problem.empty()) throw std::invalid_argument(environment.problem);
+    cap = environment.width < 0 ? width(SimdLevel::Avx512) : environment.width;
+  }
   SimdLevel active = SimdLevel::Portable;
   for (const SimdLevel level : supported)
     if (width(level) <= cap) active = level;
   return active;
 }
 
-void limitSimdLevel(SimdLevel cap) {
-  applyEnvironmentCap();  // so that a later first kernel call cannot override this cap
-  capWidth.store(width(cap), std::memory_order_relaxed);
-}
+void limitSimdLevel(SimdLevel cap) { explicitWidth.store(width(cap), std::memory_order_relaxed); }
 
 std::string activeSimdTargetName() { return hwy::TargetName(simd::activeTarget()); }
 

@@ -23,6 +23,7 @@
 #include "mdbrief/camera/rig.hpp"
 #include "mdbrief/internal/base/io/atomic_file.hpp"
 #include "mdbrief/internal/base/io/input_file.hpp"
+#include "mdbrief/internal/base/io/unique_keys.hpp"
 
 namespace mdbrief {
 namespace {
@@ -273,36 +274,6 @@ const std::vector<FileFormat>& fileFormats() {
   return formats;
 }
 
-// yaml-cpp keeps the first of two equal keys of a map and drops the other without a word (issue
-// 29: an appended `fx`, or a second `cam0`, was ignored). Throws naming the key and both lines.
-// A YAML 1.1 merge key (`<<: *base`), which yaml-cpp leaves unmerged, is refused as such: the
-// file was "unrecognised".
-// The walk stops after as many nodes as the text has bytes: only aliases make more, and their
-// expansion could be exponential.
-void requireUniqueKeys(const std::string& path, const YAML::Node& root, std::size_t textBytes) {
-  std::vector<YAML::Node> pending{root};
-  for (std::size_t visited = 0; !pending.empty() && visited <= textBytes; ++visited) {
-    const YAML::Node node = pending.back();
-    pending.pop_back();
-    if (node.IsSequence())
-      for (const YAML::Node& item : node) pending.push_back(item);
-    if (!node.IsMap()) continue;
-    std::map<std::string, int> lines;
-    for (const auto& entry : node) {
-      pending.push_back(entry.second);
-      if (!entry.first.IsScalar()) continue;
-      const int line = entry.first.Mark().line + 1;
-      if (entry.first.Scalar() == "<<" && entry.first.Tag() != "!")
-        throw std::runtime_error(path + ": line " + std::to_string(line) +
-                                 ": YAML merge keys ('<<') are not supported; write the keys out");
-      const auto [first, fresh] = lines.emplace(entry.first.Scalar(), line);
-      if (!fresh)
-        throw std::runtime_error(path + ": key '" + entry.first.Scalar() + "' appears twice, on lines " +
-                                 std::to_string(first->second) + " and " + std::to_string(line));
-    }
-  }
-}
-
 // Turns yaml-cpp's exceptions, which do not name the file, into ours.
 template <class Read>
 auto namingYamlErrors(const std::string& path, Read read) {
@@ -332,7 +303,7 @@ void recognise(const std::string& path, const CameraFileOptions& options, Recogn
     yamlError = e.msg;
   }
   file.map = yamlError.empty() && file.root.IsMap() ? &file.root : nullptr;
-  if (file.map) requireUniqueKeys(path, file.root, file.text.size());
+  if (file.map) internal::requireUniqueYamlKeys(path, file.root, file.text.size());
   for (const FileFormat& format : fileFormats()) {
     const bool chosen = options.format == CameraFormat::Auto
                             ? namingYamlErrors(path, [&] { return format.recognises(file.text, file.map); })

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mdbrief/internal/base/io/input_file.hpp"
+#include "mdbrief/internal/base/io/unique_keys.hpp"
 #include "patterns/registry.hpp"
 
 namespace mdbrief {
@@ -77,9 +78,11 @@ TestSet loadTestSetJson(const std::string& path) {
   if (!f) throw fail("cannot open test set file");
   nlohmann::json doc;
   try {
-    doc = nlohmann::json::parse(f);
+    doc = internal::parseJsonUniqueKeys<nlohmann::json>(f);
   } catch (const nlohmann::json::exception& e) {
     throw fail(std::string("not valid JSON: ") + e.what());
+  } catch (const std::runtime_error& e) {
+    throw fail(e.what());
   }
   if (!doc.is_object()) throw fail("top level is not a JSON object");
   if (!doc.contains("name") || !doc["name"].is_string())

@@ -6,8 +6,10 @@
 // ones. Every level gives bit-identical results (tests check it, on x86 and on AArch64).
 //
 // The environment variable MDBRIEF_SIMD_LEVEL caps the level for the whole process, as
-// limitSimdLevel() does, from the first call that runs a kernel on; an unknown name makes that
-// call throw std::invalid_argument listing the names.
+// limitSimdLevel() does. It is read once, at the first call that runs a kernel. A value that is
+// no level name (they are lower case) makes every such call throw std::invalid_argument naming
+// the variable, its value and the names, until limitSimdLevel() is called: an explicit level
+// replaces the variable, whatever its value.
 #include <string>
 #include <vector>
 
@@ -30,14 +32,17 @@ SimdLevel supportedSimdLevel();
 // Every level this CPU and this build support, lowest first (Portable always).
 std::vector<SimdLevel> supportedSimdLevels();
 
-// The level the kernels use now: the highest supported level no wider than the cap (the
-// MDBRIEF_SIMD_LEVEL environment variable, or limitSimdLevel()).
+// The level the kernels use now: the highest supported level no wider than the cap
+// (limitSimdLevel()'s, else the MDBRIEF_SIMD_LEVEL environment variable's). Throws
+// std::invalid_argument for a bad MDBRIEF_SIMD_LEVEL when limitSimdLevel() was never called:
+// tools call it first, to refuse the variable before any work.
 SimdLevel activeSimdLevel();
 
 // Caps the level for the whole process (e.g. to compare kernels, or to measure what a smaller
 // CPU runs). The cap orders levels by width: Portable < Sse4 = Neon < Avx2 < Avx512, so a cap
 // of avx2 on an ARM board gives neon, and a cap above the supported level leaves the supported
 // one. Calls in flight keep the level they started with: each call resolves its kernels once.
+// Replaces MDBRIEF_SIMD_LEVEL, a bad value included. Never throws.
 void limitSimdLevel(SimdLevel cap);
 
 // The Highway target name of the active level's kernels (e.g. "AVX3_DL", "AVX2", "SSE4",

@@ -1,14 +1,16 @@
 #include "mdbrief/internal/base/io/atomic_file.hpp"
 
 #include <fcntl.h>
-#include <signal.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cstdio>
 #include <optional>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -31,11 +33,15 @@ NameParts nameParts(const fs::path& target) {
   return {name.substr(0, dot), dot == std::string::npos ? "" : name.substr(dot)};
 }
 
-// Unique within the process by the counter and between processes by the pid.
+// 64 random bits per name (a per-process random start and a counter), so that a name is new in
+// the folder whoever else writes there; creation with O_EXCL makes sure.
 fs::path temporaryPath(const fs::path& target) {
-  static std::atomic<unsigned long> counter{0};
+  static const unsigned long long start = (static_cast<unsigned long long>(std::random_device{}()) << 32) ^
+                                          std::random_device{}() ^ static_cast<unsigned long long>(::getpid());
+  static std::atomic<unsigned long long> counter{0};
+  char tag[32];
+  std::snprintf(tag, sizeof tag, ".tmp-%016llx", start + 0x9e3779b97f4a7c15ULL * counter++);
   const NameParts parts = nameParts(target);
-  const std::string tag = ".tmp" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
   return target.parent_path() / ("." + parts.stem + tag + parts.extensions);
 }
 
@@ -43,32 +49,15 @@ fs::path folderOf(const fs::path& target) { return target.has_parent_path() ? ta
 
 std::string systemReason(int error) { return std::generic_category().message(error); }
 
-// The pid in the name of a temporary of target, or nothing for any other name.
-std::optional<pid_t> temporaryOwner(const std::string& name, const NameParts& parts) {
-  const std::string prefix = "." + parts.stem + ".tmp";
-  if (name.size() <= prefix.size() + parts.extensions.size() || name.compare(0, prefix.size(), prefix) != 0 ||
-      name.compare(name.size() - parts.extensions.size(), parts.extensions.size(), parts.extensions) != 0)
-    return std::nullopt;
-  const std::string tag = name.substr(prefix.size(), name.size() - prefix.size() - parts.extensions.size());
-  const size_t dash = tag.find('-');
-  if (dash == 0 || dash == std::string::npos || dash > 9 || dash + 1 == tag.size() ||
-      tag.find_first_not_of("0123456789-") != std::string::npos || tag.find('-', dash + 1) != std::string::npos)
-    return std::nullopt;
-  return static_cast<pid_t>(std::stol(tag.substr(0, dash)));
-}
-
-// Temporaries of target left by killed processes. A pid that runs again (reused, or a writer in
-// another pid namespace) keeps its files: only certainly orphaned ones go.
-void removeOrphanedTemporaries(const fs::path& target) {
-  const NameParts parts = nameParts(target);
-  std::error_code ec;
-  for (fs::directory_iterator it(folderOf(target), ec), end; !ec && it != end; it.increment(ec)) {
-    const std::optional<pid_t> owner = temporaryOwner(it->path().filename().string(), parts);
-    if (owner && *owner != ::getpid() && ::kill(*owner, 0) != 0 && errno == ESRCH) {
-      std::error_code ignored;
-      fs::remove(it->path(), ignored);
-    }
-  }
+// Whether name is that of a temporary of target: "." + stem + ".tmp-" + 16 lowercase hex digits
+// + the extensions. Other names, whatever they look like, are never touched.
+bool isTemporaryName(const std::string& name, const NameParts& parts) {
+  const std::string prefix = "." + parts.stem + ".tmp-";
+  constexpr size_t kDigits = 16;
+  if (name.size() != prefix.size() + kDigits + parts.extensions.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+      name.compare(prefix.size() + kDigits, std::string::npos, parts.extensions) != 0)
+    return false;
+  return name.substr(prefix.size(), kDigits).find_first_not_of("0123456789abcdef") == std::string::npos;
 }
 
 std::string typeName(fs::file_type type) {
@@ -115,6 +104,14 @@ class FileDescriptor {
   }
   FileDescriptor(const FileDescriptor&) = delete;
   FileDescriptor& operator=(const FileDescriptor&) = delete;
+  FileDescriptor(FileDescriptor&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
+  FileDescriptor& operator=(FileDescriptor&& other) noexcept {
+    if (this != &other) {
+      if (fd_ >= 0) ::close(fd_);
+      fd_ = std::exchange(other.fd_, -1);
+    }
+    return *this;
+  }
   int get() const { return fd_; }
   // The error number of a failed close, 0 on success.
   int close() {
@@ -134,9 +131,104 @@ int openFile(const fs::path& path, int flags, mode_t mode = 0) {
   return fd;
 }
 
-// Writes content to the new file temp, checks every step and makes it durable.
+// Takes the lock of fd (blocking unless `wait` is false) and checks that path still names fd's
+// file: a cleaner that took the lock first may have removed the name (removeStaleTemporaries).
+bool lockedAndNamed(int fd, const fs::path& path, bool wait) {
+  int result;
+  do result = ::flock(fd, LOCK_EX | (wait ? 0 : LOCK_NB));
+  while (result != 0 && errno == EINTR);
+  struct stat opened {}, named {};
+  return result == 0 && ::fstat(fd, &opened) == 0 && ::lstat(path.c_str(), &named) == 0 &&
+         opened.st_dev == named.st_dev && opened.st_ino == named.st_ino;
+}
+
+// A file this process made under a temporary name, locked (flock) for as long as the object
+// lives: the lock is what tells a live writer's temporary from one a killed writer left. The
+// destructor removes the name unless release() was called (after the rename).
+class LockedTemporary {
+ public:
+  LockedTemporary(fs::path path, FileDescriptor fd) : path_(std::move(path)), fd_(std::move(fd)) {}
+  LockedTemporary(LockedTemporary&&) = default;
+  LockedTemporary& operator=(LockedTemporary&&) = delete;
+  ~LockedTemporary() {
+    // Removed while the lock is held, so no cleaner can have taken the name meanwhile.
+    if (fd_.get() >= 0 && !released_) {
+      std::error_code ignored;
+      fs::remove(path_, ignored);
+    }
+  }
+  const fs::path& path() const { return path_; }
+  // The name is the target's now (renamed): the destructor only unlocks.
+  void release() { released_ = true; }
+
+ private:
+  fs::path path_;
+  FileDescriptor fd_;
+  bool released_ = false;
+};
+
+// A new empty temporary of target, locked; none when the folder takes no new file (`error` says
+// why).
+std::optional<LockedTemporary> createTemporary(const fs::path& target, int& error) {
+  for (;;) {
+    fs::path temp = temporaryPath(target);
+    FileDescriptor fd(openFile(temp, O_WRONLY | O_CREAT | O_EXCL, 0666));
+    if (fd.get() < 0 && errno == EEXIST) continue;
+    if (fd.get() < 0) {
+      error = errno;
+      return std::nullopt;
+    }
+    if (lockedAndNamed(fd.get(), temp, true)) return LockedTemporary(std::move(temp), std::move(fd));
+  }
+}
+
+// createTemporary, or std::runtime_error naming target and the reason.
+LockedTemporary createTemporaryOrThrow(const fs::path& target, const fs::path& real) {
+  int error = 0;
+  std::optional<LockedTemporary> temp = createTemporary(real, error);
+  if (!temp)
+    throw std::runtime_error(target.string() + ": cannot create a temporary in " + folderOf(real).string() + ": " +
+                             systemReason(error));
+  return std::move(*temp);
+}
+
+// A second name (a hard link) of the existing file `real` under a temporary name, locked as
+// createTemporary's; the previous content for the way back of writeFilesAtomically.
+LockedTemporary linkTemporary(const fs::path& real, const fs::path& target) {
+  for (;;) {
+    fs::path link = temporaryPath(real);
+    std::error_code ec;
+    fs::create_hard_link(real, link, ec);
+    if (ec == std::errc::file_exists) continue;
+    if (ec) fs::copy_file(real, link, ec);  // a file system without hard links
+    if (ec) throw std::runtime_error(target.string() + ": cannot keep the previous content: " + ec.message());
+    FileDescriptor fd(openFile(link, O_RDONLY | O_NOFOLLOW));
+    if (fd.get() >= 0 && lockedAndNamed(fd.get(), link, true)) return LockedTemporary(std::move(link), std::move(fd));
+  }
+}
+
+// Temporaries of target whose writer is gone: their lock is free (the kernel drops a killed
+// process's locks, whatever its pid namespace). Files named otherwise, files of other users and
+// temporaries whose writer holds the lock stay.
+void removeStaleTemporaries(const fs::path& target) {
+  const NameParts parts = nameParts(target);
+  std::error_code ec;
+  for (fs::directory_iterator it(folderOf(target), ec), end; !ec && it != end; it.increment(ec)) {
+    if (!isTemporaryName(it->path().filename().string(), parts)) continue;
+    FileDescriptor fd(openFile(it->path(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK));
+    struct stat info {};
+    if (fd.get() < 0 || ::fstat(fd.get(), &info) != 0 || !S_ISREG(info.st_mode) || info.st_uid != ::geteuid())
+      continue;
+    if (lockedAndNamed(fd.get(), it->path(), false)) {
+      std::error_code ignored;
+      fs::remove(it->path(), ignored);
+    }
+  }
+}
+
+// Writes content to the temporary temp (createTemporary's), checks every step and makes it durable.
 void writeDurably(const fs::path& target, const fs::path& temp, std::string_view content) {
-  FileDescriptor fd(openFile(temp, O_WRONLY | O_CREAT | O_EXCL, 0666));
+  FileDescriptor fd(openFile(temp, O_WRONLY | O_TRUNC));
   if (fd.get() < 0)
     throw std::runtime_error(target.string() + ": cannot create " + temp.string() + ": " + systemReason(errno));
   for (size_t done = 0; done < content.size();) {
@@ -165,11 +257,6 @@ void syncFile(const fs::path& target, const fs::path& temp) {
 void syncFolder(const fs::path& folder) {
   FileDescriptor fd(openFile(folder, O_RDONLY | O_DIRECTORY));
   if (fd.get() >= 0) ::fsync(fd.get());
-}
-
-void removeQuietly(const fs::path& path) {
-  std::error_code ignored;
-  fs::remove(path, ignored);
 }
 
 void renameOrThrow(const fs::path& temp, const fs::path& target) {
@@ -221,28 +308,21 @@ void checkOutputsApart(const std::vector<fs::path>& inputs, const std::vector<fs
 
 void checkOutputPath(const fs::path& target) {
   requireReplaceable(target);
-  const fs::path probe = temporaryPath(target);
-  FileDescriptor fd(openFile(probe, O_WRONLY | O_CREAT | O_EXCL, 0666));
-  if (fd.get() < 0)
+  int error = 0;
+  if (!createTemporary(target, error))
     throw std::runtime_error(target.string() + ": cannot create a file in " + folderOf(target).string() + ": " +
-                             systemReason(errno));
-  fd.close();
-  removeQuietly(probe);
+                             systemReason(error));
 }
 
 void writeAtomically(const fs::path& target, const std::function<void(const fs::path& temp)>& write) {
   requireReplaceable(target);
   const fs::path real = resolvedTarget(target);
-  removeOrphanedTemporaries(real);
-  const fs::path temp = temporaryPath(real);
-  try {
-    write(temp);
-    syncFile(target, temp);
-    renameOrThrow(temp, real);
-  } catch (...) {
-    removeQuietly(temp);
-    throw;
-  }
+  removeStaleTemporaries(real);
+  LockedTemporary temp = createTemporaryOrThrow(target, real);
+  write(temp.path());
+  syncFile(target, temp.path());
+  renameOrThrow(temp.path(), real);
+  temp.release();
   syncFolder(folderOf(real));
 }
 
@@ -254,36 +334,29 @@ void writeFilesAtomically(const std::vector<FileContent>& files) {
   struct Step {
     const FileContent* file;
     fs::path real;  // where the content goes (resolvedTarget)
-    fs::path temp;
-    std::optional<fs::path> backup;  // a second name of the previous content, for the way back
+    LockedTemporary temp;
+    std::optional<LockedTemporary> backup;  // a second name of the previous content, for the way back
     bool renamed = false;
   };
   std::vector<Step> steps;
+  steps.reserve(files.size());
   for (const FileContent& file : files) {
     requireReplaceable(file.target);
-    const fs::path real = resolvedTarget(file.target);
-    removeOrphanedTemporaries(real);
-    steps.push_back({&file, real, temporaryPath(real), std::nullopt});
+    fs::path real = resolvedTarget(file.target);
+    removeStaleTemporaries(real);
+    LockedTemporary temp = createTemporaryOrThrow(file.target, real);
+    steps.push_back({&file, std::move(real), std::move(temp), std::nullopt});
   }
-  const auto removeLeftovers = [&] {
-    for (const Step& step : steps) {
-      if (!step.renamed) removeQuietly(step.temp);
-      if (step.backup) removeQuietly(*step.backup);
-    }
-  };
+  // The temporaries and backups not renamed go with `steps` (LockedTemporary's destructor).
   try {
-    for (const Step& step : steps) writeDurably(step.file->target, step.temp, step.file->content);
+    for (const Step& step : steps) writeDurably(step.file->target, step.temp.path(), step.file->content);
     for (Step& step : steps) {
       std::error_code ec;
-      if (!fs::exists(step.real, ec)) continue;
-      step.backup = temporaryPath(step.real);
-      fs::create_hard_link(step.real, *step.backup, ec);
-      if (ec) fs::copy_file(step.real, *step.backup, ec);  // a file system without hard links
-      if (ec)
-        throw std::runtime_error(step.file->target.string() + ": cannot keep the previous content: " + ec.message());
+      if (fs::exists(step.real, ec)) step.backup.emplace(linkTemporary(step.real, step.file->target));
     }
     for (Step& step : steps) {
-      renameOrThrow(step.temp, step.real);
+      renameOrThrow(step.temp.path(), step.real);
+      step.temp.release();
       step.renamed = true;
     }
   } catch (...) {
@@ -294,13 +367,11 @@ void writeFilesAtomically(const std::vector<FileContent>& files) {
         fs::remove(step.real, ec);
         continue;
       }
-      fs::rename(*step.backup, step.real, ec);
-      if (!ec) step.backup.reset();
+      fs::rename(step.backup->path(), step.real, ec);
+      if (!ec) step.backup->release();
     }
-    removeLeftovers();
     throw;
   }
-  removeLeftovers();
   std::vector<fs::path> folders;
   for (const Step& step : steps) folders.push_back(folderOf(step.real));
   std::sort(folders.begin(), folders.end());

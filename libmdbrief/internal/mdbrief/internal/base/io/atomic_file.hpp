@@ -7,12 +7,15 @@
 // Every write goes the same way: a temporary in the target's folder (same file system, so the
 // rename is atomic), every write and the flush checked, fsync, rename over the target, then an
 // fsync of the folder (best effort: some file systems refuse it on a folder). Temporaries are
-// hidden and unique per call ("." + first part of the name + ".tmp<pid>-<n>" + the rest, e.g.
-// ".img1.tmp42-0.png"): they keep target's extensions, from which writers such as cv::imwrite
-// pick the format. A process killed while writing cannot remove its temporary; the next write
-// of the same target removes those of processes that no longer run. A target that is a symbolic
-// link is written through, as editors do: the link stays and the file it points to is replaced
-// (in that file's folder).
+// hidden and unique per call ("." + first part of the name + ".tmp-" + 16 random hex digits + the
+// rest, e.g. ".img1.tmp-3f09a1c47be2d805.png"): they keep target's extensions, from which
+// writers such as cv::imwrite pick the format. The writer holds an flock on its temporary for
+// the temporary's lifetime. A process killed while writing cannot remove its temporary, but the
+// kernel drops its lock: the next write of the same target removes the temporaries of that exact
+// form whose lock it can take. Nothing else is removed: not a file named otherwise (even
+// ".x.tmp2024-07.yml"), not another user's, not a live writer's, whatever its pid namespace. A
+// target that is a symbolic link is written through, as editors do: the link stays and the file
+// it points to is replaced (in that file's folder).
 #include <filesystem>
 #include <functional>
 #include <string>
