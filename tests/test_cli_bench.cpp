@@ -110,9 +110,11 @@ TEST_F(CliBenchTest, MdbriefSimdLevelIsRefusedNamedOrReplacedByLevel) {
   EXPECT_EQ(capped.code, 0) << capped.err;
   const std::string& lines = capped.out;
   EXPECT_NE(lines.find("\nportable (SCALAR) "), std::string::npos) << lines;
-  for (const mdbrief::SimdLevel level : mdbrief::supportedSimdLevels())
-    if (level != mdbrief::SimdLevel::Portable)
+  for (const mdbrief::SimdLevel level : mdbrief::supportedSimdLevels()) {
+    if (level != mdbrief::SimdLevel::Portable) {
       EXPECT_EQ(lines.find("\n" + mdbrief::toString(level) + " ("), std::string::npos) << lines;
+    }
+  }
 }
 
 }  // namespace

@@ -217,7 +217,7 @@ const std::set<std::string> kToolOwnRanges = {
     "sim --detected-views", "sim --detected-keypoints", "sim --mask-angles",
     "eval --poses", "eval --keypoints", "eval --radius",
     "pipelines --poses", "pipelines --budgets", "pipelines --radius",
-    "tracker --budget", "tracker --ratios",
+    "tracker --budget", "tracker --ratios", "tracker --stereo-budget",
     "retrieval --training-count", "retrieval --branching", "retrieval --depth", "retrieval --nfeatures",
     "retrieval --recall-at",
     "timing --repeats", "timing --keypoints",
