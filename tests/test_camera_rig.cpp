@@ -183,6 +183,20 @@ TEST(CameraRig, FilesWithoutExtrinsicsAndBadRigsAreRefusedClearly) {
             std::string::npos);
 }
 
+// Issue 45: translations of +-1e308 gave t = [-inf, 0, 0] with no error.
+TEST(CameraRig, APoseThatOverflowsIsRefused) {
+  const fs::path dir = fs::temp_directory_path() / ("mdbrief_rig_far_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string head = "sensor_type: camera\nresolution: [752, 480]\ncamera_model: pinhole\n"
+                           "intrinsics: [461, 460, 366, 249]\ndistortion_model: none\n";
+  for (const auto& [name, x] : {std::pair{"near.yaml", "-1e308"}, std::pair{"far.yaml", "1e308"}})
+    std::ofstream(dir / name) << head << "T_BS:\n  cols: 4\n  rows: 4\n  data: [1, 0, 0, " << x
+                              << ", 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]\n";
+  const CameraRig rig = readCameraRig(std::vector<std::string>{(dir / "near.yaml").string(), (dir / "far.yaml").string()});
+  EXPECT_NE(errorOf([&] { rig.relativePose("near", "far"); }).find("is not finite"), std::string::npos);
+  fs::remove_all(dir);
+}
+
 // EuRoC's ASL layout names each camera by its folder (cam0/sensor.yaml -> "cam0"), the ids a
 // user types; two files that would share an id keep their paths instead.
 TEST(CameraRig, AslFoldersNameTheirCameras) {

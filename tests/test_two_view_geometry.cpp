@@ -520,6 +520,22 @@ TEST(TwoViewBadInput, ThrowsNamingTheArgument) {
   throwsWith([&] { checkKnownPose(five, five, {views.r, cv::Vec3d(0, 0, 0)}); }, "pose.translation must be finite and non-zero");
 }
 
+// Issue 45: ransacIterationsNeeded(0.5, 5, 0.99, -7) returned -7, a NaN confidence 1, and
+// epipolarAngle of a NaN bearing pi/2.
+TEST(TwoViewBadInput, HelpersRefuseWhatHasNoAnswer) {
+  EXPECT_EQ(ransacIterationsNeeded(0.5, 5, 0.99, 1000), 146);
+  EXPECT_THROW(ransacIterationsNeeded(0.5, 5, 0.99, -7), std::invalid_argument);
+  EXPECT_THROW(ransacIterationsNeeded(0.5, 5, std::nan(""), 100), std::invalid_argument);
+  EXPECT_THROW(ransacIterationsNeeded(1.5, 5, 0.99, 100), std::invalid_argument);
+  EXPECT_THROW(ransacIterationsNeeded(0.5, 0, 0.99, 100), std::invalid_argument);
+  const TwoViews views;
+  EXPECT_THROW(epipolarAngle(views.pose(), {std::nan(""), 0, 1}, {0, 0, 1}), std::invalid_argument);
+  EXPECT_THROW(epipolarAngle(views.pose(), {0, 0, 1}, {0, 0, 0}), std::invalid_argument);
+  // Lengths far from 1 keep their direction.
+  const cv::Vec3d a(0.1, -0.2, 1), b(0.3, 0.1, 1);
+  EXPECT_NEAR(epipolarAngle(views.pose(), a * 1e200, b * 1e-170), epipolarAngle(views.pose(), a, b), 1e-15);
+}
+
 TEST(TwoViewOptions, TableNamesEveryOptionWithItsDefault) {
   const TwoViewOptions defaults;
   EXPECT_NO_THROW(validate(defaults));

@@ -1,5 +1,6 @@
 #include "mdbrief/camera/rig.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <set>
 #include <stdexcept>
@@ -58,7 +59,12 @@ RigidTransform CameraRig::relativePose(std::size_t i, std::size_t j) const {
                                extrinsicsKeys(format_) + "), so its pose relative to camera " +
                                quoted((c == &a ? b : a).id) + " is unknown");
   // x_rig = A x_i = B x_j, so x_i = A^-1 B x_j.
-  return a.cameraToRig->inverse() * *b.cameraToRig;
+  const RigidTransform pose = a.cameraToRig->inverse() * *b.cameraToRig;
+  // Finite translations can still overflow in the product (1e308 and -1e308 apart).
+  if (!std::isfinite(pose.translation[0]) || !std::isfinite(pose.translation[1]) || !std::isfinite(pose.translation[2]))
+    throw std::runtime_error(source_ + ": the pose of camera " + quoted(b.id) + " relative to camera " + quoted(a.id) +
+                             " is not finite (their translations are too far apart for a double)");
+  return pose;
 }
 
 RigidTransform CameraRig::relativePose(const std::string& i, const std::string& j) const {

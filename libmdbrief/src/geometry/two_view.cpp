@@ -64,9 +64,15 @@ cv::Matx33d essentialMatrix(const RelativePose& pose) {
 }
 
 double epipolarAngle(const RelativePose& pose, const cv::Vec3d& a, const cv::Vec3d& b) {
-  const double na = cv::norm(a), nb = cv::norm(b);
-  if (!(na > 0) || !(nb > 0)) return geometry::epipolarResidual(essentialMatrix(pose), a, b);
-  return geometry::epipolarResidual(essentialMatrix(pose), a / na, b / nb);
+  // Scaled by the largest component first, so that lengths of 1e200 or 1e-170 keep their direction.
+  const auto unit = [](const cv::Vec3d& v, const char* name) {
+    const double largest = std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
+    if (!(largest > 0) || !std::isfinite(largest))
+      throw std::invalid_argument(std::string("epipolarAngle: bearing ") + name + " must be finite and non-zero");
+    const cv::Vec3d scaled = v / largest;
+    return cv::Vec3d(scaled / cv::norm(scaled));
+  };
+  return geometry::epipolarResidual(essentialMatrix(pose), unit(a, "a"), unit(b, "b"));
 }
 
 std::optional<double> pixelsPerRadian(const Camera& camera, const cv::Point2d& pixel) {
@@ -82,6 +88,12 @@ std::optional<double> pixelsPerRadian(const Camera& camera, const cv::Point2d& p
 }
 
 int ransacIterationsNeeded(double w, int sampleSize, double confidence, int cap) {
+  if (!(w >= 0 && w <= 1)) throw std::invalid_argument("ransacIterationsNeeded: w must be in [0, 1], got " + std::to_string(w));
+  if (sampleSize < 1)
+    throw std::invalid_argument("ransacIterationsNeeded: sampleSize must be at least 1, got " + std::to_string(sampleSize));
+  if (!(confidence > 0 && confidence < 1))
+    throw std::invalid_argument("ransacIterationsNeeded: confidence must be in (0, 1), got " + std::to_string(confidence));
+  if (cap < 1) throw std::invalid_argument("ransacIterationsNeeded: cap must be at least 1, got " + std::to_string(cap));
   const double good = std::pow(w, sampleSize);
   if (good >= 1.0) return 1;
   if (good <= 0.0) return cap;

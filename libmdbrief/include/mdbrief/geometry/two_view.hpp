@@ -143,7 +143,8 @@ TwoViewResult checkKnownPose(const std::vector<cv::Vec3d>& a, const std::vector<
                              const RelativePose& pose, const TwoViewOptions& options = {},
                              const std::vector<double>& pixelsPerRadian = {});
 
-// The angle between bearing b and the epipolar plane of a under the pose, radians.
+// The angle between bearing b and the epipolar plane of a under the pose, radians. Bearings of
+// any finite, non-zero length; std::invalid_argument otherwise.
 double epipolarAngle(const RelativePose& pose, const cv::Vec3d& a, const cv::Vec3d& b);
 
 // Pixels per radian of ray angle around `pixel` (the mean of both image axes): turns a pixel
@@ -151,7 +152,8 @@ double epipolarAngle(const RelativePose& pose, const cv::Vec3d& a, const cv::Vec
 std::optional<double> pixelsPerRadian(const Camera& camera, const cv::Point2d& pixel);
 
 // RANSAC iterations that find an all-inlier sample of `sampleSize` with `confidence` at an inlier
-// share `w`, at most `cap`.
+// share `w`, at most `cap`. std::invalid_argument for w outside [0, 1], a sample size or cap
+// below 1, or a confidence outside (0, 1) (NaN included).
 int ransacIterationsNeeded(double w, int sampleSize, double confidence, int cap);
 
 }  // namespace mdbrief
