@@ -536,6 +536,27 @@ TEST(TwoViewBadInput, HelpersRefuseWhatHasNoAnswer) {
   EXPECT_NEAR(epipolarAngle(views.pose(), a * 1e200, b * 1e-170), epipolarAngle(views.pose(), a, b), 1e-15);
 }
 
+// The interrupt check runs before every sample, and what it throws ends the fit.
+TEST(TwoViewOptions, AnInterruptCheckEndsALongFit) {
+  std::mt19937 rng(4);
+  std::vector<cv::Vec3d> a, b;
+  for (int k = 0; k < 500; ++k) a.push_back(randomBearing(rng)), b.push_back(randomBearing(rng));
+  struct Interrupted {};
+  for (const bool essential : {true, false}) {
+    int calls = 0;
+    TwoViewOptions o;
+    o.interruptCheck = [&] {
+      if (++calls == 20) throw Interrupted{};
+    };
+    if (essential) {
+      EXPECT_THROW(fitEssential(a, b, o), Interrupted);
+    } else {
+      EXPECT_THROW(fitHomography(a, b, o), Interrupted);
+    }
+    EXPECT_EQ(calls, 20);
+  }
+}
+
 TEST(TwoViewOptions, TableNamesEveryOptionWithItsDefault) {
   const TwoViewOptions defaults;
   EXPECT_NO_THROW(validate(defaults));

@@ -220,11 +220,15 @@ chance"), no match is an inlier and residuals is empty.)doc")
         PyTwoViewResult out;
         out.kind = "essential";
         try {
+          TwoViewOptions options = in.options;
+          options.interruptCheck = pythonSignalCheck();
           py::gil_scoped_release release;
-          EssentialResult fit = fitEssential(in.a, in.b, in.options, in.scale);
+          EssentialResult fit = fitEssential(in.a, in.b, options, in.scale);
           out.model = fit.essential;
           out.pose = fit.pose;
           out.result = std::move(fit);
+        } catch (const PythonSignalRaised&) {
+          throw py::error_already_set();
         } catch (const std::invalid_argument& e) {
           raiseInPythonNames(e, "fitEssential", "fit_essential");
         }
@@ -248,10 +252,14 @@ Returns a TwoViewResult with rotation and translation (X_a = R X_b + t, |t| = 1)
         PyTwoViewResult out;
         out.kind = "homography";
         try {
+          TwoViewOptions options = in.options;
+          options.interruptCheck = pythonSignalCheck();
           py::gil_scoped_release release;
-          HomographyResult fit = fitHomography(in.a, in.b, in.options, in.scale);
+          HomographyResult fit = fitHomography(in.a, in.b, options, in.scale);
           out.model = fit.homography;
           out.result = std::move(fit);
+        } catch (const PythonSignalRaised&) {
+          throw py::error_already_set();
         } catch (const std::invalid_argument& e) {
           raiseInPythonNames(e, "fitHomography", "fit_homography");
         }

@@ -123,21 +123,11 @@ struct TemporaryFolder {
   }
 };
 
-// Thrown by signalCheckingProgress when a Python signal handler raised (KeyboardInterrupt); the
-// Python error stays set for the caller to raise.
-struct PythonSignalRaised : std::exception {
-  const char* what() const noexcept override { return "a Python signal handler raised"; }
-};
-
 // Progress that runs Python's signal handlers between the training's batches, so that Ctrl-C
 // stops a long training at once, not when it ends (a KeyboardInterrupt came 32 s late). Only the
 // calling thread can run them; it takes part in TBB's work, so its calls come batch by batch.
 train::TrainProgress signalCheckingProgress() {
-  return [caller = std::this_thread::get_id()](const char*, size_t, size_t) {
-    if (std::this_thread::get_id() != caller) return;
-    const py::gil_scoped_acquire gil;
-    if (PyErr_CheckSignals() != 0) throw PythonSignalRaised();
-  };
+  return [check = pythonSignalCheck()](const char*, size_t, size_t) { check(); };
 }
 
 // mdbrief.train(**options): TrainOptions from the keywords of its field table, plus `verbose`;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <climits>
+#include <thread>
 
 #include "cv2_value_layout.hpp"
 #include "mdbrief/internal/base/io/input_file.hpp"
@@ -215,6 +216,14 @@ void requireFile(const std::string& path) {
   const int error = ::stat(path.c_str(), &info) != 0 ? errno : S_ISDIR(info.st_mode) ? EISDIR : EINVAL;
   PyErr_SetObject(PyExc_OSError, py::make_tuple(error, problem, pathText(path)).ptr());
   throw py::error_already_set();
+}
+
+std::function<void()> pythonSignalCheck() {
+  return [caller = std::this_thread::get_id()] {
+    if (std::this_thread::get_id() != caller) return;
+    const py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) throw PythonSignalRaised();
+  };
 }
 
 }  // namespace mdbrief::python

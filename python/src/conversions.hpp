@@ -2,6 +2,7 @@
 // Conversions between numpy / cv2 objects and the C++ types of libmdbrief. Every check raises
 // ValueError (or TypeError for a wrong kind of object) naming the argument, before any C++ code
 // runs on the data.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -58,5 +59,16 @@ py::str pathText(const std::string& path);
 void requireFile(const std::string& path);
 // Raises FileNotFoundError (`reason`, with the path as pathText gives it as its filename).
 [[noreturn]] void raiseFileNotFound(const std::string& path, const char* reason);
+
+// Thrown by checkPythonSignals when a Python signal handler raised (KeyboardInterrupt); the
+// Python error stays set for the caller to raise (py::error_already_set).
+struct PythonSignalRaised : std::exception {
+  const char* what() const noexcept override { return "a Python signal handler raised"; }
+};
+
+// A check for long computations that released the GIL: on the thread that made it (only that
+// thread can run Python's signal handlers), takes the GIL and runs them, throwing
+// PythonSignalRaised when one raised; does nothing on other threads.
+std::function<void()> pythonSignalCheck();
 
 }  // namespace mdbrief::python

@@ -154,3 +154,32 @@ def test_options_table_and_pixels_per_radian(camera):
     width, height = camera.image_size
     scale = mdbrief.pixels_per_radian(camera, [[width / 2, height / 2], [-1e6, -1e6]])
     assert scale.shape == (2,) and scale[0] > 0 and np.isnan(scale[1])
+
+
+def test_ctrl_c_stops_a_long_fit_at_once():
+    """Issue 45: Ctrl-C during fit_essential on 300,000 bearings was honoured after 92 s."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    code = ("import numpy as np, mdbrief, sys\n"
+            "rng = np.random.default_rng(1)\n"
+            "a, b = rng.normal(size=(300000, 3)), rng.normal(size=(300000, 3))\n"
+            "print('fitting', flush=True)\n"
+            "try:\n"
+            "    mdbrief.fit_essential(a, b, max_iterations=100000)\n"
+            "except KeyboardInterrupt:\n"
+            "    print('interrupted', flush=True)\n"
+            "    sys.exit(3)\n")
+    child = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True, env=os.environ.copy())
+    assert child.stdout.readline().strip() == "fitting"
+    time.sleep(1.0)  # inside RANSAC by now
+    sent = time.monotonic()
+    child.send_signal(signal.SIGINT)
+    try:
+        out, _ = child.communicate(timeout=20)
+    finally:
+        child.kill()
+    assert child.returncode == 3 and "interrupted" in out
+    assert time.monotonic() - sent < 5

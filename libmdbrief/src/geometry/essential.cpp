@@ -150,6 +150,7 @@ EssentialResult fitEssential(const std::vector<cv::Vec3d>& a, const std::vector<
   int bestCount = 0, needed = options.maxIterations, models = 0;
   std::vector<int> sample(kSample);
   for (int it = 0; it < needed; ++it) {
+    if (options.interruptCheck) options.interruptCheck();
     for (int s = 0; s < kSample; ++s) {
       do sample[s] = pick(rng);
       while (std::find(sample.begin(), sample.begin() + s, sample[s]) != sample.begin() + s);

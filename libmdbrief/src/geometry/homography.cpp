@@ -158,6 +158,7 @@ HomographyResult fitHomography(const std::vector<cv::Vec3d>& a, const std::vecto
   int bestCount = 0, needed = o.maxIterations, models = 0;
   std::vector<int> sample(kSample);
   for (int it = 0; it < needed; ++it) {
+    if (o.interruptCheck) o.interruptCheck();
     for (int s = 0; s < kSample; ++s) {
       do sample[s] = pick(rng);
       while (std::find(sample.begin(), sample.begin() + s, sample[s]) != sample.begin() + s);
