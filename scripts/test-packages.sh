@@ -5,7 +5,8 @@
 #     converts an installed example camera, and /usr/bin/python3 imports its module and loads it;
 #  2. a library-only build with -DBUILD_SHARED_LIBS=ON is installed, and the test consumer
 #     (tests/consumer) is built against libmdbrief.so with find_package and with pkg-config alone,
-#     and run.
+#     and run;
+#  3. CMake's project version, the .deb's, pkg-config's and Python's __version__ agree.
 # Usage: scripts/test-packages.sh BUILD_DIR [SHARED_BUILD_DIR]   (default: BUILD_DIR-shared)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -49,4 +50,12 @@ ldd "$SCRATCH/consumer/consumer" | grep "libmdbrief\.so" >/dev/null || { echo "t
 PKG_CONFIG_PATH=$(dirname "$lib")/pkgconfig c++ -std=c++17 -O1 tests/consumer/main.cpp -o "$SCRATCH/pc_consumer" \
   $(PKG_CONFIG_PATH=$(dirname "$lib")/pkgconfig pkg-config --cflags --libs mdbrief)
 "$SCRATCH/pc_consumer"
-echo "packages: .deb imports, shared library consumers build and run"
+# 3. One version everywhere: CMake's project version, the .deb's, pkg-config's and Python's.
+project_version=$(sed -n 's/^project(mdbrief VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)
+deb_version=$(dpkg-deb --field "$deb" Version)
+pc_version=$(PKG_CONFIG_PATH=$(dirname "$lib")/pkgconfig pkg-config --modversion mdbrief)
+python_version=$(env -i PATH=/usr/bin:/bin PYTHONPATH="$root/$python_dir" /usr/bin/python3 -c "import mdbrief; print(mdbrief.__version__)")
+echo "versions: CMake $project_version, .deb $deb_version, pkg-config $pc_version, Python $python_version"
+[ -n "$project_version" ] && [ "${deb_version%%-*}" = "$project_version" ] && [ "$pc_version" = "$project_version" ] &&
+  [ "$python_version" = "$project_version" ] || { echo "the versions disagree" >&2; exit 1; }
+echo "packages: .deb imports, shared library consumers build and run, one version"
