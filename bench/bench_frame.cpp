@@ -105,19 +105,32 @@ void BM_FrameOrb(benchmark::State& state) {
   state.counters["matches"] = double(matches);
 }
 
+// The defaults' features of both views, as the benchmarks below start from them.
+struct FrameFeatures {
+  cv::Ptr<mdbrief::MdBrief> md;
+  std::vector<cv::KeyPoint> ka, kb;
+  cv::Mat da, ma, db, mb;
+};
+FrameFeatures frameFeatures(const Views& v) {
+  FrameFeatures f;
+  mdbrief::MdBriefOptions options;
+  options.detector.nfeatures = kFeatures;
+  f.md = mdbrief::MdBrief::create(v.camera, options);
+  f.md->detectAndComputeWithMasks(v.a, cv::noArray(), f.ka, f.da, f.ma);
+  f.md->detectAndComputeWithMasks(v.b, cv::noArray(), f.kb, f.db, f.mb);
+  return f;
+}
+
 // The three stages of BM_FrameMdBrief, single-threaded, to see where the time goes.
 void BM_FrameMdBriefStages(benchmark::State& state) {
   const Views& v = views();
   if (v.a.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
   cv::setNumThreads(1);
   const tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
-  mdbrief::MdBriefOptions options;
-  options.detector.nfeatures = kFeatures;
-  const cv::Ptr<mdbrief::MdBrief> md = mdbrief::MdBrief::create(v.camera, options);
-  std::vector<cv::KeyPoint> kb, ka;
-  cv::Mat db, mb, da, ma;
-  md->detectAndComputeWithMasks(v.b, cv::noArray(), kb, db, mb);
-  md->detectAndComputeWithMasks(v.a, cv::noArray(), ka, da, ma);
+  const FrameFeatures f = frameFeatures(v);
+  const cv::Ptr<mdbrief::MdBrief>& md = f.md;
+  const std::vector<cv::KeyPoint>& ka = f.ka;
+  const cv::Mat &da = f.da, &ma = f.ma, &db = f.db, &mb = f.mb;
   const mdbrief::MatchOptions match;
   const int stage = static_cast<int>(state.range(0));
   for (auto _ : state) {
@@ -145,16 +158,13 @@ void BM_RefineMatches(benchmark::State& state) {
   if (v.a.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
   cv::setNumThreads(1);
   const tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
-  mdbrief::MdBriefOptions options;
-  options.detector.nfeatures = kFeatures;
-  const cv::Ptr<mdbrief::MdBrief> md = mdbrief::MdBrief::create(v.camera, options);
-  std::vector<cv::KeyPoint> ka, kb;
-  cv::Mat da, ma, db, mb;
-  md->detectAndComputeWithMasks(v.a, cv::noArray(), ka, da, ma);
-  md->detectAndComputeWithMasks(v.b, cv::noArray(), kb, db, mb);
-  const mdbrief::ImagePyramid pa(v.a, options.detector.pyramid), pb(v.b, options.detector.pyramid);
+  const FrameFeatures f = frameFeatures(v);
+  const std::vector<cv::KeyPoint> &ka = f.ka, &kb = f.kb;
+  const cv::Mat &da = f.da, &ma = f.ma, &db = f.db, &mb = f.mb;
+  const mdbrief::PyramidOptions& pyramid = f.md->options().detector.pyramid;
+  const mdbrief::ImagePyramid pa(v.a, pyramid), pb(v.b, pyramid);
   const mdbrief::MatchOptions match;
-  std::vector<cv::DMatch> matches = mdbrief::matchBruteForceMasked(da, ma, db, mb, match);
+  const std::vector<cv::DMatch> matches = mdbrief::matchBruteForceMasked(da, ma, db, mb, match);
   for (int level = 0; level < pa.levels(); ++level) pa.smoothedFloat(level), pb.smoothedFloat(level);
   double refineSeconds = 0, matchSeconds = 0;
   size_t refined = 0;

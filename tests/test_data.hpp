@@ -1,12 +1,14 @@
 #pragma once
 // Where tests find data. Real data in ../shared/data is optional: tests that need it call
 // sharedDataDir() and GTEST_SKIP() with a one-line reason when it is absent.
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "toolkit/data_folders.hpp"
@@ -22,6 +24,18 @@ inline std::optional<std::filesystem::path> sharedDataDir() {
 inline std::optional<std::filesystem::path> opencvDocDataDir() { return opencvDocFolder(); }
 
 inline std::filesystem::path sourceDir() { return MDBRIEF_SOURCE_DIR; }
+
+// Expects call() to throw std::invalid_argument whose message contains `text`.
+template <typename Call>
+void expectInvalidArgument(Call&& call, const std::string& text) {
+  try {
+    call();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    return;
+  }
+  ADD_FAILURE() << "no exception; expected one mentioning " << text;
+}
 
 // A fresh scratch folder, removed with its contents at scope exit. The process id keeps test
 // executables that ctest runs in parallel apart.

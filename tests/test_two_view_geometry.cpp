@@ -11,6 +11,7 @@
 #include "mdbrief/camera/double_sphere.hpp"
 #include "mdbrief/geometry/two_view.hpp"
 #include "mdbrief/base/option_fields.hpp"
+#include "test_data.hpp"
 
 namespace mdbrief {
 namespace {
@@ -484,15 +485,7 @@ TEST(TwoViewFailures, NoModel) {
 
 TEST(TwoViewBadInput, ThrowsNamingTheArgument) {
   const std::vector<cv::Vec3d> five{{0, 0, 1}, {0.1, 0, 1}, {0, 0.1, 1}, {0.2, 0.3, 1}, {-0.2, 0.1, 1}};
-  const auto throwsWith = [](auto&& call, const std::string& text) {
-    try {
-      call();
-    } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
-      return;
-    }
-    ADD_FAILURE() << "no exception; expected one mentioning " << text;
-  };
+  const auto throwsWith = [](auto&& call, const std::string& text) { testing::expectInvalidArgument(call, text); };
   const std::vector<cv::Vec3d> four(five.begin(), five.begin() + 4);
   throwsWith([&] { fitEssential(five, four); }, "fitEssential: a has 5 bearings and b 4");
   throwsWith([&] { fitHomography(five, four); }, "fitHomography: a has 5 bearings and b 4");
