@@ -256,7 +256,7 @@ double poseAuc(std::vector<double> errorsDeg, double limit) {
 std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const std::vector<TrackerPipeline>& pipelines,
                                      const StereoOptions& o, const std::string& outDir) {
   CsvTable pairsCsv({"set", "image_a", "image_b", "pipeline", "ratio", "keypoints_a", "keypoints_b", "matches",
-                     "right", "residual_median_px", "fit_ok", "fit_inliers", "pose_error_deg"});
+                     "refined", "right", "residual_median_px", "fit_ok", "fit_inliers", "pose_error_deg"});
   CsvTable summaryCsv({"set", "pipeline", "ratio", "shown", "pairs", "keypoints", "matches_per_pair",
                        "right_per_pair", "precision", "residual_median_px", "residual_p90_px", "fits_ok", "auc5",
                        "auc10", "auc20", "median_pose_error_deg", "localisation_rms_px"});
@@ -327,6 +327,7 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
               .add(t.keypointsA)
               .add(t.keypointsB)
               .add(t.matches)
+              .add(t.refined)
               .add(t.right)
               .add(quantile(t.rightResidualsPx, 0.5))
               .add(t.fitOk ? 1 : 0)

@@ -12,6 +12,7 @@
 #include "mdbrief/camera/io.hpp"
 #include "mdbrief/match/match_refinement.hpp"
 #include "mdbrief/match/matcher.hpp"
+#include "scenes/photo_camera.hpp"
 #include "scenes/plane_renderer.hpp"
 #include "test_data.hpp"
 
@@ -147,6 +148,18 @@ TEST(RefineMatches, AtTheBorderOrOutsideTheLensItFailsWithAReason) {
   const ImagePyramid fa(flat, p.options.detector.pyramid);
   const auto f = refineMatches(fa, *p.camera, {kb[0]}, fa, *p.camera, {kb[0]}, {cv::DMatch(0, 0, 0.f)});
   EXPECT_EQ(f[0].failure, RefinementFailure::Aperture);
+}
+
+// The template's gradients read one level pixel beyond the patch: a patch whose gradients would
+// reach past the level's first pixel is outside.
+TEST(RefineMatches, APatchAtTheLevelsCornerIsOutside) {
+  const RenderedPair& p = renderedPair();
+  const CameraPtr pinhole = photoCamera(p.a.size());
+  const ImagePyramid pa(p.a, p.options.detector.pyramid);
+  const float at = static_cast<float>((5 + 0.5) * pa.grid(0).step.x - 0.5);  // level pixel 5: the patch radius
+  const std::vector<cv::KeyPoint> k{cv::KeyPoint(at, at, 31.f, -1.f, 0.f, 0)};
+  const auto r = refineMatches(pa, *pinhole, k, pa, *pinhole, k, {cv::DMatch(0, 0, 0.f)});
+  EXPECT_EQ(r[0].failure, RefinementFailure::OutsideImage);
 }
 
 TEST(RefineMatches, RefusesInputThatIsNoMatchOfTheseKeypoints) {

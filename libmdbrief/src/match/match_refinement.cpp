@@ -101,7 +101,7 @@ LevelResult alignOnLevel(const ImagePyramid& pa, int la, const cv::Point2d& poin
   const cv::Mat& ib = pb.smoothedFloat(lb);
   const int r = o.patchRadius, side = 2 * r + 1, count = side * side;
   const cv::Point2d ca = ga.toLevel(pointA), cb = gb.toLevel(pointB);
-  if (!inside(ia, ca, r)) {
+  if (!inside(ia, ca, r + 1)) {  // the template's gradients read one pixel beyond the patch
     result.outcome = LevelOutcome::OutsideImage;
     return result;
   }
