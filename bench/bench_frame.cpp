@@ -194,7 +194,9 @@ BENCHMARK(BM_FrameMdBriefStages)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMilli
 
 // Detectors alone and with their descriptors, single-threaded, on frame A (issue 17's speed
 // targets): Arg 0 the library's defaults (Hessian + mdBRIEF-256), 1 the `matching` preset
-// (mdBRIEF-512), 2 the `paper` preset (modORB + mdBRIEF-256), 3 cv::ORB, 4 cv::AKAZE, 5 cv::BRISK.
+// (mdBRIEF-512), 2 the `paper` preset (modORB + mdBRIEF-256), 3 cv::ORB, 4 cv::AKAZE, 5 cv::BRISK,
+// 6 the defaults without locating the blobs again on the input (DetectorOptions::relocalise): 0
+// against 6 is that step's cost.
 // AKAZE and BRISK have no keypoint budget (the count is in the `keypoints` counter): AKAZE at its
 // defaults; BRISK at the threshold that finds about kFeatures on frame A (its default finds about
 // five times as many and takes four times as long).
@@ -206,11 +208,12 @@ void detectorRun(benchmark::State& state, bool describe) {
   const tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
   const int which = static_cast<int>(state.range(0));
   cv::Ptr<cv::Feature2D> feature;
-  if (which <= 2) {
+  if (which <= 2 || which == 6) {
     const mdbrief::Preset preset = std::array{mdbrief::Preset::Tracking, mdbrief::Preset::Matching,
-                                              mdbrief::Preset::Paper}[which];
+                                              mdbrief::Preset::Paper}[which % 6];
     mdbrief::MdBriefOptions options = mdbrief::presetSettings(preset).features;
     options.detector.nfeatures = kFeatures;
+    options.detector.relocalise = which != 6;
     feature = mdbrief::MdBrief::create(v.camera, options);
   } else if (which == 3) {
     feature = cv::ORB::create(kFeatures);
@@ -219,8 +222,8 @@ void detectorRun(benchmark::State& state, bool describe) {
   } else {
     feature = cv::BRISK::create(kBriskThreshold);
   }
-  state.SetLabel(
-      std::array<const char*, 6>{"defaults (tracking)", "matching", "paper", "cv::ORB", "cv::AKAZE", "cv::BRISK"}[which]);
+  state.SetLabel(std::array<const char*, 7>{"defaults (tracking)", "matching", "paper", "cv::ORB", "cv::AKAZE",
+                                            "cv::BRISK", "defaults, blobs not relocalised"}[which]);
   size_t keypoints = 0;
   for (auto _ : state) {
     std::vector<cv::KeyPoint> ka;
@@ -239,5 +242,5 @@ void BM_Detect(benchmark::State& state) { detectorRun(state, false); }
 void BM_DetectAndDescribe(benchmark::State& state) { detectorRun(state, true); }
 
 }  // namespace
-BENCHMARK(BM_Detect)->DenseRange(0, 5)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_DetectAndDescribe)->DenseRange(0, 5)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Detect)->DenseRange(0, 6)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DetectAndDescribe)->DenseRange(0, 6)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -73,6 +73,8 @@ double quantile(std::vector<double> v, double q) {
 struct StereoPairResult {
   int keypointsA = 0, keypointsB = 0, matches = 0, right = 0, refined = 0;
   std::vector<double> rightResidualsPx;
+  std::vector<float> rightSizes;  // b's keypoint size, per right match
+  std::vector<int> rightLevels;   // b's keypoint octave, per right match
   bool fitOk = false;
   int fitInliers = 0;
   double poseErrorDeg = kInf;
@@ -151,6 +153,8 @@ std::vector<StereoPairResult> scorePair(const Features& fa, const Features& fb, 
       if (known.inliers[k]) {
         ++r.right;
         r.rightResidualsPx.push_back(known.residuals[k] * scale[k]);
+        r.rightSizes.push_back(fb.keypoints[kept[k].trainIdx].size);
+        r.rightLevels.push_back(fb.keypoints[kept[k].trainIdx].octave);
       }
     const EssentialResult fit = fitEssential(a, b, o.fit, scale);
     r.fitOk = fit.ok();
@@ -299,6 +303,8 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
         long matches = 0, right = 0;
         int ok = 0;
         std::vector<double> residuals, errors;
+        std::vector<std::pair<float, double>> bySize;
+        std::vector<std::vector<double>> byLevel;
         double squares = 0;
         int located = 0;
         std::vector<double> levelSquares;
@@ -309,6 +315,13 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
           right += t.right;
           ok += t.fitOk;
           residuals.insert(residuals.end(), t.rightResidualsPx.begin(), t.rightResidualsPx.end());
+          for (size_t k = 0; k < t.rightResidualsPx.size(); ++k) {
+            bySize.emplace_back(t.rightSizes[k], t.rightResidualsPx[k]);
+            const int level = t.rightLevels[k];
+            if (p.kind != TrackerPipeline::Kind::Library || level < 0) continue;
+            if (static_cast<int>(byLevel.size()) <= level) byLevel.resize(level + 1);
+            byLevel[level].push_back(t.rightResidualsPx[k]);
+          }
           errors.push_back(t.poseErrorDeg);
           for (const auto& [level, error] : t.localisation) {
             squares += error * error, ++located;
@@ -341,6 +354,15 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
         s.precision = matches ? static_cast<double>(right) / static_cast<double>(matches) : 0;
         s.residualMedianPx = quantile(residuals, 0.5);
         s.residualP90Px = quantile(residuals, 0.9);
+        std::sort(bySize.begin(), bySize.end());
+        for (int q = 0; q < 4; ++q) {
+          std::vector<double> band;
+          for (size_t k = bySize.size() * q / 4; k < bySize.size() * (q + 1) / 4; ++k) band.push_back(bySize[k].second);
+          s.residualBySizeQuarter.push_back({band.empty() ? 0.f : bySize[bySize.size() * q / 4].first,
+                                             quantile(band, 0.5), quantile(band, 0.9), static_cast<int>(band.size())});
+        }
+        for (const auto& band : byLevel)
+          s.residualByLevel.push_back({0.f, quantile(band, 0.5), quantile(band, 0.9), static_cast<int>(band.size())});
         s.fitsOk = static_cast<double>(ok) / n;
         s.auc5 = poseAuc(errors, 5), s.auc10 = poseAuc(errors, 10), s.auc20 = poseAuc(errors, 20);
         s.medianPoseErrorDeg = quantile(errors, 0.5);
@@ -364,6 +386,14 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
         for (size_t level = 0; level < residual.localisationRmsPerLevel.size(); ++level)
           if (residual.rightPerLevel[level]) std::printf(" L%zu %.3f (%d)", level, residual.localisationRmsPerLevel[level], residual.rightPerLevel[level]);
       }
+      std::printf("\n     by b's size from");
+      for (const auto& q : residual.residualBySizeQuarter)
+        std::printf("  %.0fpx %.3f/%.3f", q.fromSize, q.medianPx, q.p90Px);
+      if (!residual.residualByLevel.empty()) std::printf("\n     by b's level");
+      for (size_t level = 0; level < residual.residualByLevel.size(); ++level)
+        if (residual.residualByLevel[level].count)
+          std::printf("  L%zu %.3f/%.3f (%d)", level, residual.residualByLevel[level].medianPx,
+                      residual.residualByLevel[level].p90Px, residual.residualByLevel[level].count);
       std::printf("\n");
       for (const auto& s : perRatio) {
         summaryCsv.row()

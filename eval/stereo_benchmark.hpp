@@ -68,6 +68,14 @@ struct StereoSummary {
   // Rendered pairs: the distance of the right matches (within 3 px of the truth) from where a's
   // point truly lies in b, root mean square over all, and per level of b's keypoint (its octave
   // for the library; empty for OpenCV's pipelines, whose octaves mean other scales).
+  // The residual's median and 90th percentile over a band of right matches: by quarter of b's
+  // keypoint size (fromSize: the quarter's smallest size) and by b's pyramid level.
+  struct Band {
+    float fromSize = 0;
+    double medianPx = 0, p90Px = 0;
+    int count = 0;
+  };
+  std::vector<Band> residualBySizeQuarter, residualByLevel;
   double localisationRmsPx = 0;
   std::vector<double> localisationRmsPerLevel;
   std::vector<int> rightPerLevel;

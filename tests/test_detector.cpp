@@ -6,6 +6,7 @@
 #include <numeric>
 #include <set>
 #include <string>
+#include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -443,6 +444,48 @@ TEST(HessianDetector, WideBlobsFoundOnCoarseLevelsAreWhereTheyAre) {
   }
 }
 
+// Blobs of 3 to 12 px at random sub-pixel centres, found on levels 2 to 9: located again on the
+// input (the default), their keypoints lie closer to the centres than the levels put them, whose
+// bilinear reductions move each blob by a share of a level pixel that depends on where it falls.
+TEST(HessianDetector, RelocalisedBlobsLieCloserToTheirCentresThanTheirLevelsPutThem) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> sub(0.0, 1.0), width(3.0, 12.0);
+  std::vector<double> levelErrors, inputErrors;
+  for (int image = 0; image < 8; ++image) {
+    std::vector<SyntheticBlob> blobs;
+    for (int row = 0; row < 3; ++row)
+      for (int column = 0; column < 4; ++column)
+        blobs.push_back({{70.0 + 140 * column + sub(rng), 80.0 + 150 * row + sub(rng)}, width(rng)});
+    const cv::Mat picture = blobImage(blobs);
+    DetectorOptions levels = hessianOptions(40);
+    levels.relocalise = false;
+    const std::vector<cv::KeyPoint> atLevels = Detector(nullptr, levels).detect(picture);
+    const std::vector<cv::KeyPoint> onInput = Detector(nullptr, hessianOptions(40)).detect(picture);
+    for (const auto& b : blobs) {
+      const auto error = [&](const std::vector<cv::KeyPoint>& kps) {
+        double best = INFINITY;
+        for (const auto& k : kps) best = std::min(best, cv::norm(cv::Point2d(k.pt) - b.centre));
+        return best;
+      };
+      // Blobs near the border lie within the margin of the level they would be found on.
+      if (error(atLevels) > b.sigma / 2 || error(onInput) > b.sigma / 2) continue;
+      levelErrors.push_back(error(atLevels));
+      inputErrors.push_back(error(onInput));
+    }
+  }
+  ASSERT_GE(levelErrors.size(), 30u);
+  const auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  };
+  const auto worst = [](const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); };
+  std::printf("%zu blobs, distance to their centres, median / worst: levels %.3f / %.3f px, input %.3f / %.3f px\n", levelErrors.size(),
+              median(levelErrors), worst(levelErrors), median(inputErrors), worst(inputErrors));
+  // Measured: 0.043 / 0.126 px at the levels, 0.018 / 0.103 px located again.
+  EXPECT_LT(median(inputErrors), 0.5 * median(levelErrors));
+  EXPECT_LT(worst(inputErrors), 0.15);
+}
+
 // Three fine, deep blobs and three wide, shallower ones; a budget of three. The normalised
 // determinant alone prefers the fine ones (it grows with the square of the depth and does not
 // depend on the width); weighted by the scale, the wide ones win. The weight only ranks: every
@@ -653,13 +696,17 @@ TEST(Detector, AnglesTurnWithTheImage) {
     for (const auto& kp : original) {
       const cv::Point2f expected(image.rows - 1 - kp.pt.y, kp.pt.x);
       const double tolerance = 1.5 * levelScale(options.pyramid, kp.octave);
-      for (const auto& other : turned) {
-        if (other.octave != kp.octave || cv::norm(other.pt - expected) > tolerance) continue;
-        ++matched;
-        // Clockwise in the picture is +90 degrees in image axes (y down).
-        if (std::abs(std::remainder(other.angle - kp.angle - 90.0, 360.0)) < 3.0) ++agreeing;
-        break;
-      }
+      // The nearest keypoint of the same octave: the first one within the tolerance may be a
+      // neighbour.
+      const cv::KeyPoint* found = nullptr;
+      for (const auto& other : turned)
+        if (other.octave == kp.octave && cv::norm(other.pt - expected) <= tolerance &&
+            (!found || cv::norm(other.pt - expected) < cv::norm(found->pt - expected)))
+          found = &other;
+      if (!found) continue;
+      ++matched;
+      // Clockwise in the picture is +90 degrees in image axes (y down).
+      if (std::abs(std::remainder(found->angle - kp.angle - 90.0, 360.0)) < 3.0) ++agreeing;
     }
     std::printf("%s, rotation by 90 degrees: %d of %zu keypoints found again, %d with angle +90 +- 3\n",
                 name.c_str(), matched, original.size(), agreeing);

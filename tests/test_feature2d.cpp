@@ -231,6 +231,7 @@ TEST(MdBriefFeature2D, FileStorageRoundTripKeepsEveryOption) {
   o.detector.hessianSigma = 1.7;
   o.detector.hessianThreshold = 2e-4;
   o.detector.hessianScaleExponent = 0.5;
+  o.detector.relocalise = false;
   o.detector.corners = CornerDetector::Agast;
   o.detector.threshold = 17;
   o.detector.fallbackThreshold = 5;
@@ -277,6 +278,7 @@ TEST(MdBriefFeature2D, FileStorageRoundTripKeepsEveryOption) {
     EXPECT_DOUBLE_EQ(r.detector.hessianSigma, 1.7);
     EXPECT_DOUBLE_EQ(r.detector.hessianThreshold, 2e-4);
     EXPECT_DOUBLE_EQ(r.detector.hessianScaleExponent, 0.5);
+    EXPECT_FALSE(r.detector.relocalise);
     EXPECT_EQ(r.detector.corners, CornerDetector::Agast);
     EXPECT_EQ(r.detector.threshold, 17);
     EXPECT_EQ(r.detector.fallbackThreshold, 5);

@@ -1,0 +1,162 @@
+#include "detect/blob_localisation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+namespace mdbrief::detail {
+
+namespace {
+
+// Beyond a few pixels' walk the maximum is another blob's.
+constexpr int kMaxSteps = 3;
+// The smoothing on the halving a blob is located on: at least kMinSigma pixels (finer, the 3x3
+// quadratic places its maximum less well: EuRoC's residual grows), below 2 kMinSigma after the
+// halvings, and at most kMaxSigma for the widest blob located (BlobLocaliser's caller's limit).
+constexpr double kMinSigma = 1.8;
+constexpr int kMaxRadius = 13;  // ceil(3 kMaxSigma), kMaxSigma = sqrt(16^2 - 5) / 4
+constexpr int kPaddedWidth = (5 + 2 * kMaxRadius + 3 + 7) & ~7;
+
+int reflect101(int i, int n) {
+  if (n == 1) return 0;
+  while (i < 0 || i >= n) i = i < 0 ? -i : 2 * n - 2 - i;
+  return i;
+}
+
+// A Gaussian's taps, 3 sigma on either side, summing to 1. exp(-i^2 / (2 sigma^2)) by the
+// recurrence g(i) = g(i - 1) q^(2i - 1), q = exp(-1 / (2 sigma^2)): one exponential instead of one
+// per tap.
+struct Taps {
+  int radius = 0;
+  float weight[2 * kMaxRadius + 1];
+};
+Taps gaussianTaps(double sigma) {
+  Taps t;
+  t.radius = static_cast<int>(std::ceil(3.0 * sigma));
+  CV_Assert(t.radius <= kMaxRadius);
+  double half[kMaxRadius + 1];
+  const double q = std::exp(-0.5 / (sigma * sigma));
+  double g = 1.0, factor = q, total = 1.0;
+  half[0] = 1.0;
+  for (int i = 1; i <= t.radius; ++i) {
+    g *= factor;
+    factor *= q * q;
+    half[i] = g;
+    total += 2 * g;
+  }
+  for (int i = -t.radius; i <= t.radius; ++i) t.weight[i + t.radius] = static_cast<float>(half[std::abs(i)] / total);
+  return t;
+}
+
+// The smoothed image at the 5x5 pixels around (cx, cy), row-major: down the columns first (each
+// tap over a contiguous run of columns, which the compiler vectorises without reordering any
+// sum), then along the 5 rows, 8 columns at a time of which 5 are kept. Only the 5 + 2 radius
+// columns around the block are smoothed, padded with zeros to whole vectors.
+void smoothedBlock(const cv::Mat& image, int cx, int cy, const Taps& taps, float out[25]) {
+  const int radius = taps.radius;
+  const int width = 5 + 2 * radius;
+  const int padded = (width + 3 + 7) & ~7;  // the horizontal pass reads 3 columns beyond the 5th
+  float vertical[5][kPaddedWidth] = {};
+  float row[kPaddedWidth] = {};
+  const int left = cx - 2 - radius;
+  const bool inside = left >= 0 && left + width <= image.cols;
+  for (int r = 0; r < width; ++r) {
+    const uint8_t* pixels = image.ptr<uint8_t>(reflect101(cy - 2 - radius + r, image.rows));
+    if (inside)
+      for (int c = 0; c < width; ++c) row[c] = pixels[left + c];
+    else
+      for (int c = 0; c < width; ++c) row[c] = pixels[reflect101(left + c, image.cols)];
+    // Input row r feeds output rows r - 2 radius .. r (tap r - out).
+    for (int out = std::max(0, r - 2 * radius); out <= std::min(4, r); ++out) {
+      const float w = taps.weight[r - out];
+      float* sum = vertical[out];
+      for (int c = 0; c < padded; ++c) sum[c] += w * row[c];
+    }
+  }
+  for (int r = 0; r < 5; ++r) {
+    float sum[8] = {};
+    for (int t = 0; t <= 2 * radius; ++t) {
+      const float w = taps.weight[t];
+      for (int c = 0; c < 8; ++c) sum[c] += w * vertical[r][c + t];
+    }
+    for (int c = 0; c < 5; ++c) out[5 * r + c] = sum[c];
+  }
+}
+
+// det(Hessian) at (u, v) of the 5x5 block, by central differences (hessian.cpp's response).
+float determinant(const float s[25], int u, int v) {
+  const float* a = s + 5 * (v - 1);
+  const float* b = s + 5 * v;
+  const float* c = s + 5 * (v + 1);
+  const float dxx = (b[u - 1] + b[u + 1]) - 2.f * b[u];
+  const float dyy = (a[u] + c[u]) - 2.f * b[u];
+  const float dxy = ((c[u + 1] - c[u - 1]) - (a[u + 1] - a[u - 1])) * 0.25f;
+  return dxx * dyy - dxy * dxy;
+}
+
+// The maximum of det(Hessian) nearest to `start` on `image` smoothed by `sigma`, all in its pixels.
+std::optional<cv::Point2d> locate(const cv::Mat& image, const cv::Point2d& start, double sigma, double maxDistance) {
+  const Taps taps = gaussianTaps(sigma);
+  int x = static_cast<int>(std::lround(start.x)), y = static_cast<int>(std::lround(start.y));
+  for (int step = 0; step <= kMaxSteps; ++step) {
+    if (x < 0 || y < 0 || x >= image.cols || y >= image.rows) return std::nullopt;
+    float s[25], r[9];
+    smoothedBlock(image, x, y, taps, s);
+    for (int v = 0; v < 3; ++v)
+      for (int u = 0; u < 3; ++u) r[3 * v + u] = determinant(s, u + 1, v + 1);
+    // The quadratic through the 3x3 responses (hessian.cpp's subPixelOffset, without its fallback:
+    // a response that is no cap here means the blob is not where its level put it).
+    const double gx = 0.5 * (r[5] - r[3]), gy = 0.5 * (r[7] - r[1]);
+    const double hxx = r[3] - 2.0 * r[4] + r[5], hyy = r[1] - 2.0 * r[4] + r[7];
+    const double hxy = 0.25 * ((r[8] - r[6]) - (r[2] - r[0]));
+    const double det = hxx * hyy - hxy * hxy;
+    if (!(hxx < 0 && det > 0)) return std::nullopt;
+    const double ox = -(hyy * gx - hxy * gy) / det, oy = -(hxx * gy - hxy * gx) / det;
+    if (std::abs(ox) <= 0.5 && std::abs(oy) <= 0.5) {
+      const cv::Point2d found(x + ox, y + oy);
+      if (!(cv::norm(found - start) <= maxDistance)) return std::nullopt;
+      return found;
+    }
+    if (std::abs(ox) > 0.5) x += ox > 0 ? 1 : -1;
+    if (std::abs(oy) > 0.5) y += oy > 0 ? 1 : -1;
+  }
+  return std::nullopt;
+}
+
+// The smoothing a blob keeps on a halving: its own, less what the halvings' kernels applied
+// (variance 1 pixel^2 of the image each one halves: 1 input pixel^2, then 4), in its pixels.
+double sigmaOn(int halvings, double sigma) {
+  const double applied = halvings == 0 ? 0.0 : halvings == 1 ? 1.0 : 5.0;
+  return std::sqrt(sigma * sigma - applied) / (1 << halvings);
+}
+
+}  // namespace
+
+BlobLocaliser::BlobLocaliser(const cv::Mat& input8u, int halvings) {
+  CV_Assert(input8u.type() == CV_8UC1 && !input8u.empty() && halvings >= 0 && halvings <= 2);
+  octaves_.push_back(input8u);
+  for (int h = 0; h < halvings; ++h) {
+    cv::Mat half;
+    cv::pyrDown(octaves_.back(), half);
+    octaves_.push_back(half);
+  }
+}
+
+int BlobLocaliser::halvingsFor(double sigma) {
+  int h = 0;
+  while (h < 2 && sigma * sigma > 5.0 && sigmaOn(h + 1, sigma) >= kMinSigma) ++h;
+  return h;
+}
+
+std::optional<cv::Point2d> BlobLocaliser::relocalise(const cv::Point2d& start, double sigma, double maxDistance) const {
+  const int h = std::min(halvingsFor(sigma), static_cast<int>(octaves_.size()) - 1);
+  const double step = 1 << h;
+  // pyrDown's pixel x is the input's pixel 2x.
+  const auto found = locate(octaves_[h], start / step, sigmaOn(h, sigma), maxDistance / step);
+  if (!found) return std::nullopt;
+  return *found * step;
+}
+
+}  // namespace mdbrief::detail
