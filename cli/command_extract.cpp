@@ -72,7 +72,8 @@ void addExtractCommand(CLI::App& app) {
       "Detect keypoints and describe them (BRIEF, dBRIEF or mdBRIEF). Output: an OpenCV FileStorage file "
       "(.yml, .yml.gz, .json) with nodes keypoints, descriptors (N x bits/8, CV_8U) and masks (mdBRIEF only); "
       "keypoints that cannot be described are left out of all three. Also test_set, test_set_digest and, with "
-      "--camera, camera_digest, which match checks.");
+      "--camera, camera_digest, which match checks; pyramid (the pyramid options, key=value), image_size and "
+      "image_digest, which match --refine needs.");
   addExtractionFlags(*cmd, args->flags);
   cmd->add_option("--keypoints", args->keypoints,
                   "Describe the keypoints of node 'keypoints' of this FileStorage file (for every image) instead of "

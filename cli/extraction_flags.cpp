@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <locale>
 #include <optional>
 #include <sstream>
 
@@ -249,13 +250,60 @@ std::string cameraDigest(const Camera& camera) {
   return contentDigest(yaml.data(), yaml.size());
 }
 
+std::string imageDigest(const cv::Mat& image) {
+  const cv::Mat pixels = image.isContinuous() ? image : image.clone();
+  return contentDigest(pixels.data, pixels.total() * pixels.elemSize());
+}
+
+std::string pyramidText(const PyramidOptions& options) {
+  std::ostringstream text;
+  text.imbue(std::locale::classic());
+  text << std::setprecision(17);
+  for (const OptionField<PyramidOptions>& f : pyramidOptionFields()) {
+    const FieldValue value = f.get(options);
+    text << (text.tellp() > 0 ? " " : "") << f.keyword << "=";
+    if (const auto* i = std::get_if<long long>(&value)) text << *i;
+    else text << std::get<double>(value);  // the table holds numbers only
+  }
+  return text.str();
+}
+
+PyramidOptions pyramidFromText(const std::string& text, const std::string& where) {
+  const OptionTable<PyramidOptions>& table = pyramidOptionFields();
+  PyramidOptions options;
+  std::istringstream words(text);
+  try {
+    for (std::string word; words >> word;) {
+      const std::size_t equals = word.find('=');
+      const std::string key = word.substr(0, equals);
+      const std::size_t field = findField(table, key, &OptionField<PyramidOptions>::keyword);
+      if (equals == std::string::npos || field == table.size())
+        throw InputError(where + ": '" + word + "' is no pyramid option (key=value of " + pyramidText({}) + ")");
+      std::istringstream number(word.substr(equals + 1));
+      number.imbue(std::locale::classic());
+      double value = 0;
+      if (!(number >> value) || !number.eof())
+        throw InputError(where + ": " + key + " must be a number, got '" + word.substr(equals + 1) + "'");
+      setField(table, field, options, value, key);
+    }
+    validate(options);
+  } catch (const OptionError& e) {
+    throw InputError(where + ": " + table.at(e.field()).keyword + " " + e.problem());
+  }
+  return options;
+}
+
 Features extractFeatures(const ExtractionFlags& flags, const CameraPtr& calibration, const std::string& imagePath,
                          const cv::Mat& image, const std::optional<std::vector<cv::KeyPoint>>& given) {
   const cv::Ptr<MdBrief> feature = makeFeature(flags, calibration, imagePath, image.size());
   Features f;
   const TestSet& tests = feature->extractor().testSet();
-  f.provenance = {tests.name, contentDigest(tests.tests.data(), tests.tests.size() * sizeof(TestPair)),
-                  calibration ? cameraDigest(*calibration) : ""};
+  f.provenance = {tests.name,
+                  contentDigest(tests.tests.data(), tests.tests.size() * sizeof(TestPair)),
+                  calibration ? cameraDigest(*calibration) : "",
+                  pyramidText(feature->options().detector.pyramid),
+                  sizeText(image.size()),
+                  imageDigest(image)};
   if (given) f.keypoints = *given;
   try {
     feature->detectAndComputeWithMasks(image, cv::noArray(), f.keypoints, f.descriptors, f.masks, given.has_value());

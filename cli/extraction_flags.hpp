@@ -76,12 +76,16 @@ cv::Mat loadImage(const std::string& path, bool strict);
 std::vector<cv::KeyPoint> loadKeypoints(const std::string& path);
 
 // What a feature file's descriptors were made with, so that match can refuse files it cannot
-// compare: two test sets, or --inliers --camera naming another lens, would go unnoticed.
+// compare: two test sets, or --inliers --camera naming another lens, would go unnoticed; and what
+// `match --refine` needs to rebuild the pyramid the keypoints' octaves index, from the same image.
 // Empty in files written before it was recorded, which are still read.
 struct Provenance {
   std::string testSet;        // the test set's name
   std::string testSetDigest;  // contentDigest of its tests as used (the first bits of them)
   std::string cameraDigest;   // cameraDigest of the calibration given; "" without one
+  std::string pyramid;        // pyramidText of the detection's pyramid options
+  std::string imageSize;      // "WxH" of the image described
+  std::string imageDigest;    // imageDigest of it
 };
 
 struct Features {
@@ -96,6 +100,16 @@ std::string contentDigest(const void* data, size_t size);
 // contentDigest of the camera's project YAML (cameraToYaml): the same lens gives the same digest
 // whatever file format it came from.
 std::string cameraDigest(const Camera& camera);
+// contentDigest of a decoded image's pixels: the same picture in another file or format is the
+// same image, another picture of the same size is not.
+std::string imageDigest(const cv::Mat& image);
+
+// Pyramid options as "levels=8 scale_factor=1.2 ..." (pyramidOptionFields()' keywords, reals to
+// 17 digits so that they read back exactly), and back. pyramidFromText starts from the defaults
+// (a key added in a later version keeps its default in older files) and throws InputError
+// naming `where` for an unknown key, a value that is no number or one out of its range.
+std::string pyramidText(const PyramidOptions& options);
+PyramidOptions pyramidFromText(const std::string& text, const std::string& where);
 
 // Detects and describes the image at imagePath (or describes `given` keypoints) with the
 // flags; the calibration must match the image size unless flags.allowSizeMismatch.

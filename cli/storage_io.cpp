@@ -187,6 +187,8 @@ void writeFeatures(cv::FileStorage& storage, const Features& features) {
   const Provenance& p = features.provenance;
   if (!p.testSet.empty()) storage << "test_set" << p.testSet << "test_set_digest" << p.testSetDigest;
   if (!p.cameraDigest.empty()) storage << "camera_digest" << p.cameraDigest;
+  if (!p.pyramid.empty()) storage << "pyramid" << p.pyramid;
+  if (!p.imageSize.empty()) storage << "image_size" << p.imageSize << "image_digest" << p.imageDigest;
 }
 
 }  // namespace
@@ -355,7 +357,8 @@ std::string StorageReader::text(const std::string& key) const {
 Features readFeatureFile(const std::string& path) {
   Features f;
   const StorageReader storage(path);
-  f.provenance = {storage.text("test_set"), storage.text("test_set_digest"), storage.text("camera_digest")};
+  f.provenance = {storage.text("test_set"), storage.text("test_set_digest"), storage.text("camera_digest"),
+                  storage.text("pyramid"),  storage.text("image_size"),      storage.text("image_digest")};
   if (!storage.has("descriptors")) throw InputError(path + ": no node 'descriptors'");
   f.descriptors = storage.matrix("descriptors");
   f.masks = storage.matrix("masks");

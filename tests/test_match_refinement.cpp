@@ -205,6 +205,10 @@ TEST(RefineMatches, RefusesInputThatIsNoMatchOfTheseKeypoints) {
   bad[0].octave = 2;
   bad[0].pt.x = std::nanf("");
   throwsWith([&] { refineMatches(pa, *p.camera, one, pa, *p.camera, bad, {}); }, "keypointsB[0] has a position or size");
+  // A camera of another size than its image: its rays would be those of other pixels.
+  const CameraPtr half = p.camera->resized({p.camera->imageSize().width / 2, p.camera->imageSize().height / 2});
+  throwsWith([&] { refineMatches(pa, *p.camera, one, pa, *half, one, {}); },
+             "cameraB's image size 377x240 differs from pyramidB's input 754x480");
   MatchRefinementOptions o;
   o.patchRadius = 1;
   EXPECT_THROW(refineMatches(pa, *p.camera, one, pa, *p.camera, one, {}, o), OptionError);

@@ -98,6 +98,9 @@ class OptionFlags {
     }
   }
 
+  // Whether any of the flags was given: a command refuses them without the mode they tune.
+  bool anyGiven() const { return !given_.empty(); }
+
   // `options` with the given flags applied (in command-line order), then checked by `validate`.
   // Throws OptionError named by the flag.
   template <typename Validate>

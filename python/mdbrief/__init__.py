@@ -3,9 +3,12 @@
     import cv2, mdbrief
     camera = mdbrief.load_camera("/usr/local/share/mdbrief/cameras/lafida_fisheye0.yaml")
     features = mdbrief.MdBrief(camera)                  # preset="tracking": the library's defaults
-    kp1, d1, m1 = features.detect_and_compute(cv2.imread("a.png"))
-    kp2, d2, m2 = features.detect_and_compute(cv2.imread("b.png"))
+    image1, image2 = cv2.imread("a.png"), cv2.imread("b.png")
+    kp1, d1, m1 = features.detect_and_compute(image1)
+    kp2, d2, m2 = features.detect_and_compute(image2)
     matches = mdbrief.match(d1, d2, m1, m2)             # the preset's ratio test and mutual check
+    # Sub-pixel points in image2, for views that did not turn (refined.points_b, .sigma_px, .ok).
+    refined = mdbrief.refine_matches(features, image1, kp1, image2, kp2, matches)
     # A tracker's next frame: search only near where the motion model predicts each keypoint.
     tracked = mdbrief.match_guided(d1, d2, predicted, kp2, (width, height), m1, m2, radius=15)
     # Which matches are right: the relative pose of a general scene, on bearings (any lens).
@@ -29,12 +32,14 @@ without the GIL (but a Database's index, which adding changes, is used with it h
 import cv2 as _cv2  # noqa: F401
 
 from ._mdbrief import __version__  # noqa: F401
-from ._mdbrief import (Camera, CameraRig, Database, MdBrief, TestSet, TwoViewResult, Vocabulary, camera_models,
-                       check_known_pose, default_pattern, fit_essential, fit_homography, limit_simd_level,
-                       load_camera, load_pattern, load_rig, match, match_guided, option_fields, patterns,
-                       pixels_per_radian, presets, simd_level, supported_simd_level, supported_simd_levels, train)
+from ._mdbrief import (Camera, CameraRig, Database, MdBrief, RefinedMatches, TestSet, TwoViewResult, Vocabulary,
+                       camera_models, check_known_pose, default_pattern, fit_essential, fit_homography,
+                       limit_simd_level, load_camera, load_pattern, load_rig, match, match_guided, option_fields,
+                       patterns, pixels_per_radian, presets, refine_matches, simd_level, supported_simd_level,
+                       supported_simd_levels, train)
 
-__all__ = ["Camera", "CameraRig", "Database", "MdBrief", "TestSet", "TwoViewResult", "Vocabulary", "camera_models",
-           "check_known_pose", "default_pattern", "fit_essential", "fit_homography", "limit_simd_level",
-           "load_camera", "load_pattern", "load_rig", "match", "match_guided", "option_fields", "patterns",
-           "pixels_per_radian", "presets", "simd_level", "supported_simd_level", "supported_simd_levels", "train"]
+__all__ = ["Camera", "CameraRig", "Database", "MdBrief", "RefinedMatches", "TestSet", "TwoViewResult", "Vocabulary",
+           "camera_models", "check_known_pose", "default_pattern", "fit_essential", "fit_homography",
+           "limit_simd_level", "load_camera", "load_pattern", "load_rig", "match", "match_guided", "option_fields",
+           "patterns", "pixels_per_radian", "presets", "refine_matches", "simd_level", "supported_simd_level",
+           "supported_simd_levels", "train"]

@@ -4,6 +4,7 @@
 #include "mdbrief/api/feature2d.hpp"
 #include "mdbrief/geometry/two_view.hpp"
 #include "mdbrief/match/guided_matcher.hpp"
+#include "mdbrief/match/match_refinement.hpp"
 #include "mdbrief/match/matcher.hpp"
 #include "option_keywords.hpp"
 #include "trainer/train_options.hpp"
@@ -57,12 +58,14 @@ void bindOptions(py::module_& m) {
         if (callable == "match") return describe(matchOptionFields());
         if (callable == "match_guided") return describe(guidedMatchOptionFields());
         if (callable == "two_view") return describe(twoViewOptionFields());
-        throw py::value_error("callable must be one of: MdBrief, train, match, match_guided, two_view, got '" +
-                              callable + "'");
+        if (callable == "refine_matches") return describe(matchRefinementOptionFields());
+        throw py::value_error(
+            "callable must be one of: MdBrief, train, match, match_guided, two_view, refine_matches, got '" + callable +
+            "'");
       },
       py::arg("callable"),
-      "The options of MdBrief, train, match, match_guided or two_view (fit_essential, fit_homography,\n"
-      "check_known_pose), in table order: dicts with keyword, type (int, float,\n"
+      "The options of MdBrief, train, match, match_guided, two_view (fit_essential, fit_homography,\n"
+      "check_known_pose) or refine_matches, in table order: dicts with keyword, type (int, float,\n"
       "bool, str, list, choice), doc, default, range ((low, high, low_open, high_open, multiple_of, odd)\n"
       "of the defaults, or None), range_text and choices.");
 }

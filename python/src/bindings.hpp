@@ -18,6 +18,7 @@ void bindDatabase(py::module_& m);
 void bindFeatures(py::module_& m);
 void bindGeometry(py::module_& m);
 void bindMatching(py::module_& m);
+void bindMatchRefinement(py::module_& m);
 void bindOptions(py::module_& m);
 void bindPatterns(py::module_& m);
 void bindPresets(py::module_& m);

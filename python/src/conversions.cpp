@@ -158,6 +158,68 @@ py::list matchesToPython(const std::vector<cv::DMatch>& matches) {
   return out;
 }
 
+namespace {
+
+// One integer field of a structured match array, as int64.
+using Int64Column = py::array_t<long long, py::array::c_style | py::array::forcecast>;
+
+Int64Column matchField(const py::array& rows, const char* field, const char* argument) {
+  const py::array column = rows[py::str(field)];
+  const char kind = column.dtype().kind();
+  if (kind != 'i' && kind != 'u')
+    throw py::type_error(std::string(argument) + "['" + field + "'] must hold integers, got dtype " +
+                         std::string(py::str(column.dtype())));
+  Int64Column out = Int64Column::ensure(column);
+  if (!out) throw py::type_error(std::string(argument) + "['" + field + "'] must hold integers");
+  return out;
+}
+
+std::vector<cv::DMatch> matchesFromArray(const py::array& rows, const char* argument) {
+  const py::object names = rows.dtype().attr("names");
+  const auto has = [&](const char* field) { return !names.is_none() && names.contains(field); };
+  if (!has("query_idx") || !has("train_idx") || rows.ndim() != 1)
+    throw py::value_error(std::string(argument) + " must be a sequence of cv2.DMatch or a 1-D structured array with "
+                          "fields query_idx and train_idx (mdbrief.match(..., as_array=True)), got an array of dtype " +
+                          std::string(py::str(rows.dtype())) + " and shape " + shapeText(rows));
+  const auto query = matchField(rows, "query_idx", argument), train = matchField(rows, "train_idx", argument);
+  std::vector<cv::DMatch> out(static_cast<size_t>(rows.shape(0)));
+  for (size_t i = 0; i < out.size(); ++i) {
+    for (const auto& [value, field] : {std::pair(query.data()[i], "query_idx"), std::pair(train.data()[i], "train_idx")})
+      if (value < INT_MIN || value > INT_MAX)
+        throw py::value_error(std::string(argument) + "[" + std::to_string(i) + "]." + field + " = " +
+                              std::to_string(value) + " is outside the range of a C int");
+    out[i] = cv::DMatch(static_cast<int>(query.data()[i]), static_cast<int>(train.data()[i]), 0.f);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<cv::DMatch> matchesFromPython(const py::handle& object, const char* argument) {
+  if (py::isinstance<py::array>(object)) return matchesFromArray(py::reinterpret_borrow<py::array>(object), argument);
+  if (py::isinstance<py::str>(object) || !py::isinstance<py::sequence>(object))
+    throw py::type_error(std::string(argument) + " must be a sequence of cv2.DMatch or mdbrief.match's structured array");
+  const auto items = py::reinterpret_borrow<py::sequence>(object);
+  PyTypeObject* const cv2Type = Cv2Value<cv::DMatch>::type();
+  std::vector<cv::DMatch> out(items.size());
+  for (size_t i = 0; i < out.size(); ++i) {
+    const py::object m = items[i];
+    bool ok = true;
+    out[i] = cv2Type && Py_TYPE(m.ptr()) == cv2Type ? Cv2Value<cv::DMatch>::read(m.ptr())
+                                                     : matchFromAttributes(m.ptr(), ok);
+    if (!ok) {
+      const std::string where = std::string(argument) + "[" + std::to_string(i) + "]";
+      if (PyErr_ExceptionMatches(PyExc_OverflowError)) {
+        const py::error_already_set range;
+        throw py::value_error(where + "." + std::string(py::str(range.value())));
+      }
+      PyErr_Clear();
+      throw py::type_error(where + " is not a cv2.DMatch");
+    }
+  }
+  return out;
+}
+
 py::array matchesToArray(const std::vector<cv::DMatch>& matches) {
   struct Row {
     int32_t query, train;

@@ -42,6 +42,11 @@ int saturatedInt(const py::int_& value);
 std::vector<cv::KeyPoint> keypointsFromPython(const py::handle& sequence, const char* argument);
 py::list keypointsToPython(const std::vector<cv::KeyPoint>& keypoints);
 py::list matchesToPython(const std::vector<cv::DMatch>& matches);
+// Matches as mdbrief.match gives them: cv2.DMatch objects (anything with queryIdx, trainIdx,
+// imgIdx and distance), or its structured array (fields query_idx and train_idx; a distance is
+// not read from it). An index outside the C int range raises ValueError naming the match; the
+// indices are not checked against any keypoints here.
+std::vector<cv::DMatch> matchesFromPython(const py::handle& object, const char* argument);
 // The same as a structured array: query_idx, train_idx (int32), distance (float32).
 py::array matchesToArray(const std::vector<cv::DMatch>& matches);
 

@@ -10,6 +10,7 @@ PYBIND11_MODULE(_mdbrief, m) {
   mdbrief::python::bindFeatures(m);
   mdbrief::python::bindGeometry(m);
   mdbrief::python::bindMatching(m);
+  mdbrief::python::bindMatchRefinement(m);
   mdbrief::python::bindOptions(m);
   mdbrief::python::bindPatterns(m);
   mdbrief::python::bindPresets(m);

@@ -24,7 +24,7 @@ VOCABULARY = SOURCE / "configs/vocabularies/tracking_k10_L4.mdbvoc"
 # The option table behind each **kwargs (mdbrief.option_fields), or the camera's parameters.
 KEYWORD_TABLES = {"MdBrief.__init__": "MdBrief", "match": "match", "match_guided": "match_guided",
                   "fit_essential": "two_view", "fit_homography": "two_view", "check_known_pose": "two_view",
-                  "train": "train"}
+                  "train": "train", "refine_matches": "refine_matches"}
 
 
 def uninitialised(cls):
@@ -41,6 +41,8 @@ def live(cls):
         "CameraRig": lambda: mdbrief.load_rig(str(FISHEYE_CAMERA)),
         "Database": lambda: mdbrief.Database(mdbrief.Vocabulary.load(str(VOCABULARY))),
         "MdBrief": lambda: mdbrief.MdBrief(camera),
+        "RefinedMatches": lambda: mdbrief.refine_matches(mdbrief.MdBrief(camera), SAMPLES["image_a"](), [],
+                                                         SAMPLES["image_b"](), [], []),
         "TestSet": lambda: mdbrief.load_pattern(mdbrief.default_pattern()),
         "TwoViewResult": lambda: mdbrief.fit_essential(bearings, bearings),
         "Vocabulary": lambda: mdbrief.Vocabulary.load(str(VOCABULARY)),
@@ -141,6 +143,9 @@ SAMPLES = {
     "bearings_b": lambda: np.random.default_rng(2).normal(size=(10, 3)),
     "rotation": lambda: np.eye(3), "translation": lambda: np.array([1.0, 0.0, 0.0]),
     "image": lambda: np.zeros(live(mdbrief.Camera).image_size[::-1], np.uint8),
+    "image_a": lambda: np.zeros(live(mdbrief.Camera).image_size[::-1], np.uint8),
+    "image_b": lambda: np.zeros(live(mdbrief.Camera).image_size[::-1], np.uint8),
+    "keypoints_a": list, "keypoints_b": list, "matches": list,
     "tests": lambda: [[0, 0, 0, 0]], "K": lambda: np.eye(3), "D": lambda: np.zeros(4),
     "path": lambda: "/nonexistent/mdbrief-sample", "which": lambda: 0, "i": lambda: 0, "j": lambda: 0,
 }

@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "mdbrief/camera/tangent_plane.hpp"
+#include "mdbrief/internal/base/size_text.hpp"
 
 namespace mdbrief {
 
@@ -232,6 +233,15 @@ std::vector<RefinedMatch> refineMatches(const ImagePyramid& pyramidA, const Came
                                         const Camera& cameraB, const std::vector<cv::KeyPoint>& keypointsB,
                                         const std::vector<cv::DMatch>& matches, const MatchRefinementOptions& options) {
   validate(options);
+  // Another size would put each keypoint's ray, and its patch's mapping, elsewhere in the image.
+  const auto sameSize = [](const Camera& camera, const ImagePyramid& pyramid, const char* side) {
+    if (camera.imageSize() != pyramid.inputSize())
+      throw std::invalid_argument("refineMatches: camera" + std::string(side) + "'s image size " +
+                                  internal::sizeText(camera.imageSize()) + " differs from pyramid" + side +
+                                  "'s input " + internal::sizeText(pyramid.inputSize()));
+  };
+  sameSize(cameraA, pyramidA, "A");
+  sameSize(cameraB, pyramidB, "B");
   const auto check = [](const std::vector<cv::KeyPoint>& kps, const ImagePyramid& pyramid, const char* side) {
     for (size_t k = 0; k < kps.size(); ++k) {
       if (kps[k].octave < 0 || kps[k].octave >= pyramid.levels())

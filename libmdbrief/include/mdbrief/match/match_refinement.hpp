@@ -72,8 +72,9 @@ struct RefinedMatch {
 // Refines b's side of every match (queryIdx into keypointsA, trainIdx into keypointsB, as the
 // matchers give them). Each keypoint's octave is its pyramid level, as MdBrief's detectors set
 // it; the pyramids are the images' (the same options as the detection, so the levels agree).
-// Throws std::invalid_argument for an index out of range, an octave that is no level of its
-// pyramid, a keypoint position that is not finite, or options out of range.
+// Throws std::invalid_argument for a camera whose image size is not its pyramid's input size, an
+// index out of range, an octave that is no level of its pyramid, a keypoint position that is not
+// finite, or options out of range.
 std::vector<RefinedMatch> refineMatches(const ImagePyramid& pyramidA, const Camera& cameraA,
                                         const std::vector<cv::KeyPoint>& keypointsA, const ImagePyramid& pyramidB,
                                         const Camera& cameraB, const std::vector<cv::KeyPoint>& keypointsB,
