@@ -21,6 +21,7 @@
 #include "mdbrief/describe/patterns.hpp"
 #include "scenes/photo_camera.hpp"
 #include "scenes/plane_renderer.hpp"
+#include "patchextract/image_digest.hpp"
 #include "patchextract/patch_extraction.hpp"
 #include "patchextract/patch_sampler.hpp"
 #include "patchextract/patch_set.hpp"
@@ -166,6 +167,19 @@ TEST(PatchAllocation, SharesTheBudgetAsEquallyAsTheImagesAllow) {
   EXPECT_EQ(t[3], 13u);
   EXPECT_EQ(t[0], 50u);  // 50 < the equal share of 60: all of them
   EXPECT_LE(std::max(t[2], t[4]) - std::min(t[2], t[4]), 1u);
+}
+
+// Against values computed apart from the project (Python: FNV-1a 64 from the offset basis
+// 1469598103934665603 over the width and height as 4 little-endian bytes each, then the pixels):
+// held-out lists, learned sets and vocabularies record these digests.
+TEST(ImageDigest, IsTheRecordedFnv1aOfTheSizeAndThePixels) {
+  const uint8_t pixels[] = {1, 2, 3, 4, 5, 6};
+  EXPECT_EQ(imageDigest(cv::Mat(2, 3, CV_8UC1, const_cast<uint8_t*>(pixels))), "13ca2c450f6cb9ad");
+  EXPECT_EQ(imageDigest(cv::Mat(3, 2, CV_8UC1, const_cast<uint8_t*>(pixels))), "fc968c1164ca9ebd");
+  // A view into a wider image: its rows, not the bytes between them.
+  cv::Mat wide(2, 5, CV_8UC1, cv::Scalar(99));
+  cv::Mat(2, 3, CV_8UC1, const_cast<uint8_t*>(pixels)).copyTo(wide.colRange(1, 4));
+  EXPECT_EQ(imageDigest(wide.colRange(1, 4)), "13ca2c450f6cb9ad");
 }
 
 TEST(ImageListing, FindsNestedImagesAndRejectsBadFolders) {
