@@ -44,7 +44,7 @@ cv::Mat textured() {
 }
 
 #define REQUIRE_IMAGE(image) \
-  if ((image).empty()) GTEST_SKIP() << "opencv-doc's graf1.png not found"
+  if ((image).empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc's graf1.png not found")
 
 // A fisheye-like camera whose valid area is a disc: enough for the detector, which only
 // asks isValid() and imageSize().
@@ -737,7 +737,7 @@ void expectAtLeastOrbRepeatability(const Pair& pair) {
 
 TEST(DetectorRepeatability, OpencvDocGraf1To3AtLeastAsOrb) {
   const auto dir = mdbrief::testing::opencvDocDataDir();
-  if (!dir || !fs::exists(*dir / "graf3.png")) GTEST_SKIP() << "opencv-doc's graf images not found";
+  if (!dir || !fs::exists(*dir / "graf3.png")) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc's graf images not found");
   cv::FileStorage fs((*dir / "H1to3p.xml").string(), cv::FileStorage::READ);
   ASSERT_TRUE(fs.isOpened());
   cv::Mat h;
@@ -750,7 +750,7 @@ TEST(DetectorRepeatability, OpencvDocGraf1To3AtLeastAsOrb) {
 TEST(DetectorRepeatability, OxfordGraf1To2AtLeastAsOrb) {
   MDBRIEF_REQUIRE_SHARED_DATA(data);
   const fs::path dir = data / "oxford-affine" / "graf";
-  if (!fs::exists(dir / "img2.png") || !fs::exists(dir / "H1to2p")) GTEST_SKIP() << "Oxford graf not found";
+  if (!fs::exists(dir / "img2.png") || !fs::exists(dir / "H1to2p")) MDBRIEF_SKIP_WITHOUT_DATA("Oxford graf not found");
   const cv::Matx33d h = mdbrief::readHomography(dir / "H1to2p");
   expectAtLeastOrbRepeatability({"Oxford graf 1->2", loadGrey(dir / "img1.png"), loadGrey(dir / "img2.png"), h});
 }
@@ -775,7 +775,7 @@ void expectBriefDescribesAlmostAll(const ImagePyramid& pyramid, const std::vecto
 
 TEST(Detector, FirstLevelAddsEnlargedLevelsTheDescriptorUnderstands) {
   const auto doc = testing::opencvDocDataDir();
-  if (!doc) GTEST_SKIP() << "opencv-doc not installed (scripts/setup-deps.sh)";
+  if (!doc) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed (scripts/setup-deps.sh)");
   const cv::Mat image = cv::imread((*doc / "graf1.png").string(), cv::IMREAD_GRAYSCALE);
   ASSERT_FALSE(image.empty());
   DetectorOptions options = modOrbOptions();
@@ -801,7 +801,7 @@ TEST(Detector, FirstLevelAddsEnlargedLevelsTheDescriptorUnderstands) {
 // same pyramid) describes them.
 TEST(HessianDetector, AnEnlargedLevelFindsBlobsAtTheInputScale) {
   const auto doc = testing::opencvDocDataDir();
-  if (!doc) GTEST_SKIP() << "opencv-doc not installed (scripts/setup-deps.sh)";
+  if (!doc) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed (scripts/setup-deps.sh)");
   const cv::Mat image = cv::imread((*doc / "graf1.png").string(), cv::IMREAD_GRAYSCALE);
   ASSERT_FALSE(image.empty());
   DetectorOptions options = hessianOptions(1000);

@@ -103,7 +103,7 @@ DescriptorOptions withRandomSet(DescriptorOptions o) {
 
 TEST(PatchSampler, PerspectivePatchesGiveTheRuntimeBitsThroughThePhotoCamera) {
   const cv::Mat img = opencvDocImage("graf1.png");
-  if (img.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  if (img.empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed");
   std::vector<cv::KeyPoint> kps;
   cv::ORB::create(300)->detect(img, kps);
   const ImagePyramid pyramid(img, PyramidOptions{});
@@ -114,7 +114,7 @@ TEST(PatchSampler, PerspectivePatchesGiveTheRuntimeBitsThroughThePhotoCamera) {
 
 TEST(PatchSampler, BriefPatchesNeedNoCameraAndFollowSupportScaleAndNearestSampling) {
   const cv::Mat img = opencvDocImage("graf1.png");
-  if (img.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  if (img.empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed");
   std::vector<cv::KeyPoint> kps;
   cv::ORB::create(300)->detect(img, kps);
   // Sizes between the levels: footprints at a fractional scale of their level.
@@ -130,7 +130,7 @@ TEST(PatchSampler, BriefPatchesNeedNoCameraAndFollowSupportScaleAndNearestSampli
 
 TEST(PatchSampler, FisheyePatchesGiveTheRuntimeBitsInBothForms) {
   const FisheyeScene s = fisheyeScene();
-  if (s.image.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  if (s.image.empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed");
   const ImagePyramid pyramid(s.image, PyramidOptions{});
   expectPatchesGiveTheRuntimeBits(DescriptorExtractor(s.camera, withRandomSet({})), s.camera.get(), pyramid,
                                   s.keypoints);
@@ -204,7 +204,7 @@ TEST(ImageListing, FindsNestedImagesAndRejectsBadFolders) {
 
 TEST(Extraction, SpreadsOverImagesSkipsBrokenFilesAndIsDeterministic) {
   const auto doc = mdbrief::testing::opencvDocDataDir();
-  if (!doc) GTEST_SKIP() << "opencv-doc not installed";
+  if (!doc) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed");
   TempDir dir("extract");
   for (const char* f : {"box.png", "box_in_scene.png", "butterfly.jpg"})
     fs::copy_file(*doc / f, dir.path / f);
@@ -418,7 +418,7 @@ TEST(ViewChange, RenderLeavesItsSourceUntouched) {
 
 TEST(Extraction, CounterpartsAreTheSameKeypointsInChangedViewsAndHeldOutImagesAreSkipped) {
   const auto doc = mdbrief::testing::opencvDocDataDir();
-  if (!doc) GTEST_SKIP() << "opencv-doc not installed";
+  if (!doc) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed");
   TempDir dir("pairs");
   for (const char* f : {"graf1.png", "box_in_scene.png", "butterfly.jpg"}) fs::copy_file(*doc / f, dir.path / f);
   ExtractionOptions o;

@@ -198,7 +198,7 @@ TEST(TrainVocabularyCli, TheBinaryAndTheTextAreReplacedTogether) {
 TEST(TrainVocabularyCli, ImagesAreDescribedAtTheAskedLengthAndHeldOutOnesRefused) {
   const auto doc = mdbrief::testing::opencvDocDataDir();
   if (!doc || !fs::exists(*doc / "box.png") || !fs::exists(*doc / "graf1.png"))
-    GTEST_SKIP() << "opencv-doc sample photos not found (scripts/setup-deps.sh)";
+    MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc sample photos not found (scripts/setup-deps.sh)");
   TempDir dir("tv_images");
   const std::string out = (dir.path / "v.mdbvoc").string();
   CliRun r = run({"--images", (*doc / "box.png").string(), (*doc / "box_in_scene.png").string(), "--bits", "128",
