@@ -696,7 +696,9 @@ struct Pair {
   cv::Matx33d h;
 };
 
-void expectAtLeastOrbRepeatability(const Pair& pair) {
+// defaultsFloor: the least repeatability the default detector (the Hessian's blobs) may have on
+// the pair, a margin below the measured rate (its bits are the same on every CPU and SIMD level).
+void expectAtLeastOrbRepeatability(const Pair& pair, double defaultsFloor) {
   ASSERT_FALSE(pair.first.empty()) << pair.name;
   ASSERT_FALSE(pair.second.empty()) << pair.name;
   const int nfeatures = 1000;
@@ -728,11 +730,11 @@ void expectAtLeastOrbRepeatability(const Pair& pair) {
       }
     }
   }
-  // For the record: the defaults' blobs (repeated within 3 px in the input image, whatever their
-  // scale; docs/RESULTS.md has the tracker's repeatability).
+  // The defaults' blobs, repeated within 3 px in the input image whatever their scale (below
+  // ORB's corners on these pairs; docs/RESULTS.md has the tracker's repeatability).
   DetectorOptions defaults;
   defaults.nfeatures = nfeatures;
-  rateOf(defaults, "defaults (" + mdbrief::toString(defaults.method) + ")");
+  EXPECT_GE(rateOf(defaults, "defaults (" + mdbrief::toString(defaults.method) + ")"), defaultsFloor) << pair.name;
 }
 
 TEST(DetectorRepeatability, OpencvDocGraf1To3AtLeastAsOrb) {
@@ -743,8 +745,9 @@ TEST(DetectorRepeatability, OpencvDocGraf1To3AtLeastAsOrb) {
   cv::Mat h;
   fs["H13"] >> h;
   ASSERT_EQ(h.size(), cv::Size(3, 3));
+  // The defaults: 0.415 measured.
   expectAtLeastOrbRepeatability(
-      {"opencv-doc graf 1->3", loadGrey(*dir / "graf1.png"), loadGrey(*dir / "graf3.png"), cv::Matx33d(h)});
+      {"opencv-doc graf 1->3", loadGrey(*dir / "graf1.png"), loadGrey(*dir / "graf3.png"), cv::Matx33d(h)}, 0.38);
 }
 
 TEST(DetectorRepeatability, OxfordGraf1To2AtLeastAsOrb) {
@@ -752,7 +755,8 @@ TEST(DetectorRepeatability, OxfordGraf1To2AtLeastAsOrb) {
   const fs::path dir = data / "oxford-affine" / "graf";
   if (!fs::exists(dir / "img2.png") || !fs::exists(dir / "H1to2p")) MDBRIEF_SKIP_WITHOUT_DATA("Oxford graf not found");
   const cv::Matx33d h = mdbrief::readHomography(dir / "H1to2p");
-  expectAtLeastOrbRepeatability({"Oxford graf 1->2", loadGrey(dir / "img1.png"), loadGrey(dir / "img2.png"), h});
+  // The defaults: 0.608 measured.
+  expectAtLeastOrbRepeatability({"Oxford graf 1->2", loadGrey(dir / "img1.png"), loadGrey(dir / "img2.png"), h}, 0.57);
 }
 
 }  // namespace

@@ -373,11 +373,13 @@ TEST(MdBriefFeature2D, GenericOpenCvPipelineMatchesGraf1To3LikeOrb) {
   briefOptions.descriptor.kind = DescriptorKind::Brief;
   const int brief = inlierMatches(MdBrief::create(nullptr, briefOptions), a, b, H);
   std::printf("graf1->3 inliers: ORB %d, mdBRIEF (pinhole) %d, BRIEF %d\n", orb, md, brief);
-  EXPECT_GE(orb, 50);
-  EXPECT_GE(md, 50);
-  EXPECT_GE(brief, 50);
-  // The defaults, a binary descriptor as ORB's: at least in the same league.
-  EXPECT_GE(md, orb / 2);
+  // Measured: ORB 103, mdBRIEF 132, BRIEF 124. Ours are the same on every CPU and SIMD level:
+  // floors about 8 % below them. cv::ORB's own, which OpenCV's kernels may move, 15 % below.
+  EXPECT_GE(orb, 88);
+  EXPECT_GE(md, 121);
+  EXPECT_GE(brief, 114);
+  // The defaults, a binary descriptor as ORB's, find more than ORB does.
+  EXPECT_GT(md, orb);
 }
 
 }  // namespace
