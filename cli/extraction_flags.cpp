@@ -1,7 +1,6 @@
 #include "cli/extraction_flags.hpp"
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -16,11 +15,11 @@
 #include "toolkit/input_file_flag.hpp"
 #include "cli/storage_io.hpp"
 #include "mdbrief/camera/io.hpp"
-#include "mdbrief/internal/base/io/framed_file.hpp"
 #include "mdbrief/internal/base/io/input_file.hpp"
 #include "mdbrief/internal/base/size_text.hpp"
 #include "mdbrief/api/presets.hpp"
 #include "mdbrief/camera/tangent_plane.hpp"
+#include "toolkit/content_digest.hpp"
 #include "toolkit/image_file.hpp"
 
 namespace mdbrief::cli {
@@ -236,13 +235,6 @@ cv::Ptr<MdBrief> makeFeature(const ExtractionFlags& flags, const CameraPtr& cali
     // An unusable --pattern.
     throw InputError(std::string("invalid descriptor options: ") + e.what());
   }
-}
-
-std::string contentDigest(const void* data, size_t size) {
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx",
-                static_cast<unsigned long long>(internal::contentChecksum(static_cast<const uint8_t*>(data), size)));
-  return hex;
 }
 
 std::string cameraDigest(const Camera& camera) {

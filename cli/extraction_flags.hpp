@@ -95,9 +95,7 @@ struct Features {
   Provenance provenance;
 };
 
-// 16 hex digits of a checksum of the bytes (not cryptographic: it tells files apart, not forgeries).
-std::string contentDigest(const void* data, size_t size);
-// contentDigest of the camera's project YAML (cameraToYaml): the same lens gives the same digest
+// The content digest (toolkit/content_digest.hpp) of the camera's project YAML (cameraToYaml): the same lens gives the same digest
 // whatever file format it came from.
 std::string cameraDigest(const Camera& camera);
 // contentDigest of a decoded image's pixels: the same picture in another file or format is the

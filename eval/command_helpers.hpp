@@ -1,6 +1,6 @@
 #pragma once
-// What the subcommands of mdbrief-eval share: where the data is, the opencv-doc flag, and
-// turning file errors into input errors (exit 2).
+// What the subcommands of mdbrief-eval share: where the data is, the opencv-doc flag, and the
+// checks of cameras, images and outputs that throw InputError (exit 2).
 #include <string>
 #include <vector>
 
@@ -48,21 +48,5 @@ cv::Mat loadGreyOrThrow(const std::string& path);
 // internal::checkOutputsApart as an InputError: no output may be an input (under any name) or
 // another output; for the commands to call before the work.
 void checkOutputsApart(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
-
-// Runs `body`, turning file errors of the library (std::runtime_error naming the file) into
-// input errors so the caller exits 2. OpenCV failures are internal errors (exit 1): the
-// inputs were checked before they reached OpenCV.
-template <typename F>
-void asInputErrors(F&& body) {
-  try {
-    body();
-  } catch (const std::invalid_argument&) {
-    throw;
-  } catch (const cv::Exception& e) {
-    throw std::runtime_error(std::string("OpenCV: ") + e.what());
-  } catch (const std::runtime_error& e) {
-    throw InputError(e.what());
-  }
-}
 
 }  // namespace mdbrief::eval

@@ -1,7 +1,7 @@
 #pragma once
 // The mdbrief-eval program (mdbrief_eval.cpp) as a function, so that the tests run it in-process
-// and see its exit code: 0 success, 2 bad usage or input (the message names the option or
-// file), 1 internal error.
+// and see its exit code, by the tools' rule (toolkit/tool_errors.hpp): 0 success, 2 bad usage or
+// input (the message names the option or file), 1 internal error.
 #include <ostream>
 #include <string>
 #include <vector>

@@ -1,18 +1,13 @@
 #pragma once
 // The subcommands of mdbrief-eval (and of `mdbrief sim` / `mdbrief eval`): sim, eval, pipelines,
 // tracker, map-poster-points, retrieval, timing, export-user-sample, export-rotated-views, held-out-images.
-// Bad input (unreadable file, inconsistent flags) is reported by throwing InputError, a
-// std::invalid_argument, whose message starts with the file or flag at fault: callers exit 2.
-#include <stdexcept>
-
+// Bad input (unreadable file, inconsistent flags) is reported by throwing InputError, whose
+// message starts with the file or flag at fault (toolkit/tool_errors.hpp: the tool exits 2).
 #include <CLI/CLI.hpp>
 
-namespace mdbrief::eval {
+#include "toolkit/tool_errors.hpp"
 
-class InputError : public std::invalid_argument {
- public:
-  using std::invalid_argument::invalid_argument;
-};
+namespace mdbrief::eval {
 
 void addSimCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);

@@ -1,6 +1,6 @@
 // mdbrief-eval: reproduces the paper's experiments (sim, eval, timing); see docs/RESULTS.md and
 // scripts/reproduce.sh. Exit codes: 0 success, 2 bad usage or input, 1 internal error
-// (eval_cli.hpp).
+// (toolkit/tool_errors.hpp).
 #include <iostream>
 
 #include "eval_cli.hpp"

@@ -1,10 +1,10 @@
 #include "patchextract/image_digest.hpp"
 
-#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
 #include "mdbrief/internal/base/io/input_file.hpp"
+#include "toolkit/content_digest.hpp"
 #include "toolkit/image_file.hpp"
 
 namespace mdbrief::train {
@@ -14,20 +14,15 @@ extern const char* const kShippedHeldOutText;
 
 std::string imageDigest(const cv::Mat& grey) {
   if (grey.empty() || grey.type() != CV_8UC1) throw std::invalid_argument("imageDigest: need a non-empty 8UC1 image");
-  uint64_t h = 1469598103934665603ull;  // FNV-1a 64 offset basis
-  const auto mix = [&h](uint8_t byte) {
-    h ^= byte;
-    h *= 1099511628211ull;  // FNV-1a 64 prime
-  };
-  for (int v : {grey.cols, grey.rows})
-    for (int b = 0; b < 4; ++b) mix(static_cast<uint8_t>(static_cast<uint32_t>(v) >> (8 * b)));
-  for (int y = 0; y < grey.rows; ++y) {
-    const uint8_t* row = grey.ptr<uint8_t>(y);
-    for (int x = 0; x < grey.cols; ++x) mix(row[x]);
+  uint8_t size[8];  // width and height, 4 bytes each, little-endian
+  for (int b = 0; b < 4; ++b) {
+    size[b] = static_cast<uint8_t>(static_cast<uint32_t>(grey.cols) >> (8 * b));
+    size[4 + b] = static_cast<uint8_t>(static_cast<uint32_t>(grey.rows) >> (8 * b));
   }
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
-  return buf;
+  ContentDigest digest;
+  digest.add(size, sizeof size);
+  for (int y = 0; y < grey.rows; ++y) digest.add(grey.ptr<uint8_t>(y), grey.cols);
+  return digest.hex();
 }
 
 std::string imageFileDigest(const std::filesystem::path& path) {

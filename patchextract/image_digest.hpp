@@ -10,8 +10,8 @@
 
 namespace mdbrief::train {
 
-// FNV-1a 64 of the width, the height and the grey pixels (as cv::IMREAD_GRAYSCALE decodes the
-// file), as 16 lower-case hex digits. Throws std::invalid_argument for an empty or non-8UC1 image.
+// The content digest (toolkit/content_digest.hpp) of the width and the height (4 bytes each,
+// little-endian) and the grey pixels row by row (as cv::IMREAD_GRAYSCALE decodes the file). Throws std::invalid_argument for an empty or non-8UC1 image.
 std::string imageDigest(const cv::Mat& grey);
 // Decodes the file grey; "" if it cannot be decoded.
 std::string imageFileDigest(const std::filesystem::path& path);

@@ -1,6 +1,5 @@
 // mdbrief-patchextract: image folders -> HDF5 patch set (patchextract/patch_set.hpp), for
-// mdbrief-train --patches-file.
-#include <exception>
+// mdbrief-train --patches-file. Exit codes by the tools' rule (toolkit/tool_errors.hpp).
 #include <iostream>
 #include <map>
 
@@ -12,6 +11,7 @@
 #include "toolkit/opencv_log.hpp"
 #include "toolkit/option_flags.hpp"
 #include "toolkit/progress_reporter.hpp"
+#include "toolkit/tool_errors.hpp"
 
 int main(int argc, char** argv) {
   mdbrief::silenceOpenCvLogUnlessAsked();
@@ -30,10 +30,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    return app.exit(e) == 0 ? mdbrief::kExitSuccess : mdbrief::kExitBadInput;
   }
   mdbrief::ProgressReporter progress(std::cout, isatty(fileno(stdout)) != 0);
-  try {
+  const auto extract = [&] {
     checkPatchSetOutput(out, {heldOut.begin(), heldOut.end()});  // before the extraction, not after it
     ExtractionOptions o = flags.apply(defaults, [](const ExtractionOptions& e) { validate(e); });
     for (const auto& file : heldOut) o.heldOut.merge(readHeldOutImages(file));
@@ -52,10 +52,14 @@ int main(int argc, char** argv) {
     std::cout << "patches: " << set.count() << " of " << o.patches << " requested, " << set.counterpartCount()
               << " counterparts -> " << out
               << " (" << report.seconds << " s)\n";
-  } catch (const std::exception& e) {
-    progress.finish();
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  }
-  return 0;
+  };
+  return mdbrief::runTool("error: ", std::cerr, [&] {
+    try {
+      mdbrief::asInputErrors(extract);
+    } catch (...) {
+      progress.finish();  // the message starts on a line of its own
+      throw;
+    }
+    return mdbrief::kExitSuccess;
+  });
 }

@@ -4,8 +4,8 @@
 #     into a scratch root (no root rights, the machine's packages untouched): its mdbrief tool
 #     converts an installed example camera, and /usr/bin/python3 imports its module and loads it;
 #  2. a library-only build with -DBUILD_SHARED_LIBS=ON is installed, and the test consumer
-#     (tests/consumer) is built against libmdbrief.so with find_package and with pkg-config alone,
-#     and run;
+#     (tests/consumer) is built against libmdbrief.so with find_package and with pkg-config alone
+#     (which names only libmdbrief and the OpenCV modules it uses), and run;
 #  3. CMake's project version, the .deb's, pkg-config's and Python's __version__ agree.
 # Usage: scripts/test-packages.sh BUILD_DIR [SHARED_BUILD_DIR]   (default: BUILD_DIR-shared)
 set -euo pipefail
@@ -47,8 +47,14 @@ cmake -S tests/consumer -B "$SCRATCH/consumer" -DCMAKE_BUILD_TYPE=Release -DCMAK
 cmake --build "$SCRATCH/consumer" >/dev/null
 ldd "$SCRATCH/consumer/consumer" | grep "libmdbrief\.so" >/dev/null || { echo "the consumer did not link libmdbrief.so" >&2; exit 1; }
 "$SCRATCH/consumer/consumer" "$SCRATCH/shared/share/mdbrief/cameras/lafida_fisheye0.yaml"
-PKG_CONFIG_PATH=$(dirname "$lib")/pkgconfig c++ -std=c++17 -O1 tests/consumer/main.cpp -o "$SCRATCH/pc_consumer" \
-  $(PKG_CONFIG_PATH=$(dirname "$lib")/pkgconfig pkg-config --cflags --libs mdbrief)
+pc_flags=$(PKG_CONFIG_PATH=$(dirname "$lib")/pkgconfig pkg-config --cflags --libs mdbrief)
+echo "pkg-config --cflags --libs mdbrief: $pc_flags"
+# The shared library's consumers link the OpenCV modules the library uses, and none of its
+# private dependencies (OpenGV above all, whose development package they need not have).
+extra_libs=$(tr ' ' '\n' <<<"$pc_flags" | grep '^-l' |
+  grep -v -x -e -lmdbrief -e -lopencv_core -e -lopencv_imgproc -e -lopencv_features2d -e -lopencv_calib3d || true)
+[ -z "$extra_libs" ] || { echo "pkg-config --libs mdbrief names more than it should:" $extra_libs >&2; exit 1; }
+c++ -std=c++17 -O1 tests/consumer/main.cpp -o "$SCRATCH/pc_consumer" $pc_flags
 "$SCRATCH/pc_consumer"
 # 3. One version everywhere: CMake's project version, the .deb's, pkg-config's and Python's.
 project_version=$(sed -n 's/^project(mdbrief VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)

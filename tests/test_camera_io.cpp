@@ -40,7 +40,8 @@ const std::vector<std::string> kSharedCameras = {
 void expectRoundTrips(const fs::path& file) {
   SCOPED_TRACE(file.string());
   const auto cam = loadCamera(file.string());
-  const double tolerance = cam->modelName() == "ocam" ? 0.01 : 1e-3;
+  // To rounding: at most 5.1e-13 px measured over the shipped and shared calibrations.
+  const double tolerance = 1e-9;
   const auto px = mdbrief::testing::pixelRoundTrip(*cam, 1.0);
   EXPECT_GT(px.valid, px.total / 2) << "too little of the image is valid";
   EXPECT_EQ(px.failed, 0);
@@ -249,7 +250,7 @@ TEST(CameraIo, OcamWithoutInversePolynomialIsFitted) {
   EXPECT_GE(dynamic_cast<const OcamCamera&>(*fitted).params().inverse.size(), 4u);
   const auto s = mdbrief::testing::pixelRoundTrip(*fitted, 2.0);
   EXPECT_EQ(s.failed, 0);
-  EXPECT_LT(s.maxError, 0.01);
+  EXPECT_LT(s.maxError, 1e-9);  // the fitted inverse only starts the iteration: 2.3e-13 px measured
   for (double u = 200; u < 600; u += 40) {
     cv::Vec3d b;
     ASSERT_TRUE(given->pixelToBearing({u, 100}, b));

@@ -74,7 +74,7 @@ class CliTest : public ::testing::Test {
 
 #define REQUIRE_IMAGE(var, ...)                           \
   const std::string var = fisheyeImage(__VA_ARGS__);      \
-  if (var.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed"
+  if (var.empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed")
 
 struct FeatureFile {
   std::vector<cv::KeyPoint> keypoints;
@@ -497,7 +497,7 @@ TEST_F(CliTest, MatchInliersUsesTheGeneralModelOrTheRigsRelativePose) {
   const auto doc = testing::opencvDocDataDir();
   cv::Mat texture;
   if (doc) texture = cv::imread((*doc / "graf1.png").string(), cv::IMREAD_GRAYSCALE);
-  if (texture.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  if (texture.empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed");
   const auto camchain = [&](const std::string& name, const std::string& t) {
     const std::string camera = "  camera_model: pinhole\n  distortion_model: equidistant\n"
                                "  distortion_coeffs: [-0.0125, 0.0578, -0.0850, 0.0436]\n"
@@ -692,7 +692,7 @@ TEST_F(CliTest, ExtractRejectsBadInputFiles) {
 
 TEST_F(CliTest, ExtractChecksTheImageSizeAgainstTheCalibration) {
   const auto doc = testing::opencvDocDataDir();
-  if (!doc) GTEST_SKIP() << "opencv-doc data not installed";
+  if (!doc) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc data not installed");
   const std::string graf = (*doc / "graf1.png").string();  // 800x640, the calibration is 754x480
   const Result r = run({"extract", "--camera", kCamera, graf, "-o", path("o.yml")});
   expectOneLineNaming(r, graf);

@@ -1,9 +1,13 @@
 #pragma once
-// Where tests find data. Real data in ../shared/data is optional: tests that need it call
-// sharedDataDir() and GTEST_SKIP() with a one-line reason when it is absent.
+// Where tests find data. Real data in ../shared/data and the opencv-doc photos are optional:
+// tests that need them skip with a one-line reason when they are absent
+// (MDBRIEF_SKIP_WITHOUT_DATA), and fail instead under MDBRIEF_NO_SKIPS=1, which CI sets
+// (.ci/run): a machine without the data must not pass by skipping. The other skips are for what
+// a machine cannot offer (a tmpfs mount, /proc, another OpenCV): they stay skips.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -24,6 +28,12 @@ inline std::optional<std::filesystem::path> sharedDataDir() {
 inline std::optional<std::filesystem::path> opencvDocDataDir() { return opencvDocFolder(); }
 
 inline std::filesystem::path sourceDir() { return MDBRIEF_SOURCE_DIR; }
+
+// MDBRIEF_NO_SKIPS=1: a test without its data fails instead of skipping.
+inline bool skipsFail() {
+  const char* value = std::getenv("MDBRIEF_NO_SKIPS");
+  return value && std::string(value) == "1";
+}
 
 // Expects call() to throw std::invalid_argument whose message contains `text`.
 template <typename Call>
@@ -63,7 +73,16 @@ inline std::string readFile(const std::filesystem::path& p) {
 
 }  // namespace mdbrief::testing
 
-#define MDBRIEF_REQUIRE_SHARED_DATA(var)                                          \
-  const auto var##_opt = ::mdbrief::testing::sharedDataDir();                     \
-  if (!var##_opt) GTEST_SKIP() << "../shared/data not found (set MDBRIEF_DATA)"; \
+// GTEST_SKIP() << reason, for a test whose data (../shared/data, opencv-doc) is missing; under
+// MDBRIEF_NO_SKIPS=1 a failure with the same reason.
+#define MDBRIEF_SKIP_WITHOUT_DATA(reason)                                        \
+  do {                                                                           \
+    if (::mdbrief::testing::skipsFail())                                         \
+      GTEST_FAIL() << reason << " (a failure, not a skip: MDBRIEF_NO_SKIPS=1)"; \
+    GTEST_SKIP() << reason;                                                      \
+  } while (false)
+
+#define MDBRIEF_REQUIRE_SHARED_DATA(var)                                                   \
+  const auto var##_opt = ::mdbrief::testing::sharedDataDir();                              \
+  if (!var##_opt) MDBRIEF_SKIP_WITHOUT_DATA("../shared/data not found (set MDBRIEF_DATA)"); \
   const std::filesystem::path var = *var##_opt

@@ -5,6 +5,8 @@
 #include <random>
 
 #include <opencv2/imgproc.hpp>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include "mdbrief/describe/descriptor.hpp"
 
@@ -259,6 +261,8 @@ TEST(MaskedBrief, IsBriefPlusTheAgreementOfThreeRotationsOnARamp) {
   EXPECT_GT(unstable, 5);
 }
 
+// compute() describes the keypoints in parallel blocks: its output must not depend on how many
+// threads share them. A serial run (one thread allowed) is the reference for runs on 2, 3 and 8.
 TEST(Brief, ParallelExtractionIsDeterministic) {
   const TestSet tests = randomTests(256, 6);
   cv::Mat img(480, 752, CV_8U);
@@ -268,13 +272,32 @@ TEST(Brief, ParallelExtractionIsDeterministic) {
   std::uniform_real_distribution<float> ux(0, 752), uy(0, 480), ua(0, 360);
   for (int i = 0; i < 3000; ++i) kps.emplace_back(ux(rng), uy(rng), 31.f, ua(rng), 1.f, i % 4);
   const DescriptorExtractor brief(nullptr, briefOptions(256), tests);
-  std::vector<cv::KeyPoint> a = kps, b = kps;
-  cv::Mat da, db;
-  brief.compute(img, a, da);
-  brief.compute(img, b, db);
-  ASSERT_EQ(a.size(), b.size());
-  EXPECT_GT(a.size(), 1500u);
-  EXPECT_EQ(cv::norm(da, db, cv::NORM_HAMMING), 0.0);
+  const auto describe = [&](int threads, std::vector<cv::KeyPoint>& described, cv::Mat& descriptors) {
+    described = kps;
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+      ASSERT_EQ(tbb::this_task_arena::max_concurrency(), threads);
+      brief.compute(img, described, descriptors);
+    });
+  };
+  std::vector<cv::KeyPoint> serialKeypoints;
+  cv::Mat serial;
+  describe(1, serialKeypoints, serial);
+  ASSERT_GT(serialKeypoints.size(), 1500u);
+  ASSERT_LT(serialKeypoints.size(), kps.size()) << "some keypoints lie too near the border to be described";
+  for (const int threads : {2, 3, 8}) {
+    SCOPED_TRACE(std::to_string(threads) + " threads");
+    std::vector<cv::KeyPoint> parallelKeypoints;
+    cv::Mat parallel;
+    describe(threads, parallelKeypoints, parallel);
+    ASSERT_EQ(parallelKeypoints.size(), serialKeypoints.size());
+    for (size_t i = 0; i < serialKeypoints.size(); ++i) {
+      ASSERT_EQ(parallelKeypoints[i].pt, serialKeypoints[i].pt) << i;
+      ASSERT_EQ(parallelKeypoints[i].angle, serialKeypoints[i].angle) << i;
+    }
+    EXPECT_EQ(cv::norm(parallel, serial, cv::NORM_HAMMING), 0.0);
+  }
 }
 
 }  // namespace

@@ -56,7 +56,7 @@ class PinholeReducesToBrief : public ::testing::Test {
  protected:
   void SetUp() override {
     img_ = loadGraf();
-    if (img_.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed (scripts/setup-deps.sh)";
+    if (img_.empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed (scripts/setup-deps.sh)");
     cv::ORB::create(1000)->detect(img_, kps_);
     ASSERT_GT(kps_.size(), 500u);
   }

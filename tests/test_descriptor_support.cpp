@@ -19,7 +19,7 @@ using namespace mdbrief;
 
 TEST(DescriptorSupport, OrbAndModOrbKeypointsAreDescribedWhereTheirOctavePlacesThem) {
   const auto doc = mdbrief::testing::opencvDocDataDir();
-  if (!doc) GTEST_SKIP() << "opencv-doc not installed";
+  if (!doc) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed");
   const cv::Mat img = cv::imread((*doc / "box_in_scene.png").string(), cv::IMREAD_GRAYSCALE);
   ASSERT_FALSE(img.empty());
   const CameraPtr cam = loadCamera((mdbrief::testing::sourceDir() / "configs/cameras/pinhole_example.yaml").string());

@@ -45,7 +45,7 @@ cv::Mat textured() {
 }
 
 #define REQUIRE_IMAGE(image) \
-  if ((image).empty()) GTEST_SKIP() << "opencv-doc's graf1.png not found"
+  if ((image).empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc's graf1.png not found")
 
 // A fisheye-like camera whose valid area is a disc: enough for the detector, which only
 // asks isValid() and imageSize().
@@ -743,7 +743,9 @@ struct Pair {
   cv::Matx33d h;
 };
 
-void expectAtLeastOrbRepeatability(const Pair& pair) {
+// defaultsFloor: the least repeatability the default detector (the Hessian's blobs) may have on
+// the pair, a margin below the measured rate (its bits are the same on every CPU and SIMD level).
+void expectAtLeastOrbRepeatability(const Pair& pair, double defaultsFloor) {
   ASSERT_FALSE(pair.first.empty()) << pair.name;
   ASSERT_FALSE(pair.second.empty()) << pair.name;
   const int nfeatures = 1000;
@@ -775,31 +777,33 @@ void expectAtLeastOrbRepeatability(const Pair& pair) {
       }
     }
   }
-  // For the record: the defaults' blobs (repeated within 3 px in the input image, whatever their
-  // scale; docs/RESULTS.md has the tracker's repeatability).
+  // The defaults' blobs, repeated within 3 px in the input image whatever their scale (below
+  // ORB's corners on these pairs; docs/RESULTS.md has the tracker's repeatability).
   DetectorOptions defaults;
   defaults.nfeatures = nfeatures;
-  rateOf(defaults, "defaults (" + mdbrief::toString(defaults.method) + ")");
+  EXPECT_GE(rateOf(defaults, "defaults (" + mdbrief::toString(defaults.method) + ")"), defaultsFloor) << pair.name;
 }
 
 TEST(DetectorRepeatability, OpencvDocGraf1To3AtLeastAsOrb) {
   const auto dir = mdbrief::testing::opencvDocDataDir();
-  if (!dir || !fs::exists(*dir / "graf3.png")) GTEST_SKIP() << "opencv-doc's graf images not found";
+  if (!dir || !fs::exists(*dir / "graf3.png")) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc's graf images not found");
   cv::FileStorage fs((*dir / "H1to3p.xml").string(), cv::FileStorage::READ);
   ASSERT_TRUE(fs.isOpened());
   cv::Mat h;
   fs["H13"] >> h;
   ASSERT_EQ(h.size(), cv::Size(3, 3));
+  // The defaults: 0.415 measured.
   expectAtLeastOrbRepeatability(
-      {"opencv-doc graf 1->3", loadGrey(*dir / "graf1.png"), loadGrey(*dir / "graf3.png"), cv::Matx33d(h)});
+      {"opencv-doc graf 1->3", loadGrey(*dir / "graf1.png"), loadGrey(*dir / "graf3.png"), cv::Matx33d(h)}, 0.38);
 }
 
 TEST(DetectorRepeatability, OxfordGraf1To2AtLeastAsOrb) {
   MDBRIEF_REQUIRE_SHARED_DATA(data);
   const fs::path dir = data / "oxford-affine" / "graf";
-  if (!fs::exists(dir / "img2.png") || !fs::exists(dir / "H1to2p")) GTEST_SKIP() << "Oxford graf not found";
+  if (!fs::exists(dir / "img2.png") || !fs::exists(dir / "H1to2p")) MDBRIEF_SKIP_WITHOUT_DATA("Oxford graf not found");
   const cv::Matx33d h = mdbrief::readHomography(dir / "H1to2p");
-  expectAtLeastOrbRepeatability({"Oxford graf 1->2", loadGrey(dir / "img1.png"), loadGrey(dir / "img2.png"), h});
+  // The defaults: 0.608 measured.
+  expectAtLeastOrbRepeatability({"Oxford graf 1->2", loadGrey(dir / "img1.png"), loadGrey(dir / "img2.png"), h}, 0.57);
 }
 
 }  // namespace
@@ -822,7 +826,7 @@ void expectBriefDescribesAlmostAll(const ImagePyramid& pyramid, const std::vecto
 
 TEST(Detector, FirstLevelAddsEnlargedLevelsTheDescriptorUnderstands) {
   const auto doc = testing::opencvDocDataDir();
-  if (!doc) GTEST_SKIP() << "opencv-doc not installed (scripts/setup-deps.sh)";
+  if (!doc) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed (scripts/setup-deps.sh)");
   const cv::Mat image = cv::imread((*doc / "graf1.png").string(), cv::IMREAD_GRAYSCALE);
   ASSERT_FALSE(image.empty());
   DetectorOptions options = modOrbOptions();
@@ -848,7 +852,7 @@ TEST(Detector, FirstLevelAddsEnlargedLevelsTheDescriptorUnderstands) {
 // same pyramid) describes them.
 TEST(HessianDetector, AnEnlargedLevelFindsBlobsAtTheInputScale) {
   const auto doc = testing::opencvDocDataDir();
-  if (!doc) GTEST_SKIP() << "opencv-doc not installed (scripts/setup-deps.sh)";
+  if (!doc) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed (scripts/setup-deps.sh)");
   const cv::Mat image = cv::imread((*doc / "graf1.png").string(), cv::IMREAD_GRAYSCALE);
   ASSERT_FALSE(image.empty());
   DetectorOptions options = hessianOptions(1000);

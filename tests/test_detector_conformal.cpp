@@ -37,7 +37,7 @@ cv::Mat scene(const mdbrief::Camera& camera) {
 }
 
 #define REQUIRE_IMAGE(image) \
-  if ((image).empty()) GTEST_SKIP() << "opencv-doc's graf1.png not found"
+  if ((image).empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc's graf1.png not found")
 
 TEST(ConformalDetection, KeypointsKeepTheBudgetTheValidAreaTheMaskAndRepeat) {
   const mdbrief::CameraPtr camera = fisheye();

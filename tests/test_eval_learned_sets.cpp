@@ -63,7 +63,7 @@ TEST(LearnedSets, ShippedSetsRecordTheirTrainingImagesAndNoneIsHeldOut) {
 
 TEST(LearnedSets, HeldOutListCoversEveryDefaultEvaluationImage) {
   const auto images = defaultEvaluationImages(mdbrief::testing::sharedDataDir().value_or("/nonexistent").string());
-  if (images.empty()) GTEST_SKIP() << "neither opencv-doc nor ../shared/data present";
+  if (images.empty()) MDBRIEF_SKIP_WITHOUT_DATA("neither opencv-doc nor ../shared/data present");
   const auto& heldOut = train::shippedHeldOutImages();
   for (const auto& im : images)
     EXPECT_EQ(heldOut.count(train::imageFileDigest(im.path)), 1u)
@@ -73,7 +73,7 @@ TEST(LearnedSets, HeldOutListCoversEveryDefaultEvaluationImage) {
 
 TEST(LearnedSets, EvaluationRefusesASetTrainedOnItsImages) {
   const auto doc = mdbrief::testing::opencvDocDataDir();
-  if (!doc) GTEST_SKIP() << "opencv-doc not installed";
+  if (!doc) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed");
   const fs::path graf = *doc / "graf1.png";
   mdbrief::testing::TempDir dir("refuse");
   const fs::path json = dir.path / "contaminated.json";
@@ -102,7 +102,7 @@ TEST(LearnedSets, EvaluationRefusesASetTrainedOnItsImages) {
 // at 256 (mdBRIEF, the library's default descriptor), on the six Oxford sequences it never saw.
 TEST(LearnedSets, DefaultBeatsRandomOnHeldOutOxford) {
   const auto dir = oxfordDir();
-  if (!dir) GTEST_SKIP() << "../shared/data/oxford-affine not found (set MDBRIEF_DATA)";
+  if (!dir) MDBRIEF_SKIP_WITHOUT_DATA("../shared/data/oxford-affine not found (set MDBRIEF_DATA)");
   EvalGroup group{"perspective", {}};
   std::vector<std::string> paths;
   for (const auto& s : kOxfordSequences)

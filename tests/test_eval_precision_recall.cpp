@@ -148,7 +148,7 @@ TEST(EvalPrecisionRecall, HomographyFileErrorsNameTheFile) {
 // patches (up to resampling) give a high recall.
 TEST(EvalPrecisionRecall, UserSequenceMapsThroughBearingHomographies) {
   const auto doc = testing::opencvDocDataDir();
-  if (!doc || !std::filesystem::exists(*doc / "graf1.png")) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  if (!doc || !std::filesystem::exists(*doc / "graf1.png")) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed");
   const std::string camPath = (testing::sourceDir() / "configs/cameras/lafida_fisheye0.yaml").string();
   const CameraPtr cam = loadCamera(camPath);
   const PlaneScene scene{cv::imread((*doc / "graf1.png").string(), cv::IMREAD_GRAYSCALE), 0.004};
@@ -193,7 +193,7 @@ TEST(EvalPrecisionRecall, UserSequenceMapsThroughBearingHomographies) {
 // whatever the sign the homography file carries.
 TEST(EvalPrecisionRecall, ExportedUserSequenceReproducesThePlaneGroundTruth) {
   const auto doc = testing::opencvDocDataDir();
-  if (!doc || !std::filesystem::exists(*doc / "graf1.png")) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  if (!doc || !std::filesystem::exists(*doc / "graf1.png")) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed");
   const CameraPtr cam = loadCamera((testing::sourceDir() / "configs/cameras/lafida_fisheye0.yaml").string());
   const cv::Mat texture = cv::imread((*doc / "graf1.png").string(), cv::IMREAD_GRAYSCALE);
   const testing::TempDir dir("user_export");

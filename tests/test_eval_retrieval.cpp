@@ -1,8 +1,9 @@
 // The place-recognition evaluation of eval/ (retrieval_experiment.hpp) on synthetic textures
-// whose answers are known: every query is its sequence's first image made brighter (the same
-// features), so every method finds it first among distractors; a distractor that is also a
-// training image is refused; `mdbrief-eval retrieval` exits 2 on bad input, naming the option
-// or file.
+// whose answers are known: every query is its sequence's first image with another gamma and
+// contrast and with noise, so that its descriptors differ from the first's and only the
+// vocabulary's words bring them together; every method finds its sequence first among
+// distractors. A distractor that is also a training image is refused;
+// `mdbrief-eval retrieval` exits 2 on bad input, naming the option or file.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -42,15 +43,26 @@ std::vector<std::string> writeTextures(const std::filesystem::path& dir, const s
   return out;
 }
 
-// Two sequences: the texture, then brighter copies of it.
-EvalGroup brighterSequences() {
+// Two sequences: the texture, then two views of it with another gamma and contrast and with
+// noise, which change its descriptors (a constant brightness offset, as before, changed none:
+// every test compares two pixels of one image, so any vocabulary found the copies).
+EvalGroup changedViewSequences() {
   EvalGroup g{"synthetic", {}};
   for (int s = 0; s < 2; ++s) {
     EvalSequence seq;
     seq.name = "seq" + std::to_string(s);
-    cv::Mat dim;
-    texture(100 + s).convertTo(dim, CV_8UC1, 0.8);
-    for (int offset : {0, 10, 20}) seq.images.push_back(dim + offset);
+    const cv::Mat first = texture(100 + s);
+    seq.images.push_back(first);
+    cv::RNG rng(static_cast<uint64>(200 + s));
+    for (int view = 1; view <= 2; ++view) {
+      cv::Mat changed, noise(first.size(), CV_32F);
+      first.convertTo(changed, CV_32F, 1.0 / 255);
+      cv::pow(changed, view == 1 ? 0.7 : 1.4, changed);
+      rng.fill(noise, cv::RNG::NORMAL, 0.0, 0.02);
+      changed = changed * (0.8 + 0.1 * view) + noise;
+      changed.convertTo(changed, CV_8U, 255);
+      seq.images.push_back(changed);
+    }
     seq.camera = photoCamera({400, 300});
     g.sequences.push_back(seq);
   }
@@ -59,7 +71,7 @@ EvalGroup brighterSequences() {
 
 RetrievalOptions smallOptions(const std::string& out) {
   RetrievalOptions o;
-  o.training.branching = 4;
+  o.training.branching = 6;
   o.training.depth = 3;
   o.nfeatures = 300;
   o.outDir = out;
@@ -78,11 +90,13 @@ std::vector<std::vector<std::string>> readCsv(const std::string& path) {
   return rows;
 }
 
-TEST(Retrieval, BrighterCopiesFindTheirSequenceAmongDistractors) {
+TEST(Retrieval, ChangedViewsFindTheirSequenceAmongDistractors) {
   testing::TempDir dir("retrieval");
-  const auto training = writeTextures(dir.path, "train", 1, 3);
-  const auto distractors = writeTextures(dir.path, "distractor", 10, 4);
-  runRetrieval({brighterSequences()}, training, distractors, smallOptions((dir.path / "out").string()));
+  // 20 training images, 216 words: with 3 images and 64 words (as before) every image held
+  // nearly every word, whose weight is then zero, and the changed views were found by chance.
+  const auto training = writeTextures(dir.path, "train", 1, 20);
+  const auto distractors = writeTextures(dir.path, "distractor", 50, 4);
+  runRetrieval({changedViewSequences()}, training, distractors, smallOptions((dir.path / "out").string()));
 
   const auto recall = readCsv((dir.path / "out/retrieval.csv").string());
   ASSERT_EQ(recall.size(), 7u);  // header + 3 methods x (the group, all)
@@ -112,7 +126,7 @@ TEST(Retrieval, RefusesADistractorThatIsATrainingImage) {
   std::filesystem::copy_file(training[1], copy);
   distractors.push_back(copy.string());
   try {
-    runRetrieval({brighterSequences()}, training, distractors, smallOptions((dir.path / "out").string()));
+    runRetrieval({changedViewSequences()}, training, distractors, smallOptions((dir.path / "out").string()));
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("renamed_copy.png"), std::string::npos) << e.what();

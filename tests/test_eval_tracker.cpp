@@ -223,7 +223,7 @@ TEST(TrackerCommand, AnOutputThatIsAnInputIsRefused) {
 TEST(PosterDev, TheSharedFramesGiveFortyFivePairs) {
   MDBRIEF_REQUIRE_SHARED_DATA(data);
   if (!std::filesystem::exists(data / "fisheye" / "poster-dev" / "ground_truth.json"))
-    GTEST_SKIP() << "fisheye/poster-dev not in " << data;
+    MDBRIEF_SKIP_WITHOUT_DATA("fisheye/poster-dev not in " << data);
   const PosterDev poster = loadPosterDev((data / "fisheye" / "poster-dev").string());
   EXPECT_EQ(poster.frames.size(), 10u);
   EXPECT_EQ(poster.camera->modelName(), "ocam");

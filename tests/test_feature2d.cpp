@@ -70,7 +70,7 @@ TEST(MdBriefFeature2D, RejectsAnUnusablePyramid) {
 TEST(MdBriefFeature2D, DetectThenComputeEqualsDetectAndCompute) {
   const CameraPtr camera = fisheyeCamera();
   const cv::Mat image = fisheyeImage(*camera);
-  if (image.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  if (image.empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed");
   const cv::Ptr<cv::Feature2D> f = MdBrief::create(camera);
   std::vector<cv::KeyPoint> a, b;
   cv::Mat da, db;
@@ -91,7 +91,7 @@ TEST(MdBriefFeature2D, DetectThenComputeEqualsDetectAndCompute) {
 TEST(MdBriefFeature2D, GivenKeypointsAreDescribedByTheirSizeWhateverTheirOctave) {
   const CameraPtr camera = fisheyeCamera();
   const cv::Mat image = fisheyeImage(*camera);
-  if (image.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  if (image.empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed");
   const cv::Ptr<MdBrief> f = MdBrief::create(camera);
   std::vector<cv::KeyPoint> detected;
   cv::Mat expected;
@@ -112,7 +112,7 @@ TEST(MdBriefFeature2D, GivenKeypointsAreDescribedByTheirSizeWhateverTheirOctave)
 TEST(MdBriefFeature2D, MasksOnlyForMdBriefAndAlignedWithKeypoints) {
   const CameraPtr camera = fisheyeCamera();
   const cv::Mat image = fisheyeImage(*camera);
-  if (image.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  if (image.empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed");
   const cv::Ptr<MdBrief> md = MdBrief::create(camera);
   std::vector<cv::KeyPoint> kps;
   cv::Mat desc, masks;
@@ -136,7 +136,7 @@ TEST(MdBriefFeature2D, MasksOnlyForMdBriefAndAlignedWithKeypoints) {
 TEST(MdBriefFeature2D, UpsampledFirstLevelKeepsKeypointsInInputPixels) {
   const CameraPtr camera = fisheyeCamera();
   const cv::Mat image = fisheyeImage(*camera);
-  if (image.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  if (image.empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed");
   // modORB (on cv::ORB's pyramid) finds keypoints on the enlarged level itself; the Hessian, whose
   // maxima need a finer level, on the input level above it.
   MdBriefOptions modOrb;
@@ -165,7 +165,7 @@ TEST(MdBriefFeature2D, UpsampledFirstLevelKeepsKeypointsInInputPixels) {
 TEST(MdBriefFeature2D, AcceptsGreyBgrAndBgraAlike) {
   const CameraPtr camera = fisheyeCamera();
   const cv::Mat grey = fisheyeImage(*camera);
-  if (grey.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  if (grey.empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed");
   cv::Mat bgr, bgra;
   cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
   cv::cvtColor(grey, bgra, cv::COLOR_GRAY2BGRA);
@@ -200,7 +200,7 @@ TEST(MdBriefFeature2D, RejectsBadInput) {
 TEST(MdBriefFeature2D, ExplicitMaskRestrictsKeypoints) {
   const CameraPtr camera = fisheyeCamera();
   const cv::Mat image = fisheyeImage(*camera);
-  if (image.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  if (image.empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed");
   cv::Mat mask(image.size(), CV_8U, cv::Scalar(0));
   mask.colRange(0, image.cols / 2).setTo(255);
   std::vector<cv::KeyPoint> kps;
@@ -360,13 +360,13 @@ int inlierMatches(const cv::Ptr<cv::Feature2D>& feature, const cv::Mat& a, const
 
 TEST(MdBriefFeature2D, GenericOpenCvPipelineMatchesGraf1To3LikeOrb) {
   const auto doc = testing::opencvDocDataDir();
-  if (!doc) GTEST_SKIP() << "opencv-doc data not installed";
+  if (!doc) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc data not installed");
   const cv::Mat a = cv::imread((*doc / "graf1.png").string(), cv::IMREAD_COLOR);
   const cv::Mat b = cv::imread((*doc / "graf3.png").string(), cv::IMREAD_COLOR);
   cv::FileStorage hs((*doc / "H1to3p.xml").string(), cv::FileStorage::READ);
   cv::Mat Hm;
   hs.getFirstTopLevelNode() >> Hm;
-  if (a.empty() || b.empty() || Hm.empty()) GTEST_SKIP() << "graf1/graf3/H1to3p.xml missing";
+  if (a.empty() || b.empty() || Hm.empty()) MDBRIEF_SKIP_WITHOUT_DATA("graf1/graf3/H1to3p.xml missing");
   const cv::Matx33d H(Hm);
 
   const int orb = inlierMatches(cv::ORB::create(1000), a, b, H);
@@ -375,11 +375,13 @@ TEST(MdBriefFeature2D, GenericOpenCvPipelineMatchesGraf1To3LikeOrb) {
   briefOptions.descriptor.kind = DescriptorKind::Brief;
   const int brief = inlierMatches(MdBrief::create(nullptr, briefOptions), a, b, H);
   std::printf("graf1->3 inliers: ORB %d, mdBRIEF (pinhole) %d, BRIEF %d\n", orb, md, brief);
-  EXPECT_GE(orb, 50);
-  EXPECT_GE(md, 50);
-  EXPECT_GE(brief, 50);
-  // The defaults, a binary descriptor as ORB's: at least in the same league.
-  EXPECT_GE(md, orb / 2);
+  // Measured: ORB 103, mdBRIEF 132, BRIEF 124. Ours are the same on every CPU and SIMD level:
+  // floors about 8 % below them. cv::ORB's own, which OpenCV's kernels may move, 15 % below.
+  EXPECT_GE(orb, 88);
+  EXPECT_GE(md, 121);
+  EXPECT_GE(brief, 114);
+  // The defaults, a binary descriptor as ORB's, find more than ORB does.
+  EXPECT_GT(md, orb);
 }
 
 }  // namespace

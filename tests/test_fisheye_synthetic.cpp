@@ -85,7 +85,7 @@ std::map<int, double> distances(const Scene& s, const View& a, const View& b, De
 
 TEST(FisheyeSynthetic, DistortionAwareTestsKeepCorrespondingDescriptorsClose) {
   const Scene s = makeScene();
-  if (s.plane.texture.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed (scripts/setup-deps.sh)";
+  if (s.plane.texture.empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed (scripts/setup-deps.sh)");
   // View 1 faces the plane; view 2 is moved sideways and tilted, so the centre of view 1 is
   // seen about 55 degrees off-axis, near the rim of the image circle.
   CameraPose p1, p2;

@@ -239,13 +239,47 @@ TEST(ImagePyramid, SmoothedPairsHoldEachPixelAndTheOneBelowIt) {
   EXPECT_THROW(pyramid.smoothedPairs(pyramid.levels()), std::out_of_range);
 }
 
+// Counts the cv::Mat buffers made while it is OpenCV's default allocator (for as long as it
+// lives): the smoothed levels are made on first use, so only the buffers made tell a level that
+// prepareSmoothed() made from one that smoothed() makes when asked.
+class CountingAllocator : public cv::MatAllocator {
+ public:
+  CountingAllocator() : previous_(cv::Mat::getDefaultAllocator()) { cv::Mat::setDefaultAllocator(this); }
+  ~CountingAllocator() override { cv::Mat::setDefaultAllocator(previous_); }
+  cv::UMatData* allocate(int dims, const int* sizes, int type, void* data, size_t* step, cv::AccessFlag flags,
+                         cv::UMatUsageFlags usage) const override {
+    ++made;
+    return cv::Mat::getStdAllocator()->allocate(dims, sizes, type, data, step, flags, usage);
+  }
+  bool allocate(cv::UMatData* data, cv::AccessFlag flags, cv::UMatUsageFlags usage) const override {
+    return cv::Mat::getStdAllocator()->allocate(data, flags, usage);
+  }
+  void deallocate(cv::UMatData* data) const override { cv::Mat::getStdAllocator()->deallocate(data); }
+  mutable std::atomic<int> made{0};
+
+ private:
+  cv::MatAllocator* previous_;
+};
+
 TEST(ImagePyramid, PrepareSmoothedFillsTheLevelsUpToMaxLevel) {
-  const ImagePyramid pyramid(noiseImage({90, 70}), PyramidOptions{});
+  const ImagePyramid pyramid(noiseImage({200, 160}), PyramidOptions{});
+  ASSERT_GE(pyramid.levels(), 5);
+  const CountingAllocator buffers;
   pyramid.prepareSmoothed(2);
-  const uchar* before = pyramid.smoothed(2).data;
+  const int prepared = buffers.made;
+  EXPECT_GE(prepared, 3) << "a buffer at least for each of levels 0..2";
+  std::vector<const uchar*> data;
+  for (int level = 0; level <= 2; ++level) data.push_back(pyramid.smoothed(level).data);
+  EXPECT_EQ(buffers.made, prepared) << "levels 0..2 were ready";
+  pyramid.smoothed(3);
+  const int firstUse = buffers.made;
+  EXPECT_GT(firstUse, prepared) << "level 3 is made on first use";
   pyramid.prepareSmoothed(-1);
-  EXPECT_EQ(pyramid.smoothed(2).data, before);  // already prepared: not recomputed
-  EXPECT_FALSE(pyramid.smoothed(pyramid.levels() - 1).empty());
+  const int all = buffers.made;
+  EXPECT_GT(all, firstUse) << "levels 4.. made by prepareSmoothed(-1)";
+  for (int level = 0; level < pyramid.levels(); ++level) EXPECT_FALSE(pyramid.smoothed(level).empty());
+  EXPECT_EQ(buffers.made, all) << "every level was ready";
+  for (int level = 0; level <= 2; ++level) EXPECT_EQ(pyramid.smoothed(level).data, data[level]) << "not made again";
 }
 
 // Threads that ask for the same level at once all get the finished blur: none sees a level

@@ -21,6 +21,7 @@
 #include "mdbrief/describe/patterns.hpp"
 #include "scenes/photo_camera.hpp"
 #include "scenes/plane_renderer.hpp"
+#include "patchextract/image_digest.hpp"
 #include "patchextract/patch_extraction.hpp"
 #include "patchextract/patch_sampler.hpp"
 #include "patchextract/patch_set.hpp"
@@ -102,7 +103,7 @@ DescriptorOptions withRandomSet(DescriptorOptions o) {
 
 TEST(PatchSampler, PerspectivePatchesGiveTheRuntimeBitsThroughThePhotoCamera) {
   const cv::Mat img = opencvDocImage("graf1.png");
-  if (img.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  if (img.empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed");
   std::vector<cv::KeyPoint> kps;
   cv::ORB::create(300)->detect(img, kps);
   const ImagePyramid pyramid(img, PyramidOptions{});
@@ -113,7 +114,7 @@ TEST(PatchSampler, PerspectivePatchesGiveTheRuntimeBitsThroughThePhotoCamera) {
 
 TEST(PatchSampler, BriefPatchesNeedNoCameraAndFollowSupportScaleAndNearestSampling) {
   const cv::Mat img = opencvDocImage("graf1.png");
-  if (img.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  if (img.empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed");
   std::vector<cv::KeyPoint> kps;
   cv::ORB::create(300)->detect(img, kps);
   // Sizes between the levels: footprints at a fractional scale of their level.
@@ -129,7 +130,7 @@ TEST(PatchSampler, BriefPatchesNeedNoCameraAndFollowSupportScaleAndNearestSampli
 
 TEST(PatchSampler, FisheyePatchesGiveTheRuntimeBitsInBothForms) {
   const FisheyeScene s = fisheyeScene();
-  if (s.image.empty()) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  if (s.image.empty()) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed");
   const ImagePyramid pyramid(s.image, PyramidOptions{});
   expectPatchesGiveTheRuntimeBits(DescriptorExtractor(s.camera, withRandomSet({})), s.camera.get(), pyramid,
                                   s.keypoints);
@@ -168,6 +169,19 @@ TEST(PatchAllocation, SharesTheBudgetAsEquallyAsTheImagesAllow) {
   EXPECT_LE(std::max(t[2], t[4]) - std::min(t[2], t[4]), 1u);
 }
 
+// Against values computed apart from the project (Python: FNV-1a 64 from the offset basis
+// 1469598103934665603 over the width and height as 4 little-endian bytes each, then the pixels):
+// held-out lists, learned sets and vocabularies record these digests.
+TEST(ImageDigest, IsTheRecordedFnv1aOfTheSizeAndThePixels) {
+  const uint8_t pixels[] = {1, 2, 3, 4, 5, 6};
+  EXPECT_EQ(imageDigest(cv::Mat(2, 3, CV_8UC1, const_cast<uint8_t*>(pixels))), "13ca2c450f6cb9ad");
+  EXPECT_EQ(imageDigest(cv::Mat(3, 2, CV_8UC1, const_cast<uint8_t*>(pixels))), "fc968c1164ca9ebd");
+  // A view into a wider image: its rows, not the bytes between them.
+  cv::Mat wide(2, 5, CV_8UC1, cv::Scalar(99));
+  cv::Mat(2, 3, CV_8UC1, const_cast<uint8_t*>(pixels)).copyTo(wide.colRange(1, 4));
+  EXPECT_EQ(imageDigest(wide.colRange(1, 4)), "13ca2c450f6cb9ad");
+}
+
 TEST(ImageListing, FindsNestedImagesAndRejectsBadFolders) {
   TempDir dir("list");
   fs::create_directories(dir.path / "sub");
@@ -190,7 +204,7 @@ TEST(ImageListing, FindsNestedImagesAndRejectsBadFolders) {
 
 TEST(Extraction, SpreadsOverImagesSkipsBrokenFilesAndIsDeterministic) {
   const auto doc = mdbrief::testing::opencvDocDataDir();
-  if (!doc) GTEST_SKIP() << "opencv-doc not installed";
+  if (!doc) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed");
   TempDir dir("extract");
   for (const char* f : {"box.png", "box_in_scene.png", "butterfly.jpg"})
     fs::copy_file(*doc / f, dir.path / f);
@@ -404,7 +418,7 @@ TEST(ViewChange, RenderLeavesItsSourceUntouched) {
 
 TEST(Extraction, CounterpartsAreTheSameKeypointsInChangedViewsAndHeldOutImagesAreSkipped) {
   const auto doc = mdbrief::testing::opencvDocDataDir();
-  if (!doc) GTEST_SKIP() << "opencv-doc not installed";
+  if (!doc) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed");
   TempDir dir("pairs");
   for (const char* f : {"graf1.png", "box_in_scene.png", "butterfly.jpg"}) fs::copy_file(*doc / f, dir.path / f);
   ExtractionOptions o;

@@ -45,7 +45,7 @@ TEST(ShippedVocabulary, NoTrainingImageIsAnEvaluationImage) {
 
 TEST(ShippedVocabulary, FindsTheOtherViewOfASceneAmongUnrelatedPhotos) {
   const auto dir = mdbrief::testing::opencvDocDataDir();
-  if (!dir) GTEST_SKIP() << "opencv-doc's example photos not found";
+  if (!dir) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc's example photos not found");
   Database database(Vocabulary::load(kShipped));
   const auto describe = [](const cv::Mat& grey, cv::Mat& descriptors, cv::Mat& masks) {
     std::vector<cv::KeyPoint> keypoints;

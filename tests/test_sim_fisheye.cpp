@@ -33,7 +33,7 @@ double byName(const SimSummary& s, const std::vector<double>& values, const std:
 
 TEST(SimFisheye, DBriefKeepsMatchingDescriptorsCloserThanBrief) {
   const auto doc = testing::opencvDocDataDir();
-  if (!doc || !std::filesystem::exists(*doc / "graf1.png")) GTEST_SKIP() << "opencv-doc graf1.png not installed";
+  if (!doc || !std::filesystem::exists(*doc / "graf1.png")) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc graf1.png not installed");
   TempDir tmp;
   SimOptions o;
   o.texturePath = (*doc / "graf1.png").string();

@@ -48,7 +48,7 @@ TEST(Surf, FindsAGaussianBlobAtItsCentreAndScale) {
 
 TEST(Surf, OrientationFollowsARotationOfTheImage) {
   const auto dir = mdbrief::testing::opencvDocDataDir();
-  if (!dir) GTEST_SKIP() << "opencv-doc not installed";
+  if (!dir) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed");
   const cv::Mat img = cv::imread((*dir / "graf1.png").string(), cv::IMREAD_GRAYSCALE)(cv::Rect(100, 100, 400, 400)).clone();
   cv::Mat rotated;
   cv::rotate(img, rotated, cv::ROTATE_90_CLOCKWISE);  // (x, y) -> (H - 1 - y, x): +90 degrees
@@ -72,7 +72,7 @@ TEST(Surf, OrientationFollowsARotationOfTheImage) {
 
 TEST(Surf, RepeatableOnGraf1To3) {
   const auto dir = mdbrief::testing::opencvDocDataDir();
-  if (!dir) GTEST_SKIP() << "opencv-doc not installed";
+  if (!dir) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed");
   const cv::Mat a = cv::imread((*dir / "graf1.png").string(), cv::IMREAD_GRAYSCALE);
   const cv::Mat b = cv::imread((*dir / "graf3.png").string(), cv::IMREAD_GRAYSCALE);
   cv::Mat H;

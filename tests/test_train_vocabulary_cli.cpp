@@ -198,7 +198,7 @@ TEST(TrainVocabularyCli, TheBinaryAndTheTextAreReplacedTogether) {
 TEST(TrainVocabularyCli, ImagesAreDescribedAtTheAskedLengthAndHeldOutOnesRefused) {
   const auto doc = mdbrief::testing::opencvDocDataDir();
   if (!doc || !fs::exists(*doc / "box.png") || !fs::exists(*doc / "graf1.png"))
-    GTEST_SKIP() << "opencv-doc sample photos not found (scripts/setup-deps.sh)";
+    MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc sample photos not found (scripts/setup-deps.sh)");
   TempDir dir("tv_images");
   const std::string out = (dir.path / "v.mdbvoc").string();
   CliRun r = run({"--images", (*doc / "box.png").string(), (*doc / "box_in_scene.png").string(), "--bits", "128",
@@ -220,14 +220,38 @@ TEST(TrainVocabularyCli, ImagesAreDescribedAtTheAskedLengthAndHeldOutOnesRefused
   EXPECT_FALSE(fs::exists(out));
 }
 
+// What numpy 1.24 wrote (/usr/bin/python3): a = (np.arange(112, dtype=np.uint8) * 37 + 11).reshape(7, 16),
+// then np.lib.format.write_array(f, a, version=(1, 0)) (np.save's format) and version=(2, 0).
+const char* const kNumpy1Hex =
+    "934e554d5059010076007b276465736372273a20277c7531272c2027666f727472616e5f6f72646572273a2046616c73"
+    "652c20277368617065273a2028372c203136292c207d2020202020202020202020202020202020202020202020202020"
+    "202020202020202020202020202020202020202020202020202020202020200a0b30557a9fc4e90e33587da2c7ec1136"
+    "5b80a5caef14395e83a8cdf2173c6186abd0f51a3f6489aed3f81d42678cb1d6fb20456a8fb4d9fe23486d92b7dc0126"
+    "4b7095badf04294e7398bde2072c51769bc0e50a2f54799ec3e80d32577ca1c6eb10355a7fa4c9ee13385d82a7ccf116";
+const char* const kNumpy2Hex =
+    "934e554d50590200740000007b276465736372273a20277c7531272c2027666f727472616e5f6f72646572273a204661"
+    "6c73652c20277368617065273a2028372c203136292c207d202020202020202020202020202020202020202020202020"
+    "202020202020202020202020202020202020202020202020202020202020200a0b30557a9fc4e90e33587da2c7ec1136"
+    "5b80a5caef14395e83a8cdf2173c6186abd0f51a3f6489aed3f81d42678cb1d6fb20456a8fb4d9fe23486d92b7dc0126"
+    "4b7095badf04294e7398bde2072c51769bc0e50a2f54799ec3e80d32577ca1c6eb10355a7fa4c9ee13385d82a7ccf116";
+
+std::string fromHex(const std::string& hex) {
+  std::string bytes;
+  for (size_t i = 0; i + 1 < hex.size(); i += 2) bytes += static_cast<char>(std::stoi(hex.substr(i, 2), nullptr, 16));
+  return bytes;
+}
+
 TEST(DescriptorNpy, ReadsWhatNumpyWritesAndRefusesOtherArrays) {
   TempDir dir("npy");
   cv::Mat d(7, 16, CV_8UC1);
-  cv::randu(d, 0, 256);
+  for (int i = 0; i < 112; ++i) d.data[i] = static_cast<uint8_t>(i * 37 + 11);
   const fs::path p = dir.path / "d.npy";
-  writeBytes(p, vocab::descriptorNpyBytes(d));
-  EXPECT_EQ(cv::norm(vocab::readDescriptorNpy(p.string()), d, cv::NORM_L1), 0.0);
-  const std::string good = vocab::descriptorNpyBytes(d);
+  const std::string good = fromHex(kNumpy1Hex);
+  for (const std::string& numpyBytes : {good, fromHex(kNumpy2Hex)}) {
+    writeBytes(p, numpyBytes);
+    EXPECT_EQ(cv::norm(vocab::readDescriptorNpy(p.string()), d, cv::NORM_L1), 0.0) << int(numpyBytes[6]);
+  }
+  EXPECT_EQ(vocab::descriptorNpyBytes(d), good) << "the writer's bytes are np.save's";
   const auto problem = [&](const std::string& bytes) -> std::string {
     writeBytes(p, bytes);
     try {

@@ -104,7 +104,7 @@ TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
 TEST(TrainCli, UnwritableOutputsFailBeforeTheExtraction) {
   TempDir dir("unwritable");
   const fs::path images = smallImageFolder(dir);
-  if (fs::is_empty(images)) GTEST_SKIP() << "opencv-doc not installed";
+  if (fs::is_empty(images)) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed");
   const fs::path out = dir.path / "out";
   fs::create_directories(out / "blocked_64.hpp");
   const std::vector<std::string> common{"--images", images.string(), "--patches", "300", "--tests", "64",
@@ -204,7 +204,7 @@ TEST(TrainCli, KeypointBudgetBeyondTheLimitIsRefusedBeforeAnyImageIsRead) {
 TEST(TrainCli, CriteriaThatNeedPairsRefuseAPatchFileWithout) {
   TempDir dir("nopairs");
   const fs::path images = smallImageFolder(dir);
-  if (fs::is_empty(images)) GTEST_SKIP() << "opencv-doc not installed";
+  if (fs::is_empty(images)) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed");
   const fs::path patchFile = dir.path / "plain.h5";
   ASSERT_EQ(runTrain({"--images", images.string(), "--selection", "paper", "--patches", "300", "--tests", "64",
                       "--name", "plain_64",
@@ -224,7 +224,7 @@ TEST(TrainCli, CriteriaThatNeedPairsRefuseAPatchFileWithout) {
 TEST(TrainCli, SeparationIsByteIdenticalAndRecordsCriterionPairsAndImages) {
   TempDir dir("sep");
   const fs::path images = smallImageFolder(dir);
-  if (fs::is_empty(images)) GTEST_SKIP() << "opencv-doc not installed";
+  if (fs::is_empty(images)) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed");
   std::vector<std::string> common{"--images", images.string(), "--patches", "600", "--tests", "64",
                                   "--selection", "separation", "--name", "sep_64"};
   for (const char* sub : {"a", "b"}) {
@@ -255,7 +255,7 @@ TEST(TrainCli, SeparationIsByteIdenticalAndRecordsCriterionPairsAndImages) {
 TEST(TrainCli, FewerPatchesThanTestsExitsWith2) {
   TempDir dir("few");
   const fs::path images = smallImageFolder(dir);
-  if (fs::is_empty(images)) GTEST_SKIP() << "opencv-doc not installed";
+  if (fs::is_empty(images)) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed");
   const CliRun r = runTrain({"--images", images.string(), "--patches", "100", "--tests", "128", "--out",
                        dir.path.string()});
   EXPECT_EQ(r.code, 2);
@@ -268,7 +268,7 @@ TEST(TrainCli, FewerPatchesThanTestsExitsWith2) {
 TEST(TrainCli, TooFewPatchesSaysWhyAndWhatToDo) {
   TempDir dir("why");
   const fs::path images = smallImageFolder(dir);
-  if (fs::is_empty(images)) GTEST_SKIP() << "opencv-doc not installed";
+  if (fs::is_empty(images)) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed");
   const fs::path list = dir.path / "held_out.txt";
   int count = 0;
   {
@@ -301,7 +301,7 @@ TEST(TrainCli, TooFewPatchesSaysWhyAndWhatToDo) {
 TEST(TrainCli, SameInputsAndSeedGiveByteIdenticalHeaders) {
   TempDir dir("det");
   const fs::path images = smallImageFolder(dir);
-  if (fs::is_empty(images)) GTEST_SKIP() << "opencv-doc not installed";
+  if (fs::is_empty(images)) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed");
   fs::create_directories(dir.path / "a");
   fs::create_directories(dir.path / "b");
   const fs::path patchFile = dir.path / "patches.h5";
@@ -344,7 +344,7 @@ TEST(TrainCli, SameInputsAndSeedGiveByteIdenticalHeaders) {
 TEST(TrainCli, CameraIdChoosesTheCameraOfARigFile) {
   TempDir dir("camera_id");
   const fs::path images = smallImageFolder(dir);
-  if (fs::is_empty(images)) GTEST_SKIP() << "opencv-doc not installed";
+  if (fs::is_empty(images)) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc not installed");
   const std::string kalibr = MDBRIEF_SOURCE_DIR "/tests/data/camera_formats/kalibr_camchain.yaml";
   const struct {
     std::vector<std::string> args;

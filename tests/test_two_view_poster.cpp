@@ -71,7 +71,7 @@ RelativePose relativePose(const cv::Matx33d& ga, const cv::Matx33d& gb) {
 TEST(TwoViewPoster, TheGeneralModelAgreesWithTheKnownPoseOnRealFisheyePairs) {
   MDBRIEF_REQUIRE_SHARED_DATA(data);
   const auto dir = data / "fisheye" / "poster-dev";
-  if (!std::filesystem::exists(dir / "ground_truth.json")) GTEST_SKIP() << "fisheye/poster-dev not in " << data;
+  if (!std::filesystem::exists(dir / "ground_truth.json")) MDBRIEF_SKIP_WITHOUT_DATA("fisheye/poster-dev not in " << data);
   const PosterDev poster = loadPosterDev(dir.string());
   const Camera& camera = *poster.camera;
   const cv::Ptr<MdBrief> features = MdBrief::create(poster.camera);

@@ -1,6 +1,6 @@
 #pragma once
 // Parsing a tool's arguments in-process, as the tools' run*Cli functions (which the tests call)
-// do: one exit-code convention for every tool.
+// do, under the exit-code rule of every tool (tool_errors.hpp).
 #include <optional>
 #include <ostream>
 #include <string>
@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "mdbrief/base/simd_level.hpp"
+#include "toolkit/tool_errors.hpp"
 
 namespace mdbrief {
 
@@ -32,8 +33,27 @@ inline std::optional<int> parseArguments(CLI::App& app, const std::vector<std::s
     app.parse(reversed);
     return std::nullopt;
   } catch (const CLI::ParseError& e) {
-    return app.exit(e, out, err) == 0 ? 0 : 2;
+    return app.exit(e, out, err) == 0 ? kExitSuccess : kExitBadInput;
   }
+}
+
+// Parses args (without the program name) into app, whose chosen subcommand runs in the parse,
+// and returns the exit code: what the subcommand throws is reported by runTool, a refused flag
+// as "<tool>: <CLI11's message> (see --help)", --help written to out.
+inline int runSubcommands(CLI::App& app, const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
+                          const std::string& tool) {
+  const std::string prefix = tool + ": ";
+  return runTool(prefix, err, [&] {
+    std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes them last first
+    try {
+      app.parse(reversed);
+      return kExitSuccess;
+    } catch (const CLI::ParseError& e) {
+      if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e, out, err);
+      err << prefix << oneLine(e.what()) << " (see --help)\n";
+      return kExitBadInput;
+    }
+  });
 }
 
 // A flag's old spelling, kept out of --help: given, the parse fails (exit 2) with "<old> is now

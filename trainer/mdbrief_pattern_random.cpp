@@ -1,13 +1,15 @@
 // mdbrief-pattern-random: writes the random BRIEF (G II) test set as a pattern header, its JSON
-// copy and the regenerated registry (see trainer/random_pattern.hpp for the distribution).
-#include <exception>
+// copy and the regenerated registry (see trainer/random_pattern.hpp for the distribution). Exit
+// codes by the tools' rule (toolkit/tool_errors.hpp).
 #include <filesystem>
 #include <iostream>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
 #include "toolkit/file_size_signal.hpp"
 #include "toolkit/opencv_log.hpp"
+#include "toolkit/tool_errors.hpp"
 #include "trainer/pattern_writer.hpp"
 #include "trainer/random_pattern.hpp"
 
@@ -28,21 +30,18 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    return app.exit(e) == 0 ? mdbrief::kExitSuccess : mdbrief::kExitBadInput;
   }
-  if (options.tests % 32 != 0) {
-    std::cerr << "error: --tests " << options.tests << " is not a multiple of 32\n";
-    return 2;
-  }
-  try {
-    const auto doc = mdbrief::train::randomPatternDocument(options);
-    mdbrief::writePattern(doc, out, {true, makeDefault});
-    std::cout << "wrote " << (out / (doc.name + ".hpp")).string() << " (" << doc.tests.size()
-              << " tests), " << (out / (doc.name + ".json")).string() << " and "
-              << (out / "registry.hpp").string() << "\n";
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  }
-  return 0;
+  return mdbrief::runTool("error: ", std::cerr, [&] {
+    if (options.tests % 32 != 0)
+      throw mdbrief::InputError("--tests " + std::to_string(options.tests) + " is not a multiple of 32");
+    mdbrief::asInputErrors([&] {
+      const auto doc = mdbrief::train::randomPatternDocument(options);
+      mdbrief::writePattern(doc, out, {true, makeDefault});
+      std::cout << "wrote " << (out / (doc.name + ".hpp")).string() << " (" << doc.tests.size()
+                << " tests), " << (out / (doc.name + ".json")).string() << " and "
+                << (out / "registry.hpp").string() << "\n";
+    });
+    return mdbrief::kExitSuccess;
+  });
 }

@@ -10,6 +10,7 @@
 #include "toolkit/command_line.hpp"
 #include "toolkit/option_flags.hpp"
 #include "toolkit/progress_reporter.hpp"
+#include "toolkit/tool_errors.hpp"
 #include "trainer/training.hpp"
 
 namespace mdbrief::train {
@@ -48,26 +49,29 @@ int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::os
     try {
       internal::readInputFile(file, std::uintmax_t{1} << 20, "configuration file");
     } catch (const std::runtime_error& e) {
-      err << "error: " << e.what() << "\n";
-      return 2;
+      err << "error: " << oneLine(e.what()) << "\n";
+      return kExitBadInput;
     }
   }
   if (const std::optional<int> code = parseArguments(app, args, out, err)) return *code;
 
   ProgressReporter progress(out, progressTty);
-  try {
-    const TrainOptions options = flags.apply(TrainOptions{}, [](const TrainOptions& o) { validate(o); });
-    const TrainResult result = train(options, [&](const char* stage, size_t done, size_t total) {
-      progress.update(stage, done, total);
-    });
-    progress.finish();
-    printTrainSummary(options, result, out);
-  } catch (const std::exception& e) {
-    progress.finish();
-    err << "error: " << e.what() << "\n";
-    return 2;
-  }
-  return 0;
+  return runTool("error: ", err, [&] {
+    try {
+      asInputErrors([&] {
+        const TrainOptions options = flags.apply(TrainOptions{}, [](const TrainOptions& o) { validate(o); });
+        const TrainResult result = train(options, [&](const char* stage, size_t done, size_t total) {
+          progress.update(stage, done, total);
+        });
+        progress.finish();
+        printTrainSummary(options, result, out);
+      });
+    } catch (...) {
+      progress.finish();  // the message starts on a line of its own
+      throw;
+    }
+    return kExitSuccess;
+  });
 }
 
 }  // namespace mdbrief::train

@@ -8,8 +8,9 @@
 namespace mdbrief::train {
 
 // args without the program name. --out is required and must name an existing folder (the
-// patterns folder whose registry is rewritten). Returns the exit code: 0 success, 2 bad input or
-// a failed step (message on err naming the option or file and the problem). Progress and
+// patterns folder whose registry is rewritten). Returns the exit code by the tools' rule
+// (toolkit/tool_errors.hpp): 0 success, 2 bad input or a file that cannot be read or written
+// (message on err naming the option or file and the problem), 1 an internal error. Progress and
 // summary go to out; progressTty draws the progress as a bar.
 int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
                 bool progressTty = false);

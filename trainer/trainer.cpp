@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <stdexcept>
 
 #include <tbb/parallel_for.h>
 
+#include "toolkit/content_digest.hpp"
 #include "trainer/candidate_tests.hpp"
 #include "trainer/patch_lanes.hpp"
 #include "trainer/separation_selection.hpp"
@@ -122,15 +122,7 @@ TestSetQuality measureTestSet(const PatchMatrix& patches, const std::vector<Test
 }
 
 std::string patchDigest(const PatchMatrix& patches) {
-  uint64_t h = 1469598103934665603ull;  // FNV-1a 64 offset basis
-  const size_t n = patches.count * kPatchSize * kPatchSize;
-  for (size_t i = 0; i < n; ++i) {
-    h ^= patches.pixels[i];
-    h *= 1099511628211ull;  // FNV-1a 64 prime
-  }
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
-  return buf;
+  return contentDigest(patches.pixels, patches.count * kPatchSize * kPatchSize);
 }
 
 }  // namespace mdbrief::train

@@ -60,7 +60,7 @@ struct TestSetQuality {
 };
 TestSetQuality measureTestSet(const PatchMatrix& patches, const std::vector<TestPair>& tests);
 
-// FNV-1a 64 of the patch pixels, as 16 hex digits: the header's data digest.
+// The content digest (toolkit/content_digest.hpp) of the patch pixels: the header's data digest.
 std::string patchDigest(const PatchMatrix& patches);
 
 }  // namespace mdbrief::train

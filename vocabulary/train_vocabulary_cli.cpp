@@ -15,6 +15,7 @@
 #include "mdbrief/recognition/vocabulary_text.hpp"
 #include "toolkit/command_line.hpp"
 #include "toolkit/progress_reporter.hpp"
+#include "toolkit/tool_errors.hpp"
 #include "vocabulary/descriptor_npy.hpp"
 #include "vocabulary/training_features.hpp"
 
@@ -191,19 +192,10 @@ int runTrainVocabularyCli(const std::vector<std::string>& args, std::ostream& ou
   app.add_option("--out", a.out, "The vocabulary file to write")->required();
   app.add_option("--dbow2-text", a.dbow2Text, "Also write the vocabulary as a DBoW2 text file (plain only)");
   if (const std::optional<int> code = parseArguments(app, args, out, err)) return *code;
-  try {
-    run(a, out, progressTty);
-  } catch (const std::invalid_argument& e) {
-    err << "mdbrief-train-vocabulary: " << e.what() << "\n";
-    return 2;
-  } catch (const std::runtime_error& e) {  // files: unreadable input, failed write
-    err << "mdbrief-train-vocabulary: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    err << "mdbrief-train-vocabulary: internal error: " << e.what() << "\n";
-    return 1;
-  }
-  return 0;
+  return runTool("mdbrief-train-vocabulary: ", err, [&] {
+    asInputErrors([&] { run(a, out, progressTty); });  // files: unreadable input, failed write
+    return kExitSuccess;
+  });
 }
 
 }  // namespace mdbrief::vocab

@@ -9,8 +9,9 @@
 
 namespace mdbrief::vocab {
 
-// args without the program name. Returns the exit code: 0 success, 2 bad input or a failed
-// step (message on err naming the option or file and the problem), 1 an internal error.
+// args without the program name. Returns the exit code by the tools' rule
+// (toolkit/tool_errors.hpp): 0 success, 2 bad input or a file that cannot be read or written
+// (message on err naming the option or file and the problem), 1 an internal error.
 // Progress and the summary go to out; progressTty draws the progress as a bar.
 int runTrainVocabularyCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
                           bool progressTty = false);

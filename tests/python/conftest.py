@@ -1,5 +1,9 @@
 """Fixtures of the Python tests. ctest sets PYTHONPATH to <build>/python, MDBRIEF_SOURCE_DIR and
-MDBRIEF_CLI (the C++ `mdbrief` tool, the reference the bindings are compared with)."""
+MDBRIEF_CLI (the C++ `mdbrief` tool, the reference the bindings are compared with).
+
+As in the C++ tests (tests/test_data.hpp), MDBRIEF_OPENCV_DOC names the opencv-doc photos' folder,
+and under MDBRIEF_NO_SKIPS=1 (set by CI, .ci/run) every skip is a failure: a machine without the
+photos, or a run outside ctest, must not pass by skipping."""
 import os
 import pathlib
 
@@ -7,7 +11,17 @@ import cv2
 import pytest
 
 SOURCE = pathlib.Path(os.environ.get("MDBRIEF_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
-OPENCV_DOC = pathlib.Path("/usr/share/doc/opencv-doc/examples/data")
+OPENCV_DOC = pathlib.Path(os.environ.get("MDBRIEF_OPENCV_DOC") or "/usr/share/doc/opencv-doc/examples/data")
+SKIPS_FAIL = os.environ.get("MDBRIEF_NO_SKIPS") == "1"
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    report = (yield).get_result()
+    if SKIPS_FAIL and report.skipped:
+        reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else str(report.longrepr)
+        report.outcome = "failed"
+        report.longrepr = f"{reason} (a failure, not a skip: MDBRIEF_NO_SKIPS=1)"
 FISHEYE_CAMERA = SOURCE / "configs/cameras/lafida_fisheye0.yaml"
 PINHOLE_CAMERA = SOURCE / "configs/cameras/pinhole_example.yaml"
 

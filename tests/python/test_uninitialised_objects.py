@@ -278,16 +278,23 @@ CREATE = {"Camera": "create it with mdbrief.Camera(...)", "TestSet": "create it 
           "Vocabulary": "mdbrief.Vocabulary objects come from the module's functions, see help(mdbrief.Vocabulary)"}
 
 
-@pytest.mark.parametrize("cls", CLASSES, ids=[c.__name__ for c in CLASSES])
+def constructors(cls):
+    """The class's own __init__ and __setstate__: a class without a constructor has Python's slot
+    wrapper (object.__init__'s type) instead."""
+    return [m for m in ("__init__", "__setstate__")
+            if m in vars(cls) and not isinstance(vars(cls)[m], type(object.__init__))]
+
+
+# Only the classes that have a constructor to call again (not a skip per class without one: a
+# skip fails under MDBRIEF_NO_SKIPS).
+CONSTRUCTED = [c for c in CLASSES if constructors(c)]
+
+
+@pytest.mark.parametrize("cls", CONSTRUCTED, ids=[c.__name__ for c in CONSTRUCTED])
 def test_initialising_a_live_object_again_is_refused(cls):
     """Issue 45: Camera.__init__ on a live camera was ignored without a word (and __setstate__ when
     called through the class)."""
-    # A class without a constructor has Python's slot wrapper (object.__init__'s type) instead.
-    methods = [m for m in ("__init__", "__setstate__")
-               if m in vars(cls) and not isinstance(vars(cls)[m], type(object.__init__))]
-    if not methods:
-        pytest.skip(f"{cls.__name__} has no constructor of its own")
-    for method in methods:
+    for method in constructors(cls):
         obj = live(cls)
         before = repr(obj)
         state = obj.__getstate__() if method == "__setstate__" else None
