@@ -481,9 +481,9 @@ TEST(HessianDetector, RelocalisedBlobsLieCloserToTheirCentresThanTheirLevelsPutT
   const auto worst = [](const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); };
   std::printf("%zu blobs, distance to their centres, median / worst: levels %.3f / %.3f px, input %.3f / %.3f px\n", levelErrors.size(),
               median(levelErrors), worst(levelErrors), median(inputErrors), worst(inputErrors));
-  // Measured: 0.043 / 0.126 px at the levels, 0.018 / 0.103 px located again.
-  EXPECT_LT(median(inputErrors), 0.5 * median(levelErrors));
-  EXPECT_LT(worst(inputErrors), 0.15);
+  // Measured: 0.043 / 0.126 px at the levels, 0.005 / 0.045 px located again.
+  EXPECT_LT(median(inputErrors), 0.25 * median(levelErrors));
+  EXPECT_LT(worst(inputErrors), 0.5 * worst(levelErrors));
 }
 
 // Three fine, deep blobs and three wide, shallower ones; a budget of three. The normalised

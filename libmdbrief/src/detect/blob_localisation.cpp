@@ -2,9 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
-
-#include <opencv2/imgproc.hpp>
 
 namespace mdbrief::detail {
 
@@ -12,11 +9,7 @@ namespace {
 
 // Beyond a few pixels' walk the maximum is another blob's.
 constexpr int kMaxSteps = 3;
-// The smoothing on the halving a blob is located on: at least kMinSigma pixels (finer, the 3x3
-// quadratic places its maximum less well: EuRoC's residual grows), below 2 kMinSigma after the
-// halvings, and at most kMaxSigma for the widest blob located (BlobLocaliser's caller's limit).
-constexpr double kMinSigma = 1.8;
-constexpr int kMaxRadius = 13;  // ceil(3 kMaxSigma), kMaxSigma = sqrt(16^2 - 5) / 4
+constexpr int kMaxRadius = 48;  // ceil(3 kMaxSigma)
 constexpr int kPaddedWidth = (5 + 2 * kMaxRadius + 3 + 7) & ~7;
 
 int reflect101(int i, int n) {
@@ -96,7 +89,6 @@ float determinant(const float s[25], int u, int v) {
   return dxx * dyy - dxy * dxy;
 }
 
-// The maximum of det(Hessian) nearest to `start` on `image` smoothed by `sigma`, all in its pixels.
 std::optional<cv::Point2d> locate(const cv::Mat& image, const cv::Point2d& start, double sigma, double maxDistance) {
   const Taps taps = gaussianTaps(sigma);
   int x = static_cast<int>(std::lround(start.x)), y = static_cast<int>(std::lround(start.y));
@@ -125,38 +117,12 @@ std::optional<cv::Point2d> locate(const cv::Mat& image, const cv::Point2d& start
   return std::nullopt;
 }
 
-// The smoothing a blob keeps on a halving: its own, less what the halvings' kernels applied
-// (variance 1 pixel^2 of the image each one halves: 1 input pixel^2, then 4), in its pixels.
-double sigmaOn(int halvings, double sigma) {
-  const double applied = halvings == 0 ? 0.0 : halvings == 1 ? 1.0 : 5.0;
-  return std::sqrt(sigma * sigma - applied) / (1 << halvings);
-}
-
 }  // namespace
 
-BlobLocaliser::BlobLocaliser(const cv::Mat& input8u, int halvings) {
-  CV_Assert(input8u.type() == CV_8UC1 && !input8u.empty() && halvings >= 0 && halvings <= 2);
-  octaves_.push_back(input8u);
-  for (int h = 0; h < halvings; ++h) {
-    cv::Mat half;
-    cv::pyrDown(octaves_.back(), half);
-    octaves_.push_back(half);
-  }
-}
-
-int BlobLocaliser::halvingsFor(double sigma) {
-  int h = 0;
-  while (h < 2 && sigma * sigma > 5.0 && sigmaOn(h + 1, sigma) >= kMinSigma) ++h;
-  return h;
-}
-
-std::optional<cv::Point2d> BlobLocaliser::relocalise(const cv::Point2d& start, double sigma, double maxDistance) const {
-  const int h = std::min(halvingsFor(sigma), static_cast<int>(octaves_.size()) - 1);
-  const double step = 1 << h;
-  // pyrDown's pixel x is the input's pixel 2x.
-  const auto found = locate(octaves_[h], start / step, sigmaOn(h, sigma), maxDistance / step);
-  if (!found) return std::nullopt;
-  return *found * step;
+std::optional<cv::Point2d> relocaliseBlob(const cv::Mat& input8u, const cv::Point2d& start, double sigma,
+                                          double maxDistance) {
+  CV_Assert(input8u.type() == CV_8UC1 && !input8u.empty() && sigma > 0 && sigma <= kMaxSigma);
+  return locate(input8u, start, sigma, maxDistance);
 }
 
 }  // namespace mdbrief::detail

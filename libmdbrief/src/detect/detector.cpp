@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <optional>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -26,11 +25,6 @@ namespace mdbrief {
 namespace {
 
 using internal::sizeText;
-
-// The widest blob located again on the input, in input pixels of smoothing: 11.9 for the
-// defaults' coarsest level; wider blobs, from pyramids of other shapes, would cost the input
-// pixels of whole levels.
-constexpr double kMaxRelocalisedSigma = 16.0;
 
 // Corners of one level inside `inner` (level pixels). FAST/AGAST ignore the 3 pixels next
 // to their input's border, so they run on `inner` grown by 3: no work is wasted on the
@@ -304,35 +298,23 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
 
   // Each kept blob located again on the input image at its own scale (blob_localisation.hpp):
   // after the budget, which the level positions decide, so that only the blobs kept pay for it.
-  // Blobs of the input's own level and of enlarged ones (interpolated from it) and the widest
-  // ones keep their level's position; so does a blob that the input moves by more than a level pixel, or
-  // outside the mask or the camera's margin.
+  // Blobs of the input's own level keep their position (it is the input's), and so do those of
+  // enlarged levels (interpolated from it), the widest ones, and a blob that the input moves by
+  // more than a level pixel, or outside the mask or the camera's margin.
   std::vector<cv::Point2f> positions(blobs.size());
   const int input = pyramid.options().firstLevel;
-  const auto relocalised = [&](const detail::Blob& b) {
-    const double sigma = options_.hessianSigma * refinedScale(b);
-    return options_.relocalise && b.level > input && sigma <= kMaxRelocalisedSigma;
-  };
-  int halvings = 0;
-  for (const detail::Blob& b : blobs)
-    if (relocalised(b))
-      halvings = std::max(halvings, detail::BlobLocaliser::halvingsFor(options_.hessianSigma * refinedScale(b)));
-  const std::optional<detail::BlobLocaliser> localiser =
-      std::any_of(blobs.begin(), blobs.end(), relocalised)
-          ? std::optional<detail::BlobLocaliser>(std::in_place, pyramid.image(input), halvings)
-          : std::nullopt;
-  const auto one = [&](size_t i) {
+  tbb::parallel_for(size_t(0), blobs.size(), [&](size_t i) {
     const detail::Blob& b = blobs[i];
     positions[i] = blobPosition(b, grids[b.level]);
-    if (!relocalised(b)) return;
     const double scale = refinedScale(b);
-    const auto found = localiser->relocalise(positions[i], options_.hessianSigma * scale, scale);
+    const double sigma = options_.hessianSigma * scale;
+    if (!options_.relocalise || b.level <= input || sigma > detail::kMaxSigma) return;
+    const auto found = detail::relocaliseBlob(pyramid.image(input), positions[i], sigma, scale);
     if (!found || !maskAllows(mask, *found)) return;
     const cv::Point2d onLevel = grids[b.level].toLevel(*found);
     if (!allowed(b.level, cvRound(onLevel.x), cvRound(onLevel.y))) return;
     positions[i] = cv::Point2f(*found);
-  };
-  tbb::parallel_for(size_t(0), blobs.size(), one);
+  });
   const detail::IntensityCentroid centroid(options_.orientationRadius);
   std::vector<cv::KeyPoint> keypoints;
   keypoints.reserve(blobs.size());
