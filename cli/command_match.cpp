@@ -124,6 +124,8 @@ void runMatch(const MatchArgs& args) {
     storage << "query" << args.query << "train" << args.train;
     storage << "masked" << static_cast<int>(masked);
     storage << "matches" << table;
+    // What draw checks its images against (issue 45: swapped images were drawn, exit 0).
+    storage << "query_digest" << descriptorDigest(a.descriptors) << "train_digest" << descriptorDigest(b.descriptors);
   });
   std::cout << args.query << " x " << args.train << ": " << matches.size() << (masked ? " masked" : "")
             << " matches" << inliers << " -> " << args.output << "\n";
@@ -137,7 +139,8 @@ void addMatchCommand(CLI::App& app) {
       "match",
       "Match the descriptors of two extract outputs (brute force; masked Hamming distance when both have masks). "
       "Output: node 'matches', an N x 3 CV_64F matrix whose rows are (query row in A, train row in B, distance in "
-      "bits), in query order; also 'query', 'train' (the input files) and 'masked' (0/1).");
+      "bits), in query order; also 'query', 'train' (the input files), 'masked' (0/1) and 'query_digest', "
+      "'train_digest' (digests of A's and B's descriptors, which draw --matches checks its images against).");
   cmd->add_option("A", args->query, "Query features (extract output)")
       ->check(inputFileCheck())->required();
   cmd->add_option("B", args->train, "Train features (extract output)")

@@ -1,48 +1,15 @@
-// mdbrief-pattern-random: writes the random BRIEF (G II) test set as a pattern header, its JSON
-// copy and the regenerated registry (see trainer/random_pattern.hpp for the distribution).
-#include <exception>
-#include <filesystem>
+// mdbrief-pattern-random: see trainer/pattern_random_cli.hpp and docs/training.md.
 #include <iostream>
-
-#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
 
 #include "toolkit/file_size_signal.hpp"
 #include "toolkit/opencv_log.hpp"
-#include "trainer/pattern_writer.hpp"
-#include "trainer/random_pattern.hpp"
+#include "trainer/pattern_random_cli.hpp"
 
 int main(int argc, char** argv) {
   mdbrief::silenceOpenCvLogUnlessAsked();
   mdbrief::ignoreFileSizeSignal();
-  mdbrief::train::RandomPatternOptions options;
-  std::filesystem::path out = "patterns";
-  bool makeDefault = false;
-  CLI::App app{"Write the random Gaussian BRIEF test set (G II) as a pattern header + JSON"};
-  app.add_option("--tests", options.tests, "number of tests, a multiple of 32")
-      ->check(CLI::Range(32, 4096))
-      ->capture_default_str();
-  app.add_option("--seed", options.seed, "std::mt19937 seed")->capture_default_str();
-  app.add_option("--name", options.name, "registry name (default brief_random_<tests>)");
-  app.add_option("--out", out, "existing patterns folder")->capture_default_str();
-  app.add_flag("--make-default", makeDefault, "make this set the registry's default");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
-  }
-  if (options.tests % 32 != 0) {
-    std::cerr << "error: --tests " << options.tests << " is not a multiple of 32\n";
-    return 2;
-  }
-  try {
-    const auto doc = mdbrief::train::randomPatternDocument(options);
-    mdbrief::writePattern(doc, out, {true, makeDefault});
-    std::cout << "wrote " << (out / (doc.name + ".hpp")).string() << " (" << doc.tests.size()
-              << " tests), " << (out / (doc.name + ".json")).string() << " and "
-              << (out / "registry.hpp").string() << "\n";
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  }
-  return 0;
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  return mdbrief::train::runPatternRandomCli(args, std::cout, std::cerr);
 }
