@@ -83,11 +83,33 @@ void drawTests(cv::Mat& canvas, const cv::Mat& grey, const std::vector<std::pair
   cv::rectangle(canvas, place, {255, 255, 255}, 2);
 }
 
-// Rows of node `matches` (query, train, distance), checked against the keypoint counts.
-std::vector<std::pair<int, int>> loadMatches(const std::string& path, size_t queryCount, size_t trainCount,
+// Refuses a match file whose recorded descriptor digests are not those of the two images as
+// described here: its rows would index other keypoints (issue 45: swapped images were drawn
+// with exit 0). A file without the digests (written before match recorded them, or by hand) is
+// read unchecked.
+void checkMatchedFeatures(const StorageReader& storage, const std::string& path, const Features& query,
+                          const Features& train, const std::string& queryImage, const std::string& trainImage) {
+  const std::string queryDigest = storage.text("query_digest"), trainDigest = storage.text("train_digest");
+  if (queryDigest.empty() && trainDigest.empty()) return;
+  const std::string a = descriptorDigest(query.descriptors), b = descriptorDigest(train.descriptors);
+  if (queryDigest == a && trainDigest == b) return;
+  const std::string from = path + " (matches of " + storage.text("query") + " with " + storage.text("train") + ")";
+  if (queryDigest == b && trainDigest == a)
+    throw InputError(from + ": the images are swapped: " + trainImage + " was matched as A and " + queryImage +
+                     " as B; draw " + trainImage + " --other " + queryImage);
+  throw InputError(from + ": not the features of " + queryImage + " and " + trainImage +
+                   " as these flags describe them (descriptor digests " + a + " and " + b + ", the file records " +
+                   queryDigest + " and " + trainDigest + "); give the images in match's order and the flags used "
+                   "for extract");
+}
+
+// Rows of node `matches` (query, train, distance), checked against the features drawn.
+std::vector<std::pair<int, int>> loadMatches(const std::string& path, const Features& query, const Features& train,
                                              const std::string& queryImage, const std::string& trainImage) {
   const StorageReader storage(path);
   if (!storage.has("matches")) throw InputError(path + ": no node 'matches'");
+  checkMatchedFeatures(storage, path, query, train, queryImage, trainImage);
+  const size_t queryCount = query.keypoints.size(), trainCount = train.keypoints.size();
   cv::Mat table = storage.matrix("matches");
   if (table.empty()) return {};
   if (table.cols != 3 || table.channels() != 1) throw InputError(path + ": 'matches' must be an N x 3 matrix");
@@ -157,7 +179,7 @@ void runDraw(const DrawArgs& args) {
     if (!otherCamera.path.empty()) otherFlags.camera = otherCamera;
     const CameraPtr otherCalibration = otherCamera.path.empty() ? calibration : loadCalibration(otherFlags);
     const Features g = extractFeatures(otherFlags, otherCalibration, args.other, otherImage, otherGiven);
-    const auto pairs = loadMatches(args.matches, f.keypoints.size(), g.keypoints.size(), args.image, args.other);
+    const auto pairs = loadMatches(args.matches, f, g, args.image, args.other);
     // The calibration as each image was described (rescaled with --allow-size-mismatch).
     const auto cameraFor = [](const CameraPtr& camera, cv::Size size) -> CameraPtr {
       if (!camera) return pixelPlaneCamera(size);

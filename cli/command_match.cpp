@@ -234,6 +234,8 @@ void runMatch(const MatchArgs& args) {
     storage << "masked" << static_cast<int>(masked);
     storage << "matches" << table;
     if (args.refine) storage << "refined" << refinedTable(refined);
+    // What draw checks its images against (issue 45: swapped images were drawn, exit 0).
+    storage << "query_digest" << descriptorDigest(a.descriptors) << "train_digest" << descriptorDigest(b.descriptors);
   });
   std::cout << args.query << " x " << args.train << ": " << matches.size() << (masked ? " masked" : "")
             << " matches" << (args.refine ? ", " + std::to_string(refinedCount) + " refined" : "") << inliers << " -> "
@@ -248,11 +250,12 @@ void addMatchCommand(CLI::App& app) {
       "match",
       "Match the descriptors of two extract outputs (brute force; masked Hamming distance when both have masks). "
       "Output: node 'matches', an N x 3 CV_64F matrix whose rows are (query row in A, train row in B, distance in "
-      "bits), in query order; also 'query', 'train' (the input files) and 'masked' (0/1). With --refine also node "
-      "'refined', N x 5 CV_64F, row i for match i: (x, y) B's refined position in pixels (B's keypoint where it "
-      "failed), sigma_px (standard deviation along the least certain direction; -1 where it failed), the finest "
-      "pyramid level refined on (-1), and the failure (0 refined, 1 patch outside the image or the lens, 2 "
-      "aperture: an edge or flat patch, 3 diverged).");
+      "bits), in query order; also 'query', 'train' (the input files), 'masked' (0/1) and 'query_digest', "
+      "'train_digest' (digests of A's and B's descriptors, which draw --matches checks its images against). With "
+      "--refine also node 'refined', N x 5 CV_64F, row i for match i: (x, y) B's refined position in pixels (B's "
+      "keypoint where it failed), sigma_px (standard deviation along the least certain direction; -1 where it "
+      "failed), the finest pyramid level refined on (-1), and the failure (0 refined, 1 patch outside the image or "
+      "the lens, 2 aperture: an edge or flat patch, 3 diverged).");
   cmd->add_option("A", args->query, "Query features (extract output)")
       ->check(inputFileCheck())->required();
   cmd->add_option("B", args->train, "Train features (extract output)")

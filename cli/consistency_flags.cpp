@@ -39,18 +39,20 @@ void checkConsistencyModel(const std::string& model, const CameraFileFlags& firs
 void setRigPose(const CameraFileFlags& first, const CameraFileFlags& second, MatchConsistencyOptions& options) {
   std::error_code ec;
   const bool oneFile = std::filesystem::equivalent(first.path, second.path, ec);
+  // Each file is read with its own flags (the size and model of an opencv-kd file), so that a
+  // file without extrinsics is refused for that and not for a size the flags gave (issue 45).
+  CameraFileOptions firstOptions = cameraFileOptions(first), secondOptions = cameraFileOptions(second);
+  firstOptions.cameraId.clear();  // the rig holds every camera; the ids choose below
+  secondOptions.cameraId.clear();
   try {
     if (oneFile) {
-      CameraFileOptions fileOptions;
-      fileOptions.format = parseCameraFormat(first.format);
-      const CameraRig rig = readCameraRig(first.path, fileOptions);
+      const CameraRig rig = readCameraRig(first.path, firstOptions);
       options.knownPose = rig.relativePose(first.id, second.id);
       options.poseSource = first.path + " (" + (first.id.empty() ? "its camera" : first.id) + " and " +
                            (second.id.empty() ? "its camera" : second.id) + ")";
     } else {
-      CameraFileOptions fileOptions;
-      if (first.format == second.format) fileOptions.format = parseCameraFormat(first.format);
-      const CameraRig rig = readCameraRig(std::vector<std::string>{first.path, second.path}, fileOptions);
+      const CameraRig rig = readCameraRig(std::vector<std::string>{first.path, second.path},
+                                          std::vector<CameraFileOptions>{firstOptions, secondOptions});
       options.knownPose = rig.relativePose(0, 1);
       options.poseSource = first.path + " and " + second.path;
     }

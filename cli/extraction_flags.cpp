@@ -96,8 +96,7 @@ std::string CameraFileFlags::flagNames() const {
   return prefix + "-format, " + prefix + "-id, " + prefix + "-size and " + prefix + "-opencv-model";
 }
 
-CameraFile readCalibrationFile(const CameraFileFlags& flags) {
-  requireReadableFile(flags.path);
+CameraFileOptions cameraFileOptions(const CameraFileFlags& flags) {
   CameraFileOptions options{parseCameraFormat(flags.format), flags.id, std::nullopt,
                             parseOpenCvModel(flags.opencvModel)};
   if (!flags.size.empty()) {
@@ -105,6 +104,12 @@ CameraFile readCalibrationFile(const CameraFileFlags& flags) {
     if (!options.imageSize)
       throw InputError(flags.prefix + "-size must be WxH, two integers in [1, 1000000], got '" + flags.size + "'");
   }
+  return options;
+}
+
+CameraFile readCalibrationFile(const CameraFileFlags& flags) {
+  requireReadableFile(flags.path);
+  const CameraFileOptions options = cameraFileOptions(flags);
   try {
     return readCameraFile(flags.path, options);
   } catch (const std::exception& e) {
@@ -198,13 +203,14 @@ std::vector<cv::KeyPoint> loadKeypoints(const std::string& path) {
   const StorageReader storage(path);
   if (!storage.has("keypoints")) throw InputError(path + ": no node 'keypoints'");
   const std::vector<cv::KeyPoint> keypoints = storage.keypoints("keypoints");
-  // The library drops such keypoints silently; a file that holds them is reported instead.
+  // The library drops such keypoints silently; a file that holds them is reported instead (the
+  // reader refuses positions that are not finite).
   for (size_t i = 0; i < keypoints.size(); ++i) {
     const cv::KeyPoint& k = keypoints[i];
-    if (!std::isfinite(k.pt.x) || !std::isfinite(k.pt.y) || !(k.size > 0.f) || !std::isfinite(k.size))
+    if (!(k.size > 0.f) || !std::isfinite(k.size))
       throw InputError(path + ": keypoint " + std::to_string(i) + " at (" + std::to_string(k.pt.x) + ", " +
                        std::to_string(k.pt.y) + ") with size " + std::to_string(k.size) +
-                       ": a keypoint needs a finite position and a positive finite size");
+                       ": a keypoint needs a positive finite size");
   }
   return keypoints;
 }
@@ -283,6 +289,17 @@ PyramidOptions pyramidFromText(const std::string& text, const std::string& where
     throw InputError(where + ": " + table.at(e.field()).keyword + " " + e.problem());
   }
   return options;
+}
+
+std::string descriptorDigest(const cv::Mat& descriptors) {
+  // No descriptors are one value however they were stored (0 x 0 or 0 x bytes).
+  const cv::Mat rows = descriptors.rows == 0    ? cv::Mat()
+                       : descriptors.isContinuous() ? descriptors
+                                                    : descriptors.clone();
+  std::string bytes = std::to_string(rows.rows) + " x " + std::to_string(rows.cols) + " " +
+                      std::to_string(rows.type()) + "\n";
+  bytes.append(reinterpret_cast<const char*>(rows.data), rows.total() * rows.elemSize());
+  return contentDigest(bytes.data(), bytes.size());
 }
 
 Features extractFeatures(const ExtractionFlags& flags, const CameraPtr& calibration, const std::string& imagePath,

@@ -37,6 +37,9 @@ struct CameraFileFlags {
 void addCameraFileFlags(CLI::App& cmd, CameraFileFlags& flags, const std::string& prefix,
                         const std::string& formatFlag = "");
 
+// The options the flags give the file's reader (all but the path). InputError for a bad size.
+CameraFileOptions cameraFileOptions(const CameraFileFlags& flags);
+
 // The calibration of flags.path. InputError naming the file and the problem (loadCamera's
 // messages, which start with the path).
 CameraFile readCalibrationFile(const CameraFileFlags& flags);
@@ -108,6 +111,10 @@ std::string imageDigest(const cv::Mat& image);
 // naming `where` for an unknown key, a value that is no number or one out of its range.
 std::string pyramidText(const PyramidOptions& options);
 PyramidOptions pyramidFromText(const std::string& text, const std::string& where);
+
+// contentDigest of a descriptor matrix, its shape included: match records each side's, so that
+// draw can tell whether its images, described with its flags, are the ones that were matched.
+std::string descriptorDigest(const cv::Mat& descriptors);
 
 // Detects and describes the image at imagePath (or describes `given` keypoints) with the
 // flags; the calibration must match the image size unless flags.allowSizeMismatch.

@@ -5,18 +5,22 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <sstream>
 #include <utility>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
-#include <zlib.h>
 
 #include "cli/commands.hpp"
 #include "cli/gzip_compression.hpp"
 #include "mdbrief/internal/base/io/atomic_file.hpp"
 #include "mdbrief/internal/base/io/input_file.hpp"
+#include "mdbrief/internal/base/io/nesting.hpp"
 #include "mdbrief/internal/base/io/unique_keys.hpp"
+#include "mdbrief/internal/base/size_text.hpp"
+#include "toolkit/storage_text.hpp"
 
 namespace mdbrief::cli {
 namespace {
@@ -37,25 +41,22 @@ std::string storageExtension(const fs::path& path) {
   return "";
 }
 
-// yaml-cpp recurses once per nesting level: bound the depth before it parses.
-constexpr int kMaxFlowDepth = 64;
-
 YAML::Node parseYaml(const std::string& path, const std::string& bytes) {
   const size_t nul = bytes.find('\0');
   if (nul != std::string::npos)
     throw InputError(path + ": byte " + std::to_string(nul) +
                      " is NUL; a FileStorage text file (YAML, JSON, XML) cannot hold one");
-  int depth = 0;
-  for (const char c : bytes) {
-    depth += (c == '[' || c == '{') - (c == ']' || c == '}');
-    if (depth > kMaxFlowDepth)
-      throw InputError(path + ": brackets nested deeper than " + std::to_string(kMaxFlowDepth));
-  }
+  // yaml-cpp recurses once per nesting level, and says only "bad file" at its own limit.
+  if (const std::string nesting = internal::nestingProblem(bytes); !nesting.empty())
+    throw InputError(path + ": " + nesting);
   // OpenCV's "%YAML:1.0" first line is not a YAML 1.2 directive.
   const size_t start = bytes.rfind("%YAML:", 0) == 0 ? bytes.find('\n') : std::string::npos;
   YAML::Node root;
   try {
     root = YAML::Load(start == std::string::npos ? bytes : bytes.substr(start + 1));
+  } catch (const YAML::DeepRecursion& e) {
+    throw InputError(path + ": nested deeper than the parser follows (line " +
+                     std::to_string(e.mark.line + 1 + (start == std::string::npos ? 0 : 1)) + ")");
   } catch (const YAML::Exception& e) {
     throw InputError(path + ": not well-formed YAML/JSON: " + e.what());
   }
@@ -93,24 +94,12 @@ cv::KeyPoint keypointFrom(const std::vector<YAML::Node>& v, const std::string& w
                       static_cast<float>(number(v[4], where)), integer(v[5], where), integer(v[6], where));
 }
 
-// The bytes gzread() gives for `path` (its decompressed text), counted up to limit + 1; a file
-// that cannot be opened or a damaged stream stops the count (cv::FileStorage then reports it).
-std::uintmax_t decompressedBytes(const std::string& path, std::uintmax_t limit) {
-  gzFile in = gzopen(path.c_str(), "rb");
-  if (!in) return 0;  // cv::FileStorage reports it
-  std::vector<char> buffer(1 << 16);
-  std::uintmax_t total = 0;
-  int n = 0;
-  while (total <= limit && (n = gzread(in, buffer.data(), static_cast<unsigned>(buffer.size()))) > 0) total += n;
-  gzclose(in);
-  return total;
-}
-
 std::string mebibytes(std::uintmax_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
 
 // Refuses text over the parser's limit before it is parsed (a 10-million-keypoint file ran
-// yaml-cpp out of memory after minutes).
-void checkTextSize(const std::string& path, const std::string& ext) {
+// yaml-cpp out of memory after minutes), and the text of OpenCV's parsers nested too deep (the
+// yaml-cpp path checks the text it reads).
+void checkText(const std::string& path, const std::string& ext) {
   std::error_code ec;
   if (ext == ".yml" || ext == ".yaml" || ext == ".json") {
     const std::uintmax_t bytes = fs::file_size(path, ec);
@@ -120,11 +109,16 @@ void checkTextSize(const std::string& path, const std::string& ext) {
                        mebibytes(kMaxOpenCvTextBytes) + " of text)");
     return;
   }
+  const std::string overLimit =
+      path + ": over the " + mebibytes(kMaxOpenCvTextBytes) + " of text an .xml or .gz file may hold";
   const bool compressed = endsWith(ext, ".gz");
-  const std::uintmax_t bytes = compressed ? decompressedBytes(path, kMaxOpenCvTextBytes) : fs::file_size(path, ec);
-  if (!ec && bytes > kMaxOpenCvTextBytes)
-    throw InputError(path + ": over the " + mebibytes(kMaxOpenCvTextBytes) + " of text an .xml or .gz file may hold" +
-                     (compressed ? " once decompressed" : ""));
+  if (!compressed) {
+    const std::uintmax_t bytes = fs::file_size(path, ec);
+    if (!ec && bytes > kMaxOpenCvTextBytes) throw InputError(overLimit);
+  }
+  const StorageText text = scanStorageText(path, kMaxOpenCvTextBytes);
+  if (text.bytes > kMaxOpenCvTextBytes) throw InputError(overLimit + " once decompressed");
+  if (!text.nesting.empty()) throw InputError(path + ": " + text.nesting);
 }
 
 // The atomic writer's checks (folder, a regular file or none, writable) as an InputError.
@@ -234,7 +228,7 @@ StorageReader::StorageReader(const std::string& path) : path_(path), parsed_(std
   if (const std::string problem = internal::inputFileProblem(path); !problem.empty())
     throw InputError(path + ": " + problem);
   const std::string ext = storageExtension(path);
-  checkTextSize(path, ext);
+  checkText(path, ext);
   if (ext == ".yml" || ext == ".yaml" || ext == ".json") {
     std::ifstream in(path, std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -260,18 +254,12 @@ bool StorageReader::has(const std::string& key) const {
   return !parsed_->storage[key].empty();
 }
 
-std::vector<cv::KeyPoint> StorageReader::keypoints(const std::string& key) const {
-  const std::string where = path_ + ": node '" + key + "'";
+namespace {
+
+// A keypoint list of a YAML or JSON file (StorageReader::keypoints).
+std::vector<cv::KeyPoint> yamlKeypoints(const YAML::Node& root, const std::string& key, const std::string& where) {
   std::vector<cv::KeyPoint> out;
-  if (parsed_->storage.isOpened()) {
-    try {
-      cv::read(parsed_->storage[key], out);
-    } catch (const cv::Exception& e) {
-      throw InputError(where + ": " + e.err);
-    }
-    return out;
-  }
-  const YAML::Node node = std::as_const(parsed_->yaml)[key];
+  const YAML::Node node = root[key];
   if (!node || node.IsNull()) return out;
   if (!node.IsSequence()) throw InputError(where + ": expected a sequence of keypoints");
   std::vector<YAML::Node> flat;
@@ -295,6 +283,32 @@ std::vector<cv::KeyPoint> StorageReader::keypoints(const std::string& key) const
       out.push_back(keypointFrom({flat.begin() + static_cast<long>(i), flat.begin() + static_cast<long>(i) + 7},
                                  where + ", keypoint " + std::to_string(i / 7)));
   }
+  return out;
+}
+
+}  // namespace
+
+std::vector<cv::KeyPoint> StorageReader::keypoints(const std::string& key) const {
+  const std::string where = path_ + ": node '" + key + "'";
+  std::vector<cv::KeyPoint> out;
+  if (parsed_->storage.isOpened()) {
+    try {
+      cv::read(parsed_->storage[key], out);
+    } catch (const cv::Exception& e) {
+      throw InputError(where + ": " + e.err);
+    }
+  } else {
+    out = yamlKeypoints(parsed_->yaml, key, where);
+  }
+  // Whatever reads them next would drop a keypoint at a NaN or infinite position without a word
+  // (match --inliers did, issue 45).
+  for (size_t i = 0; i < out.size(); ++i)
+    if (!std::isfinite(out[i].pt.x) || !std::isfinite(out[i].pt.y)) {
+      std::ostringstream at;
+      at << "(" << out[i].pt.x << ", " << out[i].pt.y << ")";
+      throw InputError(where + ": keypoint " + std::to_string(i) + " at " + at.str() +
+                       ": a keypoint needs a finite position");
+    }
   return out;
 }
 
@@ -367,9 +381,10 @@ Features readFeatureFile(const std::string& path) {
   // 0 x 0 and 0 x bytes hold no descriptors; N x 0 holds descriptors of no bits.
   if (d.rows > 0 && (d.type() != CV_8UC1 || d.cols < 4 || d.cols % 4 != 0 || d.cols > 64))
     throw InputError(path + ": 'descriptors' must be N x bytes CV_8U with bytes a multiple of 4 in [4, 64], got " +
-                     std::to_string(d.rows) + " x " + std::to_string(d.cols));
+                     internal::matrixText(d));
   if (!f.masks.empty() && (f.masks.type() != CV_8UC1 || f.masks.size() != d.size()))
-    throw InputError(path + ": 'masks' must have the size and type of 'descriptors'");
+    throw InputError(path + ": 'masks' must have the size and type of 'descriptors' (" + internal::matrixText(d) +
+                     "), got " + internal::matrixText(f.masks));
   if (!f.keypoints.empty() && static_cast<int>(f.keypoints.size()) != d.rows)
     throw InputError(path + ": " + std::to_string(f.keypoints.size()) + " keypoints but " + std::to_string(d.rows) +
                      " descriptor rows");

@@ -40,9 +40,10 @@ inline constexpr std::uintmax_t kMaxOpenCvTextBytes = std::uintmax_t{256} << 20;
 
 // An existing FileStorage file opened for reading its top-level nodes. OpenCV 4.6's YAML parser
 // loops forever on some damaged files (fuzz/regressions/keypoints), so YAML and JSON never reach
-// it: they are parsed by yaml-cpp (JSON is YAML) after two checks, no NUL byte and flow brackets
-// nested at most 64 deep (yaml-cpp recurses once per level). XML and .gz files go to
-// cv::FileStorage. Text over the limits above is refused unparsed. Every failure is an
+// it: they are parsed by yaml-cpp (JSON is YAML) after two checks, no NUL byte and nesting at
+// most internal::kMaxNesting deep (yaml-cpp recurses once per level). XML and .gz files go to
+// cv::FileStorage, their text (decompressed) checked for the same nesting first (OpenCV's
+// parsers recurse too). Text over the limits above is refused unparsed. Every failure is an
 // InputError naming the file and the node.
 class StorageReader {
  public:
@@ -54,7 +55,8 @@ class StorageReader {
   // True if the top-level node exists and is not empty.
   bool has(const std::string& key) const;
   // A keypoint list as cv::write stores it: a sequence of (x, y, size, angle, response,
-  // octave, class_id) sequences, or the same 7 numbers per keypoint in one flat sequence.
+  // octave, class_id) sequences, or the same 7 numbers per keypoint in one flat sequence. A
+  // position that is not finite is an InputError naming the keypoint.
   std::vector<cv::KeyPoint> keypoints(const std::string& key) const;
   // A single-channel 2-D matrix as cv::FileStorage stores it (opencv-matrix: rows, cols, dt in
   // u, c, w, s, i, f, d, and rows x cols values in data).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <memory>
 
 #include "benchmark_datasets.hpp"
@@ -14,6 +15,7 @@
 #include "stereo_benchmark.hpp"
 #include "tracker_experiment.hpp"
 #include "scenes/photo_camera.hpp"
+#include "toolkit/storage_text.hpp"
 
 namespace mdbrief::eval {
 namespace {
@@ -45,6 +47,10 @@ std::vector<TrackerPipeline> libraryPipelines(const std::vector<std::string>& sp
     // A regular file of a few options: a FIFO or /dev/zero blocked or ran without end (issue 29).
     if (const std::string problem = internal::inputFileProblem(path); !problem.empty())
       throw InputError(path + ": library options file: " + problem);
+    // OpenCV's parsers recurse once per level: a file nested 100,000 deep overflowed the stack
+    // (issue 45). The whole text is scanned, as OpenCV reads it all.
+    const std::string nesting = scanStorageText(path, std::numeric_limits<std::uintmax_t>::max()).nesting;
+    if (!nesting.empty()) throw InputError(path + ": library options file: " + nesting);
     cv::FileStorage fs;
     try {
       fs.open(path, cv::FileStorage::READ);

@@ -1,9 +1,11 @@
 #include "fuzz_targets.hpp"
 
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string_view>
 
 #include <unistd.h>
 
@@ -12,12 +14,14 @@
 #include "mdbrief/camera/rig.hpp"
 #include "mdbrief/recognition/database.hpp"
 #include "mdbrief/internal/base/io/framed_file.hpp"
+#include "mdbrief/internal/base/io/nesting.hpp"
 #include "mdbrief/describe/patterns.hpp"
 #include "mdbrief/recognition/vocabulary_text.hpp"
 #include "patchextract/image_digest.hpp"
 #include "patchextract/patch_set.hpp"
 #include "toolkit/homography_file.hpp"
 #include "trainer/train_cli.hpp"
+#include "vocabulary/descriptor_npy.hpp"
 
 namespace mdbrief::fuzz {
 
@@ -109,6 +113,21 @@ void homography(const uint8_t* d, size_t n) {
   expectingErrors([&] { readHomography(asFile(d, n, "")); });
 }
 
+void descriptorNpy(const uint8_t* d, size_t n) {
+  expectingErrors([&] { vocab::readDescriptorNpy(asFile(d, n, ".npy")); });
+}
+
+// The scan before every structured-text parser: fed in parts (a decompressed stream's), it finds
+// what it finds in the whole text, at the same line.
+void nesting(const uint8_t* d, size_t n) {
+  const std::string_view text(reinterpret_cast<const char*>(d), n);
+  const std::string whole = internal::nestingProblem(text);
+  internal::NestingScan parts;
+  for (size_t at = 0, step = 1; at < n; at += step, step = step * 3 % 17 + 1)
+    if (!parts.feed(text.substr(at, step))) break;
+  if (parts.problem() != whole) std::abort();
+}
+
 void trainConfig(const uint8_t* d, size_t n) {
   // A missing output folder stops the tool right after parsing, before any training.
   std::ostringstream out, err;
@@ -148,7 +167,9 @@ const std::vector<Target>& targets() {
                                        {"vocabulary_text", vocabularyText},
                                        {"database", database},
                                        {"held_out_list", heldOutList},
-                                       {"homography", homography}};
+                                       {"homography", homography},
+                                       {"descriptor_npy", descriptorNpy},
+                                       {"nesting", nesting}};
   return all;
 }
 

@@ -24,7 +24,9 @@ struct Target {
 // train_config (mdbrief-train --config TOML), vocabulary (Vocabulary::load), vocabulary_text
 // (importDbow2Text), database (Database::load with databaseVocabulary()), held_out_list
 // (readHeldOutImages: --held-out of the trainers), homography (readHomography: draw
-// --homography, eval --user-homographies). A vocabulary or
+// --homography, eval --user-homographies), descriptor_npy (readDescriptorNpy:
+// mdbrief-train-vocabulary --descriptors), nesting (internal::NestingScan, the depth check before
+// every YAML, JSON and XML parser, whole and in parts). A vocabulary or
 // database that loads is then used (descriptors quantised, entries queried).
 const std::vector<Target>& targets();
 

@@ -323,6 +323,13 @@ TEST_F(BrokenFiles, ErrorsNameTheFileAndTheKey) {
   expectError("ocam_short.txt", "#forward\n3 -209 0 0.002\n3 1 2 3\n", "5 lines");
   expectError("ocam_size.txt", "3 -209 0 0.002\n3 1 2 3\n240 376\n1 0 0\n0 752\n", "image size");
   expectError("does_not_exist_dir/x.yaml", "", "camera file: no such file");
+  // Issue 45: 1000 levels were "YAML: bad file" (yaml-cpp's depth guard); past 64 the file is
+  // refused before it is parsed, naming the line.
+  std::string block, indent;
+  for (int i = 0; i < 1000; ++i, indent += ' ') block += indent + "a:\n";
+  expectError("deep_block.yaml", block + indent + "b: 1\n", "nested deeper than 64 levels (line 66)");
+  expectError("deep_flow.yaml", "model: " + std::string(1000, '[') + std::string(1000, ']') + "\n",
+              "nested deeper than 64 levels (line 1)");
 }
 
 // A 2 GB file took 12.6 GB of memory in yaml-cpp before std::bad_alloc: anything over 1 MiB is

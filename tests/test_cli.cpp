@@ -5,9 +5,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <string>
@@ -618,6 +620,84 @@ TEST_F(CliTest, MatchInliersWithoutCameraFitsPixelsAndNeedsKeypoints) {
   EXPECT_GE(countBefore(f.out, "inliers"), 0) << f.out;
 }
 
+// Issue 45: `draw --matches` with the images swapped reported 9 right and 108 wrong, exit 0.
+// match records its feature files and a digest of each one's descriptors; draw refuses a match
+// file whose digests are not those of its images as described, and says when they are swapped.
+TEST_F(CliTest, DrawRefusesAMatchFileOfOtherFeatures) {
+  REQUIRE_IMAGE(a, "a.png", 0.3);
+  const std::string b = fisheyeImage("b.png", 0.25);
+  ASSERT_EQ(run({"extract", "--camera", kCamera, a, "-o", path("a.yml")}).code, 0);
+  ASSERT_EQ(run({"extract", "--camera", kCamera, b, "-o", path("b.yml")}).code, 0);
+  ASSERT_EQ(run({"match", path("a.yml"), path("b.yml"), "-o", path("m.yml")}).code, 0);
+  {
+    cv::FileStorage m(path("m.yml"), cv::FileStorage::READ);
+    EXPECT_EQ(static_cast<std::string>(m["query"]), path("a.yml"));
+    EXPECT_EQ(static_cast<std::string>(m["train"]), path("b.yml"));
+    EXPECT_EQ(static_cast<std::string>(m["query_digest"]).size(), 16u);
+    EXPECT_EQ(static_cast<std::string>(m["train_digest"]).size(), 16u);
+    EXPECT_NE(static_cast<std::string>(m["query_digest"]), static_cast<std::string>(m["train_digest"]));
+  }
+  const Result right = run({"draw", "--camera", kCamera, a, "--other", b, "--matches", path("m.yml"), "-o", path("d.png")});
+  ASSERT_EQ(right.code, 0) << right.err;
+
+  const Result swapped =
+      run({"draw", "--camera", kCamera, b, "--other", a, "--matches", path("m.yml"), "-o", path("s.png")});
+  expectOneLineNaming(swapped, path("m.yml"));
+  EXPECT_NE(swapped.err.find("swapped"), std::string::npos) << swapped.err;
+  EXPECT_FALSE(fs::exists(path("s.png")));
+
+  // Other flags describe other features: the indices would point at other keypoints.
+  const Result other = run({"draw", "--camera", kCamera, "--bits", "512", a, "--other", b, "--matches", path("m.yml"),
+                            "-o", path("o.png")});
+  expectOneLineNaming(other, path("m.yml"));
+  EXPECT_NE(other.err.find("the flags used for extract"), std::string::npos) << other.err;
+  EXPECT_FALSE(fs::exists(path("o.png")));
+}
+
+// Issue 45: `match --inliers` dropped a keypoint at a NaN position without a word. Every reader
+// of keypoints refuses a position that is not finite, naming the file and the keypoint.
+TEST_F(CliTest, FeatureFilesWithKeypointsAtNonFinitePositionsAreRefused) {
+  cli::Features f;
+  for (int i = 0; i < 8; ++i) f.keypoints.emplace_back(cv::Point2f(10.f * static_cast<float>(i), 5.f), 7.f);
+  f.descriptors = cv::Mat(8, 32, CV_8UC1, cv::Scalar(3));
+  cli::writeFeatureFiles({path("good.yml")}, {f});
+  for (const float bad : {std::nanf(""), std::numeric_limits<float>::infinity()}) {
+    f.keypoints[3].pt.y = bad;
+    for (const char* name : {"bad.yml", "bad.xml"}) {
+      cli::writeFeatureFiles({path(name)}, {f});
+      for (const bool inliers : {false, true}) {
+        std::vector<std::string> args = {"match", path(name), path("good.yml"), "-o", path("m.yml")};
+        if (inliers) args.push_back("--inliers");
+        const Result r = run(args);
+        expectOneLineNaming(r, path(name));
+        EXPECT_NE(r.err.find("keypoint 3"), std::string::npos) << r.err;
+      }
+    }
+  }
+  EXPECT_FALSE(fs::exists(path("m.yml")));
+}
+
+// Issue 45: --model pose with opencv-kd calibrations (K and D, no image size, no extrinsics)
+// asked for --camera-size when it was given; what is missing is the extrinsics, and it is said.
+TEST_F(CliTest, ModelPoseWithCalibrationsWithoutExtrinsicsSaysSo) {
+  cli::Features f;
+  for (int i = 0; i < 8; ++i) f.keypoints.emplace_back(cv::Point2f(100.f + 40.f * static_cast<float>(i), 200.f), 7.f);
+  f.descriptors = cv::Mat(8, 32, CV_8UC1, cv::Scalar(3));
+  cli::writeFeatureFiles({path("a.yml")}, {f});
+  const fs::path kd = testing::sourceDir() / "tests/data/camera_formats/opencv_kd_fisheye.yaml";
+  fs::copy_file(kd, path("kd0.yaml"));
+  fs::copy_file(kd, path("kd1.yaml"));
+  const Result r = run({"match", path("a.yml"), path("a.yml"), "--inliers", "--model", "pose", "--camera",
+                        path("kd0.yaml"), "--camera-size", "752x480", "--camera-opencv-model", "fisheye",
+                        "--camera-b", path("kd1.yaml"), "--camera-b-size", "752x480", "--camera-b-opencv-model",
+                        "fisheye", "-o", path("m.yml")});
+  expectOneLineNaming(r, "no extrinsics");
+  EXPECT_NE(r.err.find(path("kd0.yaml")), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("camera-size"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("image size"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("m.yml")));
+}
+
 TEST_F(CliTest, DrawNoKeypointsLeavesTheImageGrey) {
   REQUIRE_IMAGE(a, "a.png", 0.3);
   ASSERT_EQ(run({"draw", "--camera", kCamera, a, "--no-keypoints", "-o", path("plain.png")}).code, 0);
@@ -894,6 +974,26 @@ TEST_F(CliTest, MatchRefusesDescriptorsOfNoBytes) {
     storage << "descriptors" << cv::Mat();
   }
   EXPECT_EQ(run({"match", path("empty.yml"), path("empty.yml"), "-o", path("m.yml")}).code, 0);
+}
+
+// Issue 45: float descriptors were refused as "got 1000 x 32", which does not say what is wrong
+// with them: a message about a descriptor matrix names its type and the one expected.
+TEST_F(CliTest, DescriptorMatricesOfAnotherTypeAreNamedByType) {
+  for (const auto& [type, name] : {std::pair<int, std::string>{CV_32F, "CV_32F"}, {CV_16U, "CV_16U"}}) {
+    {
+      cv::FileStorage storage(path("f.yml"), cv::FileStorage::WRITE);
+      storage << "descriptors" << cv::Mat(7, 32, type, cv::Scalar(1));
+    }
+    const Result r = run({"match", path("f.yml"), path("f.yml"), "-o", path("m.yml")});
+    expectOneLineNaming(r, "got 7 x 32 " + name);
+    EXPECT_NE(r.err.find("CV_8U"), std::string::npos) << r.err;
+  }
+  {
+    cv::FileStorage storage(path("masks.yml"), cv::FileStorage::WRITE);
+    storage << "descriptors" << cv::Mat(7, 32, CV_8UC1, cv::Scalar(1)) << "masks" << cv::Mat(7, 32, CV_32F, cv::Scalar(1));
+  }
+  expectOneLineNaming(run({"match", path("masks.yml"), path("masks.yml"), "-o", path("m.yml")}), "got 7 x 32 CV_32F");
+  EXPECT_FALSE(fs::exists(path("m.yml")));
 }
 
 // Issue 29: `match a.yml b.yml -o a.yml`, `draw pic.png -o pic.png`, `extract --camera kb.yaml

@@ -1,9 +1,11 @@
-// Every input-file flag of every command of `mdbrief` and `mdbrief-eval` is checked before any
-// work (issue 45: `bench --image` read /dev/zero until memory ran out, blocked on a FIFO and
-// called a folder an internal error). The flags are found in the commands' CLI11 apps by their
-// check (toolkit/input_file_flag.hpp); a text flag without it must be listed below as not an
-// input file, so a new file flag cannot be added unchecked. Each checked flag is then given a
-// folder, a FIFO and /dev/zero in a subprocess with a time limit. The numeric flags are walked
+// Every input-file flag of every command of `mdbrief` and `mdbrief-eval`, and of the training
+// tools (mdbrief-patchextract, mdbrief-train, mdbrief-train-vocabulary, mdbrief-pattern-random),
+// is checked before any work (issue 45: `bench --image` read /dev/zero until memory ran out,
+// blocked on a FIFO and called a folder an internal error; the training tools found such files
+// only once they came to read them). The flags are found in the tools' CLI11 apps by their check
+// (toolkit/input_file_flag.hpp); a text flag without it must be listed below as not an input
+// file, so a new file flag cannot be added unchecked. Each checked flag is then given a folder, a
+// FIFO, /dev/zero and a missing file in a subprocess with a time limit. The numeric flags are walked
 // too: one that sets a library option takes exactly its option's range (toolkit/option_flags.hpp
 // fieldRangeCheck), any other range must be listed as the tool's own.
 #include <gtest/gtest.h>
@@ -17,6 +19,7 @@
 #include <limits>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
@@ -25,6 +28,10 @@
 #include "cli/commands.hpp"
 #include "eval/eval_cli.hpp"
 #include "eval/eval_commands.hpp"
+#include "patchextract/patchextract_cli.hpp"
+#include "trainer/pattern_random_cli.hpp"
+#include "trainer/train_cli.hpp"
+#include "vocabulary/train_vocabulary_cli.hpp"
 #include "mdbrief/describe/descriptor.hpp"
 #include "mdbrief/detect/detector.hpp"
 #include "mdbrief/detect/image_pyramid.hpp"
@@ -63,12 +70,21 @@ const std::set<std::string> kNotInputFiles = {
     "export-user-sample --out", "export-user-sample --camera-id", "export-user-sample --opencv-doc-dir",
     "export-rotated-views --out", "export-rotated-views --camera-id",
     "held-out-images --out", "held-out-images --data", "held-out-images --opencv-doc-dir", "held-out-images --only",
+    // the training tools: image folders (the vocabulary's also take image files, each checked
+    // when the folders are listed), outputs and names
+    "mdbrief-patchextract --images", "mdbrief-patchextract --camera-id", "mdbrief-patchextract --out",
+    "mdbrief-train --images", "mdbrief-train --camera-id", "mdbrief-train --save-patches", "mdbrief-train --name",
+    "mdbrief-train --out",
+    "mdbrief-train-vocabulary --images", "mdbrief-train-vocabulary --camera-id", "mdbrief-train-vocabulary --out",
+    "mdbrief-train-vocabulary --dbow2-text",
+    "mdbrief-pattern-random --name", "mdbrief-pattern-random --out",
 };
 
 struct FileFlag {
-  std::string command, flag;  // flag: "--image", or a positional's name ("images")
+  std::vector<std::string> command;  // the subcommand's words ({"camera", "convert"}); none for a tool's own flags
+  std::string flag;                  // "--image", or a positional's name ("images")
   bool positional = false;
-  int positionalIndex = 0;    // how many positionals come before it
+  int positionalIndex = 0;           // how many positionals come before it
 };
 
 bool takesText(const CLI::Option& option) {
@@ -91,29 +107,32 @@ std::string flagName(const CLI::Option& option) {
   return option.get_lnames().empty() ? "-" + option.get_snames().front() : "--" + option.get_lnames().front();
 }
 
-// The flags of app's subcommands and theirs (`camera convert`), the command named by its path.
-void collectFileFlags(CLI::App& app, const std::string& path, std::vector<FileFlag>& flags,
-                      std::vector<std::string>& unlisted) {
+// The flags of app (named `name` in kNotInputFiles: a subcommand's path, or a tool's name) and of
+// its subcommands (`camera convert`).
+void collectFileFlags(CLI::App& app, const std::string& name, const std::vector<std::string>& words,
+                      std::vector<FileFlag>& flags, std::vector<std::string>& unlisted) {
+  int positionals = 0;
+  for (CLI::Option* option : app.get_options()) {
+    const bool positional = !option->nonpositional();
+    const std::string flag = (name.empty() ? "" : name + " ") + flagName(*option);
+    if (isInputFileFlag(*option))
+      flags.push_back({words, flagName(*option), positional, positionals});
+    // A hidden flag (group "") is an old spelling that only says what replaced it (addRenamedFlag).
+    else if (takesText(*option) && !option->get_group().empty() && !kNotInputFiles.count(flag))
+      unlisted.push_back(flag);
+    positionals += positional;
+  }
   for (CLI::App* command : app.get_subcommands({})) {
-    const std::string commandPath = path.empty() ? command->get_name() : path + " " + command->get_name();
-    int positionals = 0;
-    for (CLI::Option* option : command->get_options()) {
-      const bool positional = !option->nonpositional();
-      const std::string name = commandPath + " " + flagName(*option);
-      if (isInputFileFlag(*option))
-        flags.push_back({commandPath, flagName(*option), positional, positionals});
-      // A hidden flag (group "") is an old spelling that only says what replaced it (addRenamedFlag).
-      else if (takesText(*option) && !option->get_group().empty() && !kNotInputFiles.count(name))
-        unlisted.push_back(name);
-      positionals += positional;
-    }
-    collectFileFlags(*command, commandPath, flags, unlisted);
+    std::vector<std::string> commandWords = words;
+    commandWords.push_back(command->get_name());
+    collectFileFlags(*command, name.empty() ? command->get_name() : name + " " + command->get_name(), commandWords,
+                     flags, unlisted);
   }
 }
 
-std::vector<FileFlag> fileFlags(CLI::App& app, std::vector<std::string>& unlisted) {
+std::vector<FileFlag> fileFlags(CLI::App& app, const std::string& name, std::vector<std::string>& unlisted) {
   std::vector<FileFlag> flags;
-  collectFileFlags(app, "", flags, unlisted);
+  collectFileFlags(app, name, {}, flags, unlisted);
   return flags;
 }
 
@@ -160,21 +179,20 @@ class BadInputs : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
 
   // Each flag with each bad file: exit 2 within the limit, the message naming the file and why.
-  void expectRefused(const std::string& program, CLI::App& app) {
+  // `name`: the tool's, for a tool whose app is its own (no subcommands).
+  void expectRefused(const std::string& program, CLI::App& app, const std::string& name = "") {
     std::vector<std::string> unlisted;
-    const std::vector<FileFlag> flags = fileFlags(app, unlisted);
+    const std::vector<FileFlag> flags = fileFlags(app, name, unlisted);
     EXPECT_TRUE(unlisted.empty()) << "text flags neither checked as input files (toolkit/input_file_flag.hpp) nor "
                                      "listed in kNotInputFiles: "
                                   << ::testing::PrintToString(unlisted);
-    EXPECT_FALSE(flags.empty());
     const std::map<std::string, std::string> bad = {{(dir_ / "a folder").string(), "is a folder"},
                                                     {(dir_ / "fifo").string(), "is a FIFO"},
-                                                    {"/dev/zero", "is a character device"}};
+                                                    {"/dev/zero", "is a character device"},
+                                                    {(dir_ / "missing.txt").string(), "no such file"}};
     for (const FileFlag& flag : flags)
       for (const auto& [path, why] : bad) {
-        std::vector<std::string> args;
-        std::istringstream words(flag.command);  // "camera convert": two arguments
-        for (std::string word; words >> word;) args.push_back(word);
+        std::vector<std::string> args = flag.command;
         if (flag.positional) {
           for (int i = 0; i < flag.positionalIndex; ++i) args.push_back((dir_ / "regular.txt").string());
         } else {
@@ -203,12 +221,58 @@ TEST_F(BadInputs, EveryFileFlagOfMdbriefRefusesAFolderAFifoAndADeviceBeforeAnyWo
   CLI::App app;
   addMdbriefCommands(app);
   expectRefused(MDBRIEF_CLI_PATH, app);
+  std::vector<std::string> unlisted;
+  EXPECT_FALSE(fileFlags(app, "", unlisted).empty());
 }
 
 TEST_F(BadInputs, EveryFileFlagOfMdbriefEvalRefusesAFolderAFifoAndADeviceBeforeAnyWork) {
   CLI::App app;
   mdbrief::eval::addEvalCommands(app);
   expectRefused(MDBRIEF_EVAL_PATH, app);
+  std::vector<std::string> unlisted;
+  EXPECT_FALSE(fileFlags(app, "", unlisted).empty());
+}
+
+// The training tools' apps as their programs build them (each program's --help is its app's), and
+// the file flags each has.
+struct TrainingTool {
+  const char* name;
+  const char* program;
+  std::unique_ptr<CLI::App> (*commandLine)();
+  std::set<std::string> fileFlags;
+};
+
+const std::vector<TrainingTool>& trainingTools() {
+  static const std::vector<TrainingTool> tools = {
+      {"mdbrief-patchextract", MDBRIEF_PATCHEXTRACT_PATH, train::patchExtractCommandLine, {"--camera", "--held-out"}},
+      {"mdbrief-train", MDBRIEF_TRAIN_PATH, train::trainCommandLine,
+       {"--camera", "--held-out", "--patches-file", "--config"}},
+      {"mdbrief-train-vocabulary", MDBRIEF_TRAIN_VOCABULARY_PATH, vocab::trainVocabularyCommandLine,
+       {"--camera", "--descriptors", "--masks", "--held-out"}},
+      {"mdbrief-pattern-random", MDBRIEF_PATTERN_RANDOM_PATH, train::patternRandomCommandLine, {}},
+  };
+  return tools;
+}
+
+TEST(FileFlags, TheTrainingToolsAppsAreThePrograms) {
+  for (const TrainingTool& tool : trainingTools()) {
+    const std::unique_ptr<CLI::App> app = tool.commandLine();
+    const ProgramRun help = mdbrief::testing::runProgram(tool.program, {"--help"}, std::chrono::seconds(30));
+    EXPECT_EQ(help.code, 0) << tool.name << ": " << help.err;
+    EXPECT_EQ(help.out, app->help()) << tool.name;
+    std::vector<std::string> unlisted;
+    std::set<std::string> checked;
+    for (const FileFlag& flag : fileFlags(*app, tool.name, unlisted)) checked.insert(flag.flag);
+    EXPECT_EQ(checked, tool.fileFlags) << tool.name;
+  }
+}
+
+TEST_F(BadInputs, EveryFileFlagOfTheTrainingToolsRefusesAFolderAFifoADeviceAndAMissingFileBeforeAnyWork) {
+  for (const TrainingTool& tool : trainingTools()) {
+    SCOPED_TRACE(tool.name);
+    const std::unique_ptr<CLI::App> app = tool.commandLine();
+    expectRefused(tool.program, *app, tool.name);
+  }
 }
 
 // Numeric flags that are parameters of the tools' own experiments, not of a library option.

@@ -121,7 +121,11 @@ TEST_F(StorageReaderTest, MalformedNodesAreInputErrorsNamingFileNodeAndProblem) 
       {"keypoints: [ [ 1, 2, 3, 4, 5, 1.5, -1 ] ]", "1.5 is not an int"},
       {"keypoints: [ [ 1, 2, 3, 4, 5, 0, 1e12 ] ]", "1e12 is not an int"},
       {"keypoints: [ [ 1, 2, [ 3 ], 4, 5, 0, -1 ] ]", "expected a number"},
-      {"keypoints: { a: 1 }", "expected a sequence of keypoints"}};
+      {"keypoints: { a: 1 }", "expected a sequence of keypoints"},
+      // Issue 45: a keypoint at a NaN position was dropped later without a word.
+      {"keypoints: [ [ 1, 2, 3, 4, 5, 0, -1 ], [ .nan, 2, 3, 4, 5, 0, -1 ] ]", "keypoint 1 at (nan, 2)"},
+      {"keypoints: [ [ 1, -.inf, 3, 4, 5, 0, -1 ] ]", "keypoint 0 at (1, -inf)"},
+      {"keypoints: [ 1, 2, 3, 4, 5, 0, -1, 1, .Nan, 3, 4, 5, 0, -1 ]", "keypoint 1 at (1, nan)"}};
   for (const auto& [text, reason] : keypointCases)
     expectRefused(file("k.yml", text), "keypoints", reason, [](const StorageReader& r) { r.keypoints("keypoints"); });
   const std::vector<std::pair<std::string, std::string>> matrixCases{
@@ -154,6 +158,56 @@ TEST_F(StorageReaderTest, FilesThatAreNotFileStorageMapsAreRefusedWhenOpened) {
     }
   }
   EXPECT_THROW(StorageReader(path("missing.yml")), InputError);
+}
+
+// Issue 45: nesting 1000 levels deep was "bad file" from yaml-cpp, and OpenCV's parsers (XML, and
+// YAML or JSON in a .gz) recursed once per level until the stack overflowed. Every format is
+// refused past 64 levels before it is parsed, naming the line.
+TEST_F(StorageReaderTest, NestingDeeperThanTheLimitIsRefusedBeforeParsingNamingTheLine) {
+  const auto refused = [](const std::string& name, const std::string& reason) {
+    try {
+      StorageReader reader(name);
+      ADD_FAILURE() << "accepted: " << name;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(name + ": ", 0), 0u) << e.what();
+      EXPECT_NE(std::string(e.what()).find(reason), std::string::npos) << e.what();
+    }
+  };
+  const auto gz = [&](const std::string& name, const std::string& text) {
+    gzFile out = gzopen(path(name).c_str(), "wb1");
+    gzwrite(out, text.data(), static_cast<unsigned>(text.size()));
+    gzclose(out);
+    return path(name);
+  };
+  std::string block = "%YAML:1.0\n---\n", indent;
+  for (int i = 0; i < 1000; ++i, indent += ' ') block += indent + "a:\n";
+  block += indent + "b: 1\n";
+  refused(file("block.yml", block), "nested deeper than 64 levels (line 68)");
+  const std::string flow = "{\"a\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
+  refused(file("flow.json", flow), "nested deeper than 64 levels (line 1)");
+  refused(gz("flow.json.gz", flow), "nested deeper than 64 levels (line 1)");
+  refused(gz("block.yml.gz", block), "nested deeper than 64 levels (line 68)");
+  std::string xml = "<?xml version=\"1.0\"?>\n<opencv_storage>\n<descriptors>";
+  for (int i = 0; i < 100000; ++i) xml += "<_>";
+  refused(file("deep.xml", xml), "nested deeper than 64 levels (line 3)");
+  refused(gz("deep.xml.gz", xml), "nested deeper than 64 levels (line 3)");
+
+  // 64 levels, brackets, '#' and quotes in strings, and comments are read.
+  std::string deepest = "%YAML:1.0\n---\n";
+  indent.clear();
+  for (int i = 0; i < 64; ++i, indent += ' ') deepest += indent + "a:\n";
+  deepest += indent + "b: 1\n";
+  EXPECT_TRUE(StorageReader(file("deepest.yml", deepest)).has("a"));
+  EXPECT_TRUE(StorageReader(gz("deepest.yml.gz", deepest)).has("a"));
+  const std::string brackets = "a: \"" + std::string(100, '[') + " # '\"\nb: '" + std::string(100, '{') +
+                               " it''s'\n# " + std::string(100, '[') + "\nc: x[y] # ]]\n";
+  EXPECT_EQ(StorageReader(file("brackets.yml", brackets)).text("b"), std::string(100, '{') + " it's");
+  std::string xmlOk = "<?xml version=\"1.0\"?>\n<opencv_storage>\n<!-- <a><a><a> -->\n<b>1</b>\n<a>";
+  for (int i = 0; i < 63; ++i) xmlOk += "<_>";
+  xmlOk += "1";
+  for (int i = 0; i < 63; ++i) xmlOk += "</_>";
+  xmlOk += "</a>\n</opencv_storage>\n";
+  EXPECT_TRUE(StorageReader(file("ok.xml", xmlOk)).has("b"));
 }
 
 // yaml-cpp took 3.5 GB and 34 s for a 44 MB feature file, and a 10-million-keypoint one ran out

@@ -205,6 +205,22 @@ TEST(TrackerCommand, ALibraryOptionsFileMustBeARegularFile) {
             "--library: /dev/zero: is a character device, not a regular file");
 }
 
+// Issue 45: OpenCV's parsers recursed once per level of an options file nested 100000 deep until
+// the stack overflowed; such a file is refused before it is parsed, naming the line.
+TEST(TrackerCommand, ALibraryOptionsFileNestedTooDeepIsRefusedUnparsed) {
+  testing::TempDir dir("tracker_library_deep");
+  const int levels = 100000;
+  std::string xml = "<?xml version=\"1.0\"?>\n<opencv_storage>\n";
+  for (int i = 0; i < levels; ++i) xml += "<a>";
+  const std::string yaml = "%YAML:1.0\n---\na: " + std::string(levels, '[') + std::string(levels, ']') + "\n";
+  for (const auto& [name, text] : {std::pair<std::string, std::string>{"deep.xml", xml}, {"deep.yml", yaml}}) {
+    const std::string file = (dir.path / name).string();
+    std::ofstream(file) << text;
+    EXPECT_EQ(runTrackerCommand({"--library", "mine=" + file, "--out", dir.path.string()}),
+              file + ": library options file: nested deeper than 64 levels (line 3)");
+  }
+}
+
 // Issue 29: an output that is one of the inputs is refused before the run, the input kept.
 TEST(TrackerCommand, AnOutputThatIsAnInputIsRefused) {
   FakePosterDev fake;

@@ -3,6 +3,7 @@
 // from the struct's validate(), FileStorage (MdBrief::read), the command line (mdbrief extract,
 // mdbrief-train) and Python (tests/python/test_option_fields.py), each naming the option as
 // that surface spells it.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +15,7 @@
 
 #include "cli/commands.hpp"
 #include "mdbrief/api/feature2d.hpp"
+#include "mdbrief/match/guided_matcher.hpp"
 #include "mdbrief/match/matcher.hpp"
 #include "test_data.hpp"
 #include "trainer/train_cli.hpp"
@@ -88,6 +90,45 @@ TEST(OptionFields, EveryRuntimeTableHasUniqueSpellingsAndDefaultsInRange) {
   check(mdBriefOptionFields(), MdBriefOptions{}, "MdBriefOptions");
   check(matchOptionFields(), MatchOptions{}, "MatchOptions");
   check(train::trainOptionFields(), train::TrainOptions{}, "TrainOptions");
+}
+
+// appendNested built each outer field from the inner one's parts and left `unsettable` out, so
+// GuidedMatchOptions' matching.ratio and max_distance could not be turned off through the outer
+// table; the Python binding patched it (issue 45). A nested field is its inner field under a
+// longer name: every property but the spelling of the member carries over.
+TEST(OptionFields, NestedFieldsKeepEveryPropertyOfTheirInnerField) {
+  const auto expectCarried = [](const auto& outer, const auto& inner, const std::string& prefix) {
+    for (const auto& f : inner) {
+      const auto g = std::find_if(outer.begin(), outer.end(),
+                                  [&](const auto& o) { return o.member == prefix + "." + f.member; });
+      ASSERT_NE(g, outer.end()) << prefix << "." << f.member;
+      EXPECT_STREQ(g->keyword, f.keyword) << g->member;
+      EXPECT_EQ(g->flag == nullptr, f.flag == nullptr) << g->member;
+      if (f.flag && g->flag) {
+        EXPECT_STREQ(g->flag, f.flag) << g->member;
+      }
+      EXPECT_EQ(g->type, f.type) << g->member;
+      EXPECT_EQ(g->choices, f.choices) << g->member;
+      EXPECT_EQ(g->unsettable, f.unsettable) << g->member;
+    }
+  };
+  expectCarried(guidedMatchOptionFields(), matchOptionFields(), "matching");
+  expectCarried(mdBriefOptionFields(), detectorOptionFields(), "detector");
+  expectCarried(mdBriefOptionFields(), descriptorOptionFields(), "descriptor");
+  expectCarried(detectorOptionFields(), pyramidOptionFields(), "pyramid");
+  expectCarried(train::trainOptionFields(), train::extractionOptionFields(), "extraction");
+
+  // Through the outer table, an unset value turns the nested option off.
+  const OptionTable<GuidedMatchOptions>& guided = guidedMatchOptionFields();
+  for (const char* keyword : {"ratio", "max_distance"}) {
+    const OptionField<GuidedMatchOptions>& f = guided.at(findField(guided, keyword, &OptionField<GuidedMatchOptions>::keyword));
+    EXPECT_TRUE(f.unsettable) << keyword;
+    GuidedMatchOptions options;
+    options.matching.ratio = 0.8;
+    options.matching.maxDistance = 64;
+    ASSERT_TRUE(f.set(options, std::monostate{})) << keyword;
+    EXPECT_TRUE(std::holds_alternative<std::monostate>(f.get(options))) << keyword;
+  }
 }
 
 TEST(OptionFields, StructValidateNamesTheMemberRangeAndValue) {

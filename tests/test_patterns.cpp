@@ -155,7 +155,18 @@ TEST(PatternJson, MalformedFilesThrowNamingFileAndProblem) {
   expectJsonError("{\"name\": \"x\", \"tests\": [[1,2,3]]}", "4 offsets");
   expectJsonError("{\"name\": \"x\", \"tests\": [[1,2,3,16]]}", "outside [-16, 15]");
   expectJsonError("{\"name\": \"x\", \"tests\": [[1,2,3,-17]]}", "outside [-16, 15]");
-  expectJsonError("{\"name\": \"x\", \"tests\": [[1,2.5,3,4]]}", "non-integer");
+  expectJsonError("{\"name\": \"x\", \"tests\": [[1,2.5,3,4]]}", "non-integer offset 2.5");
+  // Issue 45: 2^63 was printed as -9223372036854775808, and whole numbers beyond 64 bits were
+  // called non-integers.
+  expectJsonError("{\"name\": \"x\", \"tests\": [[9223372036854775808,2,3,4]]}",
+                  "offset 9223372036854775808 outside [-16, 15]");
+  expectJsonError("{\"name\": \"x\", \"tests\": [[18446744073709551615,2,3,4]]}",
+                  "offset 18446744073709551615 outside [-16, 15]");
+  expectJsonError("{\"name\": \"x\", \"tests\": [[1,-9223372036854775809,3,4]]}", "outside [-16, 15]");
+  expectJsonError("{\"name\": \"x\", \"tests\": [[1,2,1e30,4]]}", "offset 1e+30 outside [-16, 15]");
+  // Issue 45: a depth limit with its own message, as every reader of structured text has.
+  expectJsonError("{\"name\": \"x\", \"tests\": " + std::string(1000, '[') + std::string(1000, ']') + "}",
+                  "nested deeper than 64 levels");
   expectJsonError("{\"name\": \"x\", \"tests\": [[1,2,3,4]]}", "multiple of 32");
   expectJsonError("{\"name\": \"x\", \"tests\": []}", "multiple of 32");
   // Issue 45: the second "tests" silently replaced the first.

@@ -125,7 +125,7 @@ TEST(TrainVocabularyCli, BadInputExitsWith2NamingTheProblemAndWritesNothing) {
       {plus(inputs, {"--out", out, "--weighting", "bm25"}), "--weighting"},
       {plus(inputs, {"--out", out, "--seed", "x"}), "--seed"},
       {{"--images", image, "--camera", (dir.path / "none.yaml").string(), "--out", out},
-       (dir.path / "none.yaml").string() + ": camera file: no such file"},
+       "--camera: " + (dir.path / "none.yaml").string() + ": no such file"},
       // A rig file: the camera is chosen by --camera-id, as for mdbrief extract.
       {{"--images", image, "--camera", kalibr, "--out", out}, "holds cameras cam0, cam1, cam2, cam3, cam4: choose one"},
       {{"--images", image, "--camera", kalibr, "--camera-id", "cam9", "--out", out}, "has no camera 'cam9'"},
@@ -133,10 +133,11 @@ TEST(TrainVocabularyCli, BadInputExitsWith2NamingTheProblemAndWritesNothing) {
        "64x64, but --camera " + kalibr + " is calibrated for 752x480"},
       {{"--images", image, "--camera-id", "cam1", "--out", out}, "--camera-format and --camera-id need --camera"},
       {{"--images", image, "--held-out", (dir.path / "none.txt").string(), "--out", out},
-       (dir.path / "none.txt").string() + ": held-out list: no such file"},
-      // Issue 29: read without bound until std::bad_alloc.
+       "--held-out: " + (dir.path / "none.txt").string() + ": no such file"},
+      // Issue 29: read without bound until std::bad_alloc. Issue 45: refused when the flags are
+      // parsed, as every tool's input files.
       {{"--images", image, "--held-out", "/dev/zero", "--out", out},
-       "/dev/zero: held-out list: is a character device, not a regular file"},
+       "--held-out: /dev/zero: is a character device, not a regular file"},
   };
   for (const auto& [args, expected] : cases) {
     const CliRun r = run(args);
@@ -273,4 +274,22 @@ TEST(DescriptorNpy, ReadsWhatNumpyWritesAndRefusesOtherArrays) {
   EXPECT_NE(problem(edited("(7, 16)", "(7, 18)")).find("18 bytes per descriptor"), std::string::npos);
   EXPECT_NE(problem(edited("(7, 16)", "(112,)")).find("is not (N, B)"), std::string::npos);
   EXPECT_EQ(problem(edited("(7, 16)", "(0, 16)") .substr(0, good.size() - 112)), "read") << "no descriptors is fine";
+  // Issue 45: a shape whose product overflows 64 bits passed as "needs 9600 data bytes, the file
+  // has 9600"; a dimension beyond 64 bits was "not (N, B)".
+  const auto withShape = [](const std::string& shape, size_t dataBytes) {
+    const std::string header = "{'descr': '|u1', 'fortran_order': False, 'shape': " + shape + ", }\n";
+    std::string b("\x93NUMPY\x01\x00", 8);
+    b += static_cast<char>(header.size() & 0xFF);
+    b += static_cast<char>(header.size() >> 8);
+    return b + header + std::string(dataBytes, '\0');
+  };
+  EXPECT_EQ(problem(withShape("(2400, 4)", 9600)), "read");
+  EXPECT_NE(problem(withShape("(4611686018427390304, 4)", 9600))
+                .find("shape (4611686018427390304, 4) is too large: 2^64 bytes or more (the file has 9600 data bytes)"),
+            std::string::npos)
+      << problem(withShape("(4611686018427390304, 4)", 9600));
+  EXPECT_NE(problem(withShape("(1180591620717411303424, 4)", 9600))
+                .find("shape (1180591620717411303424, 4) is too large: 2^64 bytes or more"),
+            std::string::npos)
+      << problem(withShape("(1180591620717411303424, 4)", 9600));
 }

@@ -68,8 +68,9 @@ TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
       {{"--images", (dir.path / "empty").string(), "--out", o}, "no images"},
       {{"--images", (dir.path / "textonly").string(), "--out", o}, "no images"},
       {{"--camera", (dir.path / "nocam.yaml").string(), "--out", o}, "nocam.yaml"},
-      {{"--camera", (dir.path / "empty").string(), "--out", o}, "empty: calibration file: is a folder"},
-      {{"--patches-file", (dir.path / "empty").string(), "--out", o}, "empty: patch file: is a folder"},
+      {{"--camera", (dir.path / "empty").string(), "--out", o}, "--camera: " + (dir.path / "empty").string() + ": is a folder"},
+      {{"--patches-file", (dir.path / "empty").string(), "--out", o},
+       "--patches-file: " + (dir.path / "empty").string() + ": is a folder"},
       {{"--out", (dir.path / "missing_out").string()}, "missing_out"},
       // Issue 29: a file was reported as a missing folder.
       {{"--out", (dir.path / "textonly" / "a.txt").string()}, "a.txt: the output folder is a file, not a folder"},
@@ -84,10 +85,10 @@ TEST(TrainCli, BadInputExitsWith2AndWritesNothing) {
       {{"--patches-file", (dir.path / "none.h5").string(), "--out", o}, "none.h5"},
       {{"--no-such-flag"}, ""},
       {{"--selection", "boosting", "--out", o}, "boosting not in {paper,stability,separation}"},
-      {{"--held-out", (dir.path / "nolist.txt").string(), "--out", o}, "nolist.txt: held-out list: no such file"},
+      {{"--held-out", (dir.path / "nolist.txt").string(), "--out", o}, "nolist.txt: no such file"},
       {{"--form", "warped", "--out", o}, "--form: warped not in {affine,paper}"},
       {{"--orientation", "north", "--out", o}, "--orientation: north not in {tangent-plane,keypoint}"},
-      {{"--patches-file", (dir.path / "none.h5").string(), "--form", "paper", "--out", o},
+      {{"--patches-file", (dir.path / "textonly" / "a.txt").string(), "--form", "paper", "--out", o},
        "--patches-file cannot be combined with --images, --camera, --form or --orientation"},
   };
   for (const auto& [args, message] : cases) {
@@ -151,7 +152,8 @@ TEST(TrainCli, AnOutputThatIsAnInputIsRefused) {
 
 // Issue 29: --held-out /dev/zero read without bound, a FIFO blocked for ever, --config /dev/zero
 // hung; a misspelt key in --config (patchs = 300), an unknown key and a malformed line were
-// ignored. Each is an error naming the file, before any image is read.
+// ignored. Each is an error naming the file, before any image is read (issue 45: when the flags
+// are parsed, naming the flag).
 TEST(TrainCli, SpecialFilesAndUnknownConfigurationKeysAreRefused) {
   TempDir dir("special");
   const fs::path out = dir.path / "out", images = dir.path / "images", fifo = dir.path / "fifo.txt";
@@ -164,10 +166,10 @@ TEST(TrainCli, SpecialFilesAndUnknownConfigurationKeysAreRefused) {
   };
   const std::vector<std::string> common{"--images", images.string(), "--out", out.string()};
   const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
-      {{"--held-out", "/dev/zero"}, "/dev/zero: held-out list: is a character device, not a regular file"},
-      {{"--held-out", fifo.string()}, fifo.string() + ": held-out list: is a FIFO, not a regular file"},
-      {{"--config", "/dev/zero"}, "/dev/zero: configuration file: is a character device"},
-      {{"--config=" + fifo.string()}, fifo.string() + ": configuration file: is a FIFO"},
+      {{"--held-out", "/dev/zero"}, "--held-out: /dev/zero: is a character device, not a regular file"},
+      {{"--held-out", fifo.string()}, "--held-out: " + fifo.string() + ": is a FIFO, not a regular file"},
+      {{"--config", "/dev/zero"}, "--config: /dev/zero: is a character device"},
+      {{"--config=" + fifo.string()}, "--config: " + fifo.string() + ": is a FIFO"},
       {{"--config", config("misspelt.toml", "patchs = 300\n")}, "patchs"},
       {{"--config", config("bogus.toml", "bogus_key = 3\n")}, "bogus_key"},
       {{"--config", config("malformed.toml", "[x\nfoo=\n")}, "foo"},

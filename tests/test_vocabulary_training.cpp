@@ -200,6 +200,26 @@ TEST(VocabularyTraining, RefusesMissingMasksMixedWidthsAndNoDescriptors) {
 // TF and binary weighting have no idf part (DBoW2 sets it to 1): a word that every training
 // image holds still counts. Before, they took the idf weights, 0 for such words, so a vocabulary
 // trained with --weighting tf gave empty bags of words for images made of common words.
+// Issue 45: descriptors of another type were refused without naming it.
+TEST(VocabularyTraining, DescriptorsAndMasksOfAnotherTypeAreNamedByTypeAndShape) {
+  const auto message = [](const std::vector<TrainingImage>& images, bool masked) -> std::string {
+    VocabularyTrainingOptions o;
+    o.masked = masked;
+    try {
+      trainVocabulary(images, o);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "trained";
+  };
+  const cv::Mat bytes(7, 32, CV_8UC1, cv::Scalar(1));
+  const std::string floats = message({TrainingImage{cv::Mat(7, 32, CV_32F, cv::Scalar(1)), {}, 0}}, false);
+  EXPECT_NE(floats.find("image 0: descriptors must be CV_8U"), std::string::npos) << floats;
+  EXPECT_NE(floats.find("got 7 x 32 CV_32F"), std::string::npos) << floats;
+  const std::string masks = message({TrainingImage{bytes, cv::Mat(7, 32, CV_16U, cv::Scalar(1)), 0}}, true);
+  EXPECT_NE(masks.find("got 7 x 32 CV_16U"), std::string::npos) << masks;
+}
+
 TEST(VocabularyTraining, TfAndBinaryWeightsAreOneEvenForWordsEveryImageHolds) {
   std::vector<TrainingImage> images(3);
   cv::RNG rng(5);

@@ -1,6 +1,7 @@
 #include "trainer/train_cli.hpp"
 
 #include <exception>
+#include <memory>
 #include <optional>
 #include <ostream>
 
@@ -8,6 +9,7 @@
 
 #include "mdbrief/internal/base/io/input_file.hpp"
 #include "toolkit/command_line.hpp"
+#include "toolkit/input_file_flag.hpp"
 #include "toolkit/option_flags.hpp"
 #include "toolkit/progress_reporter.hpp"
 #include "toolkit/tool_errors.hpp"
@@ -27,26 +29,40 @@ std::vector<std::string> configFiles(const std::vector<std::string>& args) {
   return files;
 }
 
+// The flags are TrainOptions' table; the input files among them are checked before any work,
+// as every tool's (toolkit/input_file_flag.hpp).
+struct TrainApp : CLI::App {
+  TrainApp()
+      : CLI::App("Learn a binary test set (ORB's greedy scheme, paper \"Off-line Learning\", or a selection by "
+                 "matching stability) and write <out>/<name>.hpp, <name>.json and registry.hpp",
+                 "mdbrief-train") {
+    flags.add(*this, trainOptionFields());
+    // Required: the registry it rewrites belongs to a patterns folder the user names.
+    get_option("--out")->required();
+    get_option("--images")->description(get_option("--images")->get_description() + "; default " +
+                                        kDefaultImageFolder);
+    for (const char* flag : {"--camera", "--held-out", "--patches-file"}) get_option(flag)->check(inputFileCheck());
+    // CLI11 reads the file while parsing, before any check: runTrainCli checks it first.
+    set_config("--config", "", "read these options from a TOML/INI file (configs/training/)")->check(inputFileCheck());
+    // A misspelt key (patchs = 300) left the default in use without a word.
+    allow_config_extras(CLI::config_extras_mode::error);
+  }
+
+  OptionFlags<TrainOptions> flags;
+};
+
 }  // namespace
 
-int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err, bool progressTty) {
-  CLI::App app{"Learn a binary test set (ORB's greedy scheme, paper \"Off-line Learning\", or a selection by "
-               "matching stability) and write <out>/<name>.hpp, <name>.json and registry.hpp",
-               "mdbrief-train"};
-  OptionFlags<TrainOptions> flags;
-  flags.add(app, trainOptionFields());
-  // Required: the registry it rewrites belongs to a patterns folder the user names.
-  app.get_option("--out")->required();
-  app.get_option("--images")->description(app.get_option("--images")->get_description() + "; default " +
-                                          kDefaultImageFolder);
-  app.set_config("--config", "", "read these options from a TOML/INI file (configs/training/)");
-  // A misspelt key (patchs = 300) left the default in use without a word.
-  app.allow_config_extras(CLI::config_extras_mode::error);
+std::unique_ptr<CLI::App> trainCommandLine() { return std::make_unique<TrainApp>(); }
 
+int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err, bool progressTty) {
+  TrainApp app;
   // CLI11 reads a --config file without bound: /dev/zero or a FIFO hung the parse. 1 MiB is far
   // more than every option takes.
   for (const std::string& file : configFiles(args)) {
     try {
+      if (const std::string problem = internal::inputFileProblem(file); !problem.empty())
+        throw std::runtime_error("--config: " + file + ": " + problem);
       internal::readInputFile(file, std::uintmax_t{1} << 20, "configuration file");
     } catch (const std::runtime_error& e) {
       err << "error: " << oneLine(e.what()) << "\n";
@@ -59,7 +75,7 @@ int runTrainCli(const std::vector<std::string>& args, std::ostream& out, std::os
   return runTool("error: ", err, [&] {
     try {
       asInputErrors([&] {
-        const TrainOptions options = flags.apply(TrainOptions{}, [](const TrainOptions& o) { validate(o); });
+        const TrainOptions options = app.flags.apply(TrainOptions{}, [](const TrainOptions& o) { validate(o); });
         const TrainResult result = train(options, [&](const char* stage, size_t done, size_t total) {
           progress.update(stage, done, total);
         });

@@ -2,10 +2,19 @@
 // mdbrief-train: the command line over train() (training.hpp): its flags are TrainOptions'
 // field table (train_options.hpp). In the library so tests can run the whole tool in-process.
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <vector>
 
+namespace CLI {
+class App;
+}
+
 namespace mdbrief::train {
+
+// The tool's flags on an app that holds what they are parsed into (tests/test_cli_file_flags.cpp
+// walks them); runTrainCli parses this app.
+std::unique_ptr<CLI::App> trainCommandLine();
 
 // args without the program name. --out is required and must name an existing folder (the
 // patterns folder whose registry is rewritten). Returns the exit code by the tools' rule

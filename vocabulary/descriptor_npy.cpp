@@ -1,6 +1,7 @@
 #include "vocabulary/descriptor_npy.hpp"
 
 #include <charconv>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -67,22 +68,31 @@ cv::Mat readDescriptorNpy(const std::string& path) {
   if (shape == std::string::npos || header[shape] != '(') throw fail("the header has no 'shape' tuple");
   const size_t close = header.find(')', shape);
   if (close == std::string::npos) throw fail("the header's shape is not closed");
+  const std::string shapeText = header.substr(shape, close - shape + 1);
+  // A dimension or a product beyond 64 bits is a shape too large for any file, said as such: the
+  // product wrapped around (issue 45: (2^62 + 2400, 4) "needs 9600 data bytes, the file has 9600").
+  const uint64_t data = size - headerStart - headerLength;
+  const auto tooLarge = [&] {
+    return fail("shape " + shapeText + " is too large: 2^64 bytes or more (the file has " + std::to_string(data) +
+                " data bytes)");
+  };
   std::vector<uint64_t> dims;
   for (size_t p = shape + 1; p < close;) {
     while (p < close && (header[p] == ' ' || header[p] == ',')) ++p;
     if (p >= close) break;
     uint64_t v = 0;
     const auto r = std::from_chars(header.data() + p, header.data() + close, v);
-    if (r.ec != std::errc() || dims.size() == 2) throw fail("shape " + header.substr(shape, close - shape + 1) + " is not (N, B)");
+    if (r.ec == std::errc::result_out_of_range && dims.size() < 2) throw tooLarge();
+    if (r.ec != std::errc() || dims.size() == 2) throw fail("shape " + shapeText + " is not (N, B)");
     dims.push_back(v);
     p = static_cast<size_t>(r.ptr - header.data());
   }
-  if (dims.size() != 2) throw fail("shape " + header.substr(shape, close - shape + 1) + " is not (N, B)");
+  if (dims.size() != 2) throw fail("shape " + shapeText + " is not (N, B)");
   const uint64_t rows = dims[0], cols = dims[1];
   if (cols < 4 || cols > 64 || cols % 4)
     throw fail(std::to_string(cols) + " bytes per descriptor: binary descriptors of 4..64 bytes in steps of 4 only");
-  const uint64_t data = size - headerStart - headerLength;
-  if (rows > data / cols || rows * cols != data)
+  if (rows > UINT64_MAX / cols) throw tooLarge();
+  if (rows * cols != data)
     throw fail("shape (" + std::to_string(rows) + ", " + std::to_string(cols) + ") needs " +
                std::to_string(rows * cols) + " data bytes, the file has " + std::to_string(data));
   if (rows > 0x7FFFFFFFu) throw fail("more than 2^31 descriptors");

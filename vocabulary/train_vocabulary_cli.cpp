@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <ostream>
 
@@ -14,6 +15,7 @@
 #include "mdbrief/internal/base/size_text.hpp"
 #include "mdbrief/recognition/vocabulary_text.hpp"
 #include "toolkit/command_line.hpp"
+#include "toolkit/input_file_flag.hpp"
 #include "toolkit/progress_reporter.hpp"
 #include "toolkit/tool_errors.hpp"
 #include "vocabulary/descriptor_npy.hpp"
@@ -134,63 +136,79 @@ void run(Args& a, std::ostream& out, bool progressTty) {
   out << line;
 }
 
+// The tool's flags, bound to its arguments; the input files among them are checked before any
+// work, as every tool's (toolkit/input_file_flag.hpp).
+struct TrainVocabularyApp : CLI::App {
+  TrainVocabularyApp()
+      : CLI::App("Train a vocabulary of binary words (hierarchical k-majority, masked for mdBRIEF) from images or "
+                 "descriptor files; docs/vocabulary.md",
+                 "mdbrief-train-vocabulary") {
+    add_option("--images", a.images, "Training images: folders (searched recursively) or files");
+    add_option("--camera", a.camera,
+               "Calibration of every image (default: each photo as the pinhole of f = its width, "
+               "scenes/photo_camera.hpp)")
+        ->check(inputFileCheck());
+    add_option("--camera-format", a.cameraFormat,
+               "Format of the calibration file; auto recognises it from the content (configs/cameras/README.md)")
+        ->check(CLI::IsMember(namesOf(kCameraFormatNames)))
+        ->capture_default_str();
+    add_option("--camera-id", a.cameraId,
+               "The camera of a calibration file that holds several: Kalibr cam0, cam1, ...; basalt's index; "
+               "ORB-SLAM3 1 or 2; COLMAP's CAMERA_ID");
+    add_option("--extractor", a.extractor, "Features: the library's (mdbrief) or cv::ORB's (orb; a plain vocabulary)")
+        ->check(CLI::IsMember(namesOf(kFeatureKindNames)))
+        ->capture_default_str();
+    add_option("--preset", a.preset, "mdbrief: the preset whose detector and descriptor run")
+        ->check(CLI::IsMember(namesOf(kPresetNames)))
+        ->capture_default_str();
+    add_option("--bits", a.bits, "mdbrief: descriptor length, 32..512 in steps of 32 (default: the preset's)");
+    addRenamedFlag(*this, "--features", "--extractor", "--nfeatures is the number of keypoints");
+    add_option("--nfeatures", a.nfeatures, "Keypoints per image at most")
+        ->check(CLI::Range(1, 10000000))
+        ->capture_default_str();
+    add_option("--descriptors", a.descriptors,
+               "Instead of images: .npy descriptor files (uint8, N x bytes), one per image")
+        ->check(inputFileCheck());
+    add_option("--masks", a.masks, "The descriptors' masks, .npy files in the same order (a masked vocabulary)")
+        ->check(inputFileCheck());
+    add_flag("--plain", a.plain, "Train a plain vocabulary: Hamming distances, masks ignored");
+    add_option("--branching", a.training.branching, "k: children per node")
+        ->check(CLI::Range(2, kMaxVocabularyBranching))
+        ->capture_default_str();
+    add_option("--depth", a.training.depth, "L: levels (at most k^L words)")
+        ->check(CLI::Range(1, kMaxVocabularyDepth))
+        ->capture_default_str();
+    add_option("--rounds", a.training.clustering.maxRounds, "k-majority rounds per node at most")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    add_option("--mask-agreement", a.training.clustering.maskAgreement,
+               "Masked: share of a word's members that must trust a bit and agree on it for the word to trust it")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+    add_option("--weighting", a.weighting, "Word weighting")
+        ->check(CLI::IsMember(namesOf(kWeightingNames)))
+        ->capture_default_str();
+    add_option("--seed", a.training.seed, "Random seed (the same inputs and seed give the same file)")
+        ->capture_default_str();
+    add_option("--held-out", a.heldOut,
+               "More held-out lists (configs/held-out-images.txt's format) whose images are refused, besides the "
+               "compiled-in evaluation images")
+        ->check(inputFileCheck());
+    add_option("--out", a.out, "The vocabulary file to write")->required();
+    add_option("--dbow2-text", a.dbow2Text, "Also write the vocabulary as a DBoW2 text file (plain only)");
+  }
+
+  Args a;
+};
+
 }  // namespace
+
+std::unique_ptr<CLI::App> trainVocabularyCommandLine() { return std::make_unique<TrainVocabularyApp>(); }
 
 int runTrainVocabularyCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
                           bool progressTty) {
-  CLI::App app{"Train a vocabulary of binary words (hierarchical k-majority, masked for mdBRIEF) from images or "
-               "descriptor files; docs/vocabulary.md",
-               "mdbrief-train-vocabulary"};
-  Args a;
-  app.add_option("--images", a.images, "Training images: folders (searched recursively) or files");
-  app.add_option("--camera", a.camera,
-                 "Calibration of every image (default: each photo as the pinhole of f = its width, "
-                 "scenes/photo_camera.hpp)");
-  app.add_option("--camera-format", a.cameraFormat,
-                 "Format of the calibration file; auto recognises it from the content (configs/cameras/README.md)")
-      ->check(CLI::IsMember(namesOf(kCameraFormatNames)))
-      ->capture_default_str();
-  app.add_option("--camera-id", a.cameraId,
-                 "The camera of a calibration file that holds several: Kalibr cam0, cam1, ...; basalt's index; "
-                 "ORB-SLAM3 1 or 2; COLMAP's CAMERA_ID");
-  app.add_option("--extractor", a.extractor, "Features: the library's (mdbrief) or cv::ORB's (orb; a plain vocabulary)")
-      ->check(CLI::IsMember(namesOf(kFeatureKindNames)))
-      ->capture_default_str();
-  app.add_option("--preset", a.preset, "mdbrief: the preset whose detector and descriptor run")
-      ->check(CLI::IsMember(namesOf(kPresetNames)))
-      ->capture_default_str();
-  app.add_option("--bits", a.bits, "mdbrief: descriptor length, 32..512 in steps of 32 (default: the preset's)");
-  addRenamedFlag(app, "--features", "--extractor", "--nfeatures is the number of keypoints");
-  app.add_option("--nfeatures", a.nfeatures, "Keypoints per image at most")
-      ->check(CLI::Range(1, 10000000))
-      ->capture_default_str();
-  app.add_option("--descriptors", a.descriptors,
-                 "Instead of images: .npy descriptor files (uint8, N x bytes), one per image");
-  app.add_option("--masks", a.masks, "The descriptors' masks, .npy files in the same order (a masked vocabulary)");
-  app.add_flag("--plain", a.plain, "Train a plain vocabulary: Hamming distances, masks ignored");
-  app.add_option("--branching", a.training.branching, "k: children per node")
-      ->check(CLI::Range(2, kMaxVocabularyBranching))
-      ->capture_default_str();
-  app.add_option("--depth", a.training.depth, "L: levels (at most k^L words)")
-      ->check(CLI::Range(1, kMaxVocabularyDepth))
-      ->capture_default_str();
-  app.add_option("--rounds", a.training.clustering.maxRounds, "k-majority rounds per node at most")
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str();
-  app.add_option("--mask-agreement", a.training.clustering.maskAgreement,
-                 "Masked: share of a word's members that must trust a bit and agree on it for the word to trust it")
-      ->check(CLI::Range(0.0, 1.0))
-      ->capture_default_str();
-  app.add_option("--weighting", a.weighting, "Word weighting")
-      ->check(CLI::IsMember(namesOf(kWeightingNames)))
-      ->capture_default_str();
-  app.add_option("--seed", a.training.seed, "Random seed (the same inputs and seed give the same file)")
-      ->capture_default_str();
-  app.add_option("--held-out", a.heldOut,
-                 "More held-out lists (configs/held-out-images.txt's format) whose images are refused, besides the "
-                 "compiled-in evaluation images");
-  app.add_option("--out", a.out, "The vocabulary file to write")->required();
-  app.add_option("--dbow2-text", a.dbow2Text, "Also write the vocabulary as a DBoW2 text file (plain only)");
+  TrainVocabularyApp app;
+  Args& a = app.a;
   if (const std::optional<int> code = parseArguments(app, args, out, err)) return *code;
   return runTool("mdbrief-train-vocabulary: ", err, [&] {
     asInputErrors([&] { run(a, out, progressTty); });  // files: unreadable input, failed write

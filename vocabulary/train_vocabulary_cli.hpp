@@ -4,10 +4,19 @@
 // (descriptor_npy.hpp), and writes it (mdbrief/recognition/vocabulary.hpp's file; optionally also DBoW2's
 // text). In a library so tests run the whole tool in-process.
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <vector>
 
+namespace CLI {
+class App;
+}
+
 namespace mdbrief::vocab {
+
+// The tool's flags on an app that holds what they are parsed into (tests/test_cli_file_flags.cpp
+// walks them); runTrainVocabularyCli parses this app.
+std::unique_ptr<CLI::App> trainVocabularyCommandLine();
 
 // args without the program name. Returns the exit code by the tools' rule
 // (toolkit/tool_errors.hpp): 0 success, 2 bad input or a file that cannot be read or written

@@ -7,6 +7,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "mdbrief/internal/base/size_text.hpp"
+
 namespace mdbrief::vocab {
 
 namespace {
@@ -42,14 +44,17 @@ void validate(const std::vector<TrainingImage>& images, const VocabularyTraining
     const TrainingImage& im = images[i];
     if (im.descriptors.empty()) continue;
     if (im.descriptors.type() != CV_8UC1 || im.descriptors.cols % 4 || im.descriptors.cols < 4 || im.descriptors.cols > 64)
-      throw std::invalid_argument("image " + std::to_string(i) + ": descriptors must be CV_8UC1, 4..64 bytes wide in steps of 4");
+      throw std::invalid_argument("image " + std::to_string(i) +
+                                  ": descriptors must be CV_8U, 4..64 bytes wide in steps of 4, got " +
+                                  internal::matrixText(im.descriptors));
     if (width >= 0 && im.descriptors.cols != width)
       throw std::invalid_argument("image " + std::to_string(i) + ": descriptors of " + std::to_string(im.descriptors.cols) +
                                   " bytes, the images before have " + std::to_string(width));
     width = im.descriptors.cols;
     if (o.masked && (im.masks.size() != im.descriptors.size() || im.masks.type() != CV_8UC1))
-      throw std::invalid_argument("image " + std::to_string(i) +
-                                  ": no masks of the descriptors' size; a masked vocabulary needs them (train a plain one)");
+      throw std::invalid_argument("image " + std::to_string(i) + ": no masks of the descriptors' size and type (" +
+                                  internal::matrixText(im.descriptors) + "), got " + internal::matrixText(im.masks) +
+                                  "; a masked vocabulary needs them (train a plain one)");
     rows += static_cast<size_t>(im.descriptors.rows);
   }
   if (rows == 0) throw std::invalid_argument("no training descriptors");

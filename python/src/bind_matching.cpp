@@ -27,22 +27,6 @@ struct DescriptorArrays {
   cv::Mat query, train, queryMasks, trainMasks;
 };
 
-// The guided matcher's keywords. appendNested (option_fields.hpp) does not carry `unsettable`
-// over to the nested fields, so ratio=None and max_distance=None, which match takes and both
-// docstrings promise, were refused here ("ratio must be a number").
-const OptionTable<GuidedMatchOptions>& guidedKeywords() {
-  static const OptionTable<GuidedMatchOptions> table = [] {
-    OptionTable<GuidedMatchOptions> t = guidedMatchOptionFields();
-    const OptionTable<MatchOptions>& plain = matchOptionFields();
-    for (OptionField<GuidedMatchOptions>& f : t) {
-      const std::size_t i = findField(plain, f.keyword, &OptionField<MatchOptions>::keyword);
-      if (i < plain.size()) f.unsettable = plain[i].unsettable;
-    }
-    return t;
-  }();
-  return table;
-}
-
 }  // namespace
 
 void bindMatching(py::module_& m) {
@@ -94,7 +78,7 @@ as_array=True, a numpy structured array with fields query_idx, train_idx (int32)
         GuidedMatchOptions defaults;
         defaults.matching = presetSettings(presetFrom(preset)).matching;
         const GuidedMatchOptions options = optionsFromKeywords(
-            guidedKeywords(), kwargs, "match_guided", [](const GuidedMatchOptions& o) { validate(o); }, {},
+            guidedMatchOptionFields(), kwargs, "match_guided", [](const GuidedMatchOptions& o) { validate(o); }, {},
             defaults);
         const DescriptorArrays arrays(d1, d2, masks1, masks2);
         const cv::Mat &query = arrays.query, &train = arrays.train;

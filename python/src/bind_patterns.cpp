@@ -70,6 +70,21 @@ TestSet makeTestSet(const std::string& name, const py::handle& rows, const std::
     try {
       v = row.cast<std::vector<int>>();
     } catch (const py::cast_error&) {
+      // A row of 4 integers one of which no C int holds (2**63) is out of range, not of another
+      // type; said with the value as given.
+      if (py::isinstance<py::sequence>(row) && !py::isinstance<py::str>(row) && py::len(row) == 4)
+        for (const py::handle item : row) {
+          const py::object index = py::reinterpret_steal<py::object>(PyNumber_Index(item.ptr()));
+          if (!index) {
+            PyErr_Clear();
+            break;
+          }
+          int overflow = 0;
+          const long long x = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
+          if (overflow != 0 || x < -16 || x > 15)
+            throw py::value_error("TestSet: test " + std::to_string(set.tests.size()) + " has offset " +
+                                  std::string(py::str(index)) + " outside [-16, 15]");
+        }
       throw py::type_error("TestSet: tests must be rows of 4 ints (x1, y1, x2, y2)");
     }
     if (v.size() != 4) throw py::value_error("TestSet: tests must be rows of 4 ints (x1, y1, x2, y2)");

@@ -139,3 +139,10 @@ def test_detector_is_a_deprecated_name_of_method(pinhole):
     assert [k.pt for k in kp_old] == [k.pt for k in kp_new] and np.array_equal(d_old, d_new)
     with pytest.raises(TypeError, match="both method= and detector="):
         mdbrief.MdBrief(pinhole, method="modorb", detector="hessian")
+
+
+@pytest.mark.parametrize("offset", [2**63, 2**31, -2**63 - 1, 16])
+def test_an_offset_out_of_range_is_named_as_given(offset):
+    """Issue 45: an offset beyond a C int was "not a row of 4 ints", though it is one; it is out of range."""
+    with pytest.raises(ValueError, match=rf"TestSet: test 1 has offset {offset} outside \[-16, 15\]"):
+        mdbrief.TestSet("big", [[0, 0, 1, 1], [0, 1, offset, 0]] + [[0, 0, 1, 1]] * 30)

@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include "camera/construction.hpp"
@@ -23,6 +24,7 @@
 #include "mdbrief/camera/rig.hpp"
 #include "mdbrief/internal/base/io/atomic_file.hpp"
 #include "mdbrief/internal/base/io/input_file.hpp"
+#include "mdbrief/internal/base/io/nesting.hpp"
 #include "mdbrief/internal/base/io/unique_keys.hpp"
 
 namespace mdbrief {
@@ -296,9 +298,14 @@ struct RecognisedFile {
 // takes a camera choice when one is given.
 void recognise(const std::string& path, const CameraFileOptions& options, RecognisedFile& file) {
   file.text = readText(path);
+  // Before yaml-cpp, whose own limit says only "bad file" (issue 45).
+  if (const std::string nesting = internal::nestingProblem(file.text); !nesting.empty())
+    throw std::runtime_error(path + ": " + nesting);
   std::string yamlError;
   try {
     file.root = YAML::Load(file.text);
+  } catch (const YAML::DeepRecursion& e) {
+    yamlError = "nested deeper than the parser follows (line " + std::to_string(e.mark.line + 1) + ")";
   } catch (const YAML::Exception& e) {
     yamlError = e.msg;
   }

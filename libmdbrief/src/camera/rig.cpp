@@ -18,7 +18,11 @@ std::string extrinsicsKeys(CameraFormat format) {
     case CameraFormat::Basalt: return "a basalt calibration keeps them in value0.T_imu_cam";
     case CameraFormat::OrbSlam3: return "ORB-SLAM3 settings keep them in Tlr or Stereo.T_c1_c2";
     case CameraFormat::Euroc: return "a EuRoC sensor.yaml keeps them in T_BS";
-    default: return "a " + toString(format) + " file has none";
+    default: {
+      const std::string name = toString(format);
+      const bool vowel = std::string("aeiou").find(name[0]) != std::string::npos;  // "an opencv-kd file"
+      return (vowel ? "an " : "a ") + name + " file has none";
+    }
   }
 }
 
@@ -87,15 +91,24 @@ std::string fileRigId(const std::string& path) {
 
 CameraRig readCameraRig(const std::vector<std::string>& paths, const CameraFileOptions& options) {
   if (paths.empty()) throw std::invalid_argument("readCameraRig: no calibration file given");
-  if (!options.cameraId.empty())
-    throw std::invalid_argument("readCameraRig: a rig of files takes each file's only camera; the camera choice '" +
-                                options.cameraId + "' does not apply");
+  return readCameraRig(paths, std::vector<CameraFileOptions>(paths.size(), options));
+}
+
+CameraRig readCameraRig(const std::vector<std::string>& paths, const std::vector<CameraFileOptions>& options) {
+  if (paths.empty()) throw std::invalid_argument("readCameraRig: no calibration file given");
+  if (options.size() != paths.size())
+    throw std::invalid_argument("readCameraRig: " + std::to_string(options.size()) + " file options for " +
+                                std::to_string(paths.size()) + " files");
+  for (const CameraFileOptions& o : options)
+    if (!o.cameraId.empty())
+      throw std::invalid_argument("readCameraRig: a rig of files takes each file's only camera; the camera choice '" +
+                                  o.cameraId + "' does not apply");
   std::vector<RigCamera> cameras;
   std::string source;
   CameraFormat format = CameraFormat::Auto;
   for (size_t k = 0; k < paths.size(); ++k) {
     const std::string& path = paths[k];
-    const CameraRig one = readCameraRig(path, options);
+    const CameraRig one = readCameraRig(path, options[k]);
     // The same file under two names (./cams/e0.yaml and cams/e0.yaml, a link) would make a rig
     // whose cameras coincide.
     for (size_t j = 0; j < k; ++j) {

@@ -1,6 +1,7 @@
 #include "mdbrief/describe/patterns.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -101,11 +102,17 @@ TestSet loadTestSetJson(const std::string& path) {
       throw fail(where + " is not an array of 4 offsets [x1, y1, x2, y2]");
     int v[4];
     for (int k = 0; k < 4; ++k) {
-      if (!t[k].is_number_integer()) throw fail(where + " has a non-integer offset");
-      const auto value = t[k].get<long long>();
-      if (value < -kPatchHalf || value >= kPatchHalf)
-        throw fail(where + " has offset " + std::to_string(value) + " outside [-16, 15]");
-      v[k] = static_cast<int>(value);
+      const auto& offset = t[k];
+      if (!offset.is_number()) throw fail(where + " has a non-integer offset");
+      // As parsed: 2^63 is an unsigned (get<long long> made it negative), a whole number beyond
+      // 64 bits a double; either is out of range, and said so with its value as read.
+      const double value = offset.get<double>();
+      const bool whole = !offset.is_number_float() || (std::isfinite(value) && std::floor(value) == value);
+      const bool inside = value >= -kPatchHalf && value < kPatchHalf;
+      if (!whole || (inside && offset.is_number_float()))
+        throw fail(where + " has a non-integer offset " + offset.dump());
+      if (!inside) throw fail(where + " has offset " + offset.dump() + " outside [-16, 15]");
+      v[k] = offset.get<int>();
     }
     set.tests.push_back(TestPair{static_cast<int8_t>(v[0]), static_cast<int8_t>(v[1]),
                                  static_cast<int8_t>(v[2]), static_cast<int8_t>(v[3])});

@@ -293,13 +293,24 @@ OptionField<Options> choiceField(const char* member, const char* section, const 
 }
 
 // The fields of a nested struct (Outer::*inner, reached by `access`) as fields of Outer: member
-// becomes prefix + "." + member; an empty section becomes `section`.
+// becomes prefix + "." + member; an empty section becomes `section`. Every member of the field is
+// named below, so that -Wmissing-field-initializers reports one added to OptionField and not
+// carried here (`unsettable` was not, and a nested optional could not be turned off).
 template <typename Outer, typename Inner, typename Access>
 void appendNested(OptionTable<Outer>& out, const OptionTable<Inner>& inner, const char* prefix, const char* section,
                   Access access) {
   for (const OptionField<Inner>& f : inner) {
-    OptionField<Outer> g{std::string(prefix) + "." + f.member, *f.section ? f.section : section, f.keyword, f.flag,
-                         f.doc, f.type, f.choices, {}, {}, {}};
+    OptionField<Outer> g{std::string(prefix) + "." + f.member,
+                         *f.section ? f.section : section,
+                         f.keyword,
+                         f.flag,
+                         f.doc,
+                         f.type,
+                         f.choices,
+                         {},
+                         {},
+                         {},
+                         f.unsettable};
     if (f.range) g.range = [access, r = f.range](const Outer& o) { return r(access(o)); };
     g.get = [access, get = f.get](const Outer& o) { return get(access(o)); };
     g.set = [access, set = f.set](Outer& o, const FieldValue& v) { return set(access(o), v); };

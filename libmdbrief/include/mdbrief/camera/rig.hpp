@@ -87,5 +87,8 @@ CameraRig readCameraRig(const std::string& path, const CameraFileOptions& option
 // several cameras, or std::invalid_argument for no path, a file given twice (under any name)
 // or a camera choice in options.
 CameraRig readCameraRig(const std::vector<std::string>& paths, const CameraFileOptions& options = {});
+// The same with each file's own options, one per path: the image size or OpenCV model one file
+// needs and another holds (two opencv-kd files of their own sizes).
+CameraRig readCameraRig(const std::vector<std::string>& paths, const std::vector<CameraFileOptions>& options);
 
 }  // namespace mdbrief

@@ -1,14 +1,21 @@
 #pragma once
-// Image sizes in error messages, as "640x480", and read back from the command line. Internal to
-// the build, as atomic_file.hpp.
+// Image sizes in error messages, as "640x480", and read back from the command line; matrices in
+// error messages with their type. Internal to the build, as atomic_file.hpp.
 #include <optional>
 #include <string>
 
-#include <opencv2/core/types.hpp>
+#include <opencv2/core.hpp>
 
 namespace mdbrief::internal {
 
 inline std::string sizeText(cv::Size size) { return std::to_string(size.width) + "x" + std::to_string(size.height); }
+
+// "1000 x 32 CV_32F": the shape and the type, so that a matrix of the right shape and the wrong
+// type is not refused as if its shape were wrong (issue 45). One channel is the depth alone.
+inline std::string matrixText(const cv::Mat& m) {
+  return std::to_string(m.rows) + " x " + std::to_string(m.cols) + " " +
+         (m.channels() == 1 ? std::string(cv::depthToString(m.depth())) : std::string(cv::typeToString(m.type())));
+}
 
 // "640x480" as a size, each side in [1, 10^6]; none for anything else.
 inline std::optional<cv::Size> parseSizeText(const std::string& text) {

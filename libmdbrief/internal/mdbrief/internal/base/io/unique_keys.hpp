@@ -12,6 +12,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "mdbrief/internal/base/io/nesting.hpp"
+
 namespace mdbrief::internal {
 
 // Throws std::runtime_error "<path>: key '<key>' appears twice, on lines <a> and <b>". A YAML 1.1
@@ -21,11 +23,16 @@ namespace mdbrief::internal {
 void requireUniqueYamlKeys(const std::string& path, const YAML::Node& root, std::size_t textBytes);
 
 // nlohmann's parse(input) (a string or a stream) of a JSON type, throwing std::runtime_error
-// "key '<key>' appears twice in one object" for a repeated key; its own parse errors propagate.
+// "key '<key>' appears twice in one object" for a repeated key, and "nested deeper than 64
+// levels" past kMaxNesting (the top-level value is level 0), as every reader of structured text
+// refuses it; its own parse errors propagate.
 template <typename Json, typename Input>
 Json parseJsonUniqueKeys(Input&& input) {
   std::vector<std::set<std::string>> open;  // the keys of each object being read
-  return Json::parse(std::forward<Input>(input), [&open](int, typename Json::parse_event_t event, Json& parsed) {
+  return Json::parse(std::forward<Input>(input), [&open](int depth, typename Json::parse_event_t event, Json& parsed) {
+    if ((event == Json::parse_event_t::object_start || event == Json::parse_event_t::array_start) &&
+        depth > kMaxNesting)
+      throw std::runtime_error("nested deeper than " + std::to_string(kMaxNesting) + " levels");
     if (event == Json::parse_event_t::object_start) open.emplace_back();
     if (event == Json::parse_event_t::object_end) open.pop_back();
     if (event == Json::parse_event_t::key && !open.back().insert(parsed.template get<std::string>()).second)
