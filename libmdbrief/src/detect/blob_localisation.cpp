@@ -9,7 +9,7 @@ namespace {
 
 // Beyond a few pixels' walk the maximum is another blob's.
 constexpr int kMaxSteps = 3;
-constexpr int kMaxRadius = 48;  // ceil(3 kMaxSigma)
+constexpr int kMaxRadius = 24;  // ceil(3 max(kHalvedFromSigma, sqrt(kMaxSigma^2 - 1) / 2))
 constexpr int kPaddedWidth = (5 + 2 * kMaxRadius + 3 + 7) & ~7;
 
 int reflect101(int i, int n) {
@@ -119,10 +119,15 @@ std::optional<cv::Point2d> locate(const cv::Mat& image, const cv::Point2d& start
 
 }  // namespace
 
-std::optional<cv::Point2d> relocaliseBlob(const cv::Mat& input8u, const cv::Point2d& start, double sigma,
-                                          double maxDistance) {
+std::optional<cv::Point2d> relocaliseBlob(const cv::Mat& input8u, const cv::Mat& half8u, const cv::Point2d& start,
+                                          double sigma, double maxDistance) {
   CV_Assert(input8u.type() == CV_8UC1 && !input8u.empty() && sigma > 0 && sigma <= kMaxSigma);
-  return locate(input8u, start, sigma, maxDistance);
+  if (sigma <= kHalvedFromSigma) return locate(input8u, start, sigma, maxDistance);
+  CV_Assert(half8u.type() == CV_8UC1 && half8u.cols == (input8u.cols + 1) / 2 && half8u.rows == (input8u.rows + 1) / 2);
+  // pyrDown's pixel x is the input's pixel 2x; its kernel took 1 input pixel^2 of the variance.
+  const auto found = locate(half8u, start / 2, std::sqrt(sigma * sigma - 1.0) / 2, maxDistance / 2);
+  if (!found) return std::nullopt;
+  return *found * 2;
 }
 
 }  // namespace mdbrief::detail

@@ -303,13 +303,23 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
   // more than a level pixel, or outside the mask or the camera's margin.
   std::vector<cv::Point2f> positions(blobs.size());
   const int input = pyramid.options().firstLevel;
+  const auto relocalised = [&](const detail::Blob& b) {
+    const double sigma = options_.hessianSigma * refinedScale(b);
+    return options_.relocalise && b.level > input && sigma <= detail::kMaxSigma;
+  };
+  cv::Mat half;
+  for (const detail::Blob& b : blobs)
+    if (relocalised(b) && options_.hessianSigma * refinedScale(b) > detail::kHalvedFromSigma) {
+      cv::pyrDown(pyramid.image(input), half);
+      break;
+    }
   tbb::parallel_for(size_t(0), blobs.size(), [&](size_t i) {
     const detail::Blob& b = blobs[i];
     positions[i] = blobPosition(b, grids[b.level]);
+    if (!relocalised(b)) return;
     const double scale = refinedScale(b);
-    const double sigma = options_.hessianSigma * scale;
-    if (!options_.relocalise || b.level <= input || sigma > detail::kMaxSigma) return;
-    const auto found = detail::relocaliseBlob(pyramid.image(input), positions[i], sigma, scale);
+    const auto found =
+        detail::relocaliseBlob(pyramid.image(input), half, positions[i], options_.hessianSigma * scale, scale);
     if (!found || !maskAllows(mask, *found)) return;
     const cv::Point2d onLevel = grids[b.level].toLevel(*found);
     if (!allowed(b.level, cvRound(onLevel.x), cvRound(onLevel.y))) return;
