@@ -45,6 +45,30 @@ py::object cv2Attribute(const char* name) {
   return cv2.attr(name);
 }
 
+// The items of a sequence of cv2 values (or of objects with their attributes); an item that is
+// neither, or whose field overflows, is named as argument[i].
+template <typename T>
+std::vector<T> cv2Values(const py::sequence& items, const char* argument, const char* typeName,
+                         T (*fromAttributes)(PyObject*, bool&)) {
+  PyTypeObject* const cv2Type = Cv2Value<T>::type();
+  std::vector<T> out(items.size());
+  for (size_t i = 0; i < out.size(); ++i) {
+    const py::object item = items[i];
+    bool ok = true;
+    out[i] = cv2Type && Py_TYPE(item.ptr()) == cv2Type ? Cv2Value<T>::read(item.ptr()) : fromAttributes(item.ptr(), ok);
+    if (!ok) {
+      const std::string where = std::string(argument) + "[" + std::to_string(i) + "]";
+      if (PyErr_ExceptionMatches(PyExc_OverflowError)) {
+        const py::error_already_set range;
+        throw py::value_error(where + "." + std::string(py::str(range.value())));
+      }
+      PyErr_Clear();
+      throw py::type_error(where + " is not a " + typeName);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 cv::Mat imageFromArray(const py::handle& object, const char* argument, py::object& keep, bool allowNone) {
@@ -110,25 +134,8 @@ int saturatedInt(const py::int_& value) {
 std::vector<cv::KeyPoint> keypointsFromPython(const py::handle& sequence, const char* argument) {
   if (py::isinstance<py::str>(sequence) || !py::isinstance<py::sequence>(sequence))
     throw py::type_error(std::string(argument) + " must be a sequence of cv2.KeyPoint");
-  const auto items = py::reinterpret_borrow<py::sequence>(sequence);
-  PyTypeObject* const cv2Type = Cv2Value<cv::KeyPoint>::type();
-  std::vector<cv::KeyPoint> out(items.size());
-  for (size_t i = 0; i < out.size(); ++i) {
-    const py::object k = items[i];
-    bool ok = true;
-    out[i] = cv2Type && Py_TYPE(k.ptr()) == cv2Type ? Cv2Value<cv::KeyPoint>::read(k.ptr())
-                                                     : keypointFromAttributes(k.ptr(), ok);
-    if (!ok) {
-      const std::string where = std::string(argument) + "[" + std::to_string(i) + "]";
-      if (PyErr_ExceptionMatches(PyExc_OverflowError)) {
-        const py::error_already_set range;
-        throw py::value_error(where + "." + std::string(py::str(range.value())));
-      }
-      PyErr_Clear();
-      throw py::type_error(where + " is not a cv2.KeyPoint");
-    }
-  }
-  return out;
+  return cv2Values<cv::KeyPoint>(py::reinterpret_borrow<py::sequence>(sequence), argument, "cv2.KeyPoint",
+                                 keypointFromAttributes);
 }
 
 py::list keypointsToPython(const std::vector<cv::KeyPoint>& keypoints) {
@@ -199,25 +206,8 @@ std::vector<cv::DMatch> matchesFromPython(const py::handle& object, const char* 
   if (py::isinstance<py::array>(object)) return matchesFromArray(py::reinterpret_borrow<py::array>(object), argument);
   if (py::isinstance<py::str>(object) || !py::isinstance<py::sequence>(object))
     throw py::type_error(std::string(argument) + " must be a sequence of cv2.DMatch or mdbrief.match's structured array");
-  const auto items = py::reinterpret_borrow<py::sequence>(object);
-  PyTypeObject* const cv2Type = Cv2Value<cv::DMatch>::type();
-  std::vector<cv::DMatch> out(items.size());
-  for (size_t i = 0; i < out.size(); ++i) {
-    const py::object m = items[i];
-    bool ok = true;
-    out[i] = cv2Type && Py_TYPE(m.ptr()) == cv2Type ? Cv2Value<cv::DMatch>::read(m.ptr())
-                                                     : matchFromAttributes(m.ptr(), ok);
-    if (!ok) {
-      const std::string where = std::string(argument) + "[" + std::to_string(i) + "]";
-      if (PyErr_ExceptionMatches(PyExc_OverflowError)) {
-        const py::error_already_set range;
-        throw py::value_error(where + "." + std::string(py::str(range.value())));
-      }
-      PyErr_Clear();
-      throw py::type_error(where + " is not a cv2.DMatch");
-    }
-  }
-  return out;
+  return cv2Values<cv::DMatch>(py::reinterpret_borrow<py::sequence>(object), argument, "cv2.DMatch",
+                               matchFromAttributes);
 }
 
 py::array matchesToArray(const std::vector<cv::DMatch>& matches) {
