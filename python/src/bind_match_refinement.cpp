@@ -153,7 +153,7 @@ why.)doc")
                                   [](const RefinedMatch& x, double* p) { *p = x.sigmaPx; });
           },
           "(N,) float64: standard deviation of points_b along its least certain direction, input\n"
-          "pixels (the residual through the patch's structure tensor); inf where not ok.")
+          "pixels (the residual through the shift's covariance); inf where not ok.")
       .def_property_readonly(
           "levels",
           [](const RefinedMatches& r) {
