@@ -152,7 +152,9 @@ void BM_FrameMdBriefStages(benchmark::State& state) {
 // Sub-pixel refinement of the frame's matches (match_refinement.hpp) against the matching that
 // found them, single-threaded, timed alternately in each iteration: counters us_per_match (the
 // refinement) and refine_over_match (its time over the masked brute-force match's). The
-// pyramids are the detection's, built outside the timing as a tracker keeps them.
+// pyramids are the detection's, built outside the timing as a tracker keeps them. Arg: the
+// finer levels refined on (MatchRefinementOptions::finerLevels: 10 the default, 2 the default
+// before).
 void BM_RefineMatches(benchmark::State& state) {
   const Views& v = views();
   if (v.a.empty()) return state.SkipWithError("opencv-doc graf1.png missing");
@@ -165,6 +167,8 @@ void BM_RefineMatches(benchmark::State& state) {
   const mdbrief::ImagePyramid pa(v.a, pyramid), pb(v.b, pyramid);
   const mdbrief::MatchOptions match;
   const std::vector<cv::DMatch> matches = mdbrief::matchBruteForceMasked(da, ma, db, mb, match);
+  mdbrief::MatchRefinementOptions refinement;
+  refinement.finerLevels = static_cast<int>(state.range(0));
   for (int level = 0; level < pa.levels(); ++level) pa.smoothedFloat(level), pb.smoothedFloat(level);
   double refineSeconds = 0, matchSeconds = 0;
   size_t refined = 0;
@@ -172,7 +176,7 @@ void BM_RefineMatches(benchmark::State& state) {
     const auto t0 = std::chrono::steady_clock::now();
     const auto m = mdbrief::matchBruteForceMasked(da, ma, db, mb, match);
     const auto t1 = std::chrono::steady_clock::now();
-    const auto r = mdbrief::refineMatches(pa, *v.camera, ka, pb, *v.camera, kb, matches);
+    const auto r = mdbrief::refineMatches(pa, *v.camera, ka, pb, *v.camera, kb, matches, refinement);
     const auto t2 = std::chrono::steady_clock::now();
     matchSeconds += std::chrono::duration<double>(t1 - t0).count();
     refineSeconds += std::chrono::duration<double>(t2 - t1).count();
@@ -187,7 +191,7 @@ void BM_RefineMatches(benchmark::State& state) {
 }
 
 BENCHMARK(BM_FrameOrb)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_RefineMatches)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RefineMatches)->Arg(10)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_FrameMdBrief)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
 // Arg: 0 = detect, 1 = describe, 2 = match.
 BENCHMARK(BM_FrameMdBriefStages)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -51,7 +51,9 @@ struct StereoOptions {
   double rightPx = 2.0;             // a match is right within this distance of its epipolar plane (pixels of b)
   double residualRatio = 0.8;       // the ratio the residual's figures are taken at
   TwoViewOptions fit;               // fitEssential's options (its maxPixels threshold: 2 px)
-  bool refine = false;              // the library's pipelines refine their matches (refineMatches)
+  // Library pipelines (name prefixes) also scored with their matches refined (refineMatches),
+  // as a tracker uses them: a row "NAME + refine" after the pipeline's own.
+  std::vector<std::string> refined{"mdbrief tracking (defaults)"};
   MatchRefinementOptions refinement;
 };
 
@@ -65,6 +67,7 @@ struct StereoSummary {
   double fitsOk = 0;                               // share of pairs whose fit succeeded
   double auc5 = 0, auc10 = 0, auc20 = 0;           // pose error max(rotation, translation direction)
   double medianPoseErrorDeg = 0;                   // +inf when half the fits failed
+  double medianRotationErrorDeg = 0;               // the rotation's error alone
   // Rendered pairs: the distance of the right matches (within 3 px of the truth) from where a's
   // point truly lies in b, root mean square over all, and per level of b's keypoint (its octave
   // for the library; empty for OpenCV's pipelines, whose octaves mean other scales).

@@ -134,8 +134,11 @@ void addTrackerCommand(CLI::App& app) {
   cmd->add_option("--fisheye-camera", a->paths.fisheyeCameras, "Calibrations the rendered fisheye sequences use, file or file#id for one camera of a rig file")
       ->check(inputFileCheck(cameraReferencePath))
       ->capture_default_str();
-  cmd->add_flag("--stereo-refine", a->stereo.refine,
-                "The library's pipelines refine their stereo matches (mdbrief/match/match_refinement.hpp)");
+  cmd->add_option("--stereo-refine", a->stereo.refined,
+                  "Library pipelines (name prefixes) also scored on the stereo pairs with their matches refined "
+                  "(mdbrief/match/match_refinement.hpp; failed refinements dropped), in a row 'NAME + refine'; "
+                  "--stereo-refine '' for none")
+      ->capture_default_str();
   cmd->add_option("--stereo-budget", a->stereo.budget, "Keypoints per image of the stereo pairs")
       ->check(CLI::Range(10, 100000))
       ->capture_default_str();

@@ -63,7 +63,7 @@ const std::set<std::string> kNotInputFiles = {
     "eval --test-set",
     "pipelines --out", "pipelines --oxford-dir", "pipelines --sequences", "pipelines --opencv-doc-dir",
     "pipelines --user-camera-id", "pipelines --only",
-    "tracker --out", "tracker --data", "tracker --opencv-doc-dir", "tracker --only",
+    "tracker --out", "tracker --data", "tracker --opencv-doc-dir", "tracker --only", "tracker --stereo-refine",
     "map-poster-points --poster-dir",
     "retrieval --out", "retrieval --data", "retrieval --opencv-doc-dir", "retrieval --photos",
     "timing --out", "timing --camera-id", "timing --opencv-doc-dir",

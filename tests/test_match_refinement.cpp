@@ -267,6 +267,44 @@ TEST(RefineMatches, AtTheBorderOrOutsideTheLensItFailsWithAReason) {
   EXPECT_EQ(f[0].failure, RefinementFailure::Aperture);
 }
 
+// A refined point whose standard deviation exceeds maxSigmaPx fails as Uncertain, and only it:
+// the same refinement with the bound lifted gives each the sigma that decided.
+TEST(RefineMatches, APointLessCertainThanTheBoundFailsAsUncertain) {
+  const RenderedPair& p = renderedPair();
+  cv::Mat noisy(p.b.size(), CV_16S);
+  cv::RNG rng(3);
+  rng.fill(noisy, cv::RNG::NORMAL, 0.0, 40.0);
+  noisy += p.b;  // 8-bit b widened, then noise of 40 grey levels
+  noisy.convertTo(noisy, CV_8U);
+  const ImagePyramid pa(p.a, p.options.detector.pyramid), pb(noisy, p.options.detector.pyramid);
+  MatchRefinementOptions unbounded;
+  unbounded.maxSigmaPx = 100;
+  const auto lifted = refineMatches(pa, *p.camera, p.ka, pb, *p.camera, p.kb, p.matches, unbounded);
+  const auto bounded = refineMatches(pa, *p.camera, p.ka, pb, *p.camera, p.kb, p.matches);
+  EXPECT_EQ(MatchRefinementOptions{}.maxSigmaPx, 0.1);
+  int uncertain = 0, ok = 0;
+  for (size_t m = 0; m < p.matches.size(); ++m) {
+    if (!lifted[m].ok()) {
+      EXPECT_EQ(bounded[m].failure, lifted[m].failure);
+      continue;
+    }
+    if (lifted[m].sigmaPx > 0.1) {
+      ++uncertain;
+      EXPECT_EQ(bounded[m].failure, RefinementFailure::Uncertain);
+      EXPECT_EQ(bounded[m].pointB, cv::Point2d(p.kb[p.matches[m].trainIdx].pt));
+      EXPECT_FALSE(std::isfinite(bounded[m].sigmaPx));
+    } else {
+      ++ok;
+      EXPECT_TRUE(bounded[m].ok());
+      EXPECT_EQ(bounded[m].pointB, lifted[m].pointB);
+    }
+  }
+  // Measured: 209 uncertain, 588 kept of the pair's 834 matches.
+  EXPECT_GT(uncertain, 100);
+  EXPECT_GT(ok, 2 * uncertain);
+  EXPECT_STREQ(toString(RefinementFailure::Uncertain), "uncertain: its standard deviation exceeds maxSigmaPx");
+}
+
 // The template's gradients read one level pixel beyond the patch: a patch whose gradients would
 // reach past the level's first pixel is outside.
 TEST(RefineMatches, APatchAtTheLevelsCornerIsOutside) {

@@ -96,7 +96,7 @@ def test_the_structured_matches_of_match_give_the_same_result(pair):
 
 def test_options_are_keywords_of_the_option_table(pair):
     keywords = [f["keyword"] for f in mdbrief.option_fields("refine_matches")]
-    assert keywords == ["patch_radius", "finer_levels", "max_iterations", "max_shift", "min_eigenvalue"]
+    assert keywords == ["patch_radius", "finer_levels", "max_iterations", "max_shift", "min_eigenvalue", "max_sigma_px"]
     for keyword in keywords:
         assert f"{keyword}=" in mdbrief.refine_matches.__doc__
     args = (pair["features"], pair["a"], pair["ka"], pair["b"], pair["kb"], pair["matches"])
@@ -107,6 +107,10 @@ def test_options_are_keywords_of_the_option_table(pair):
     # A shift allowance below the true shift: every right match diverges.
     tight = mdbrief.refine_matches(*args, max_shift=0.05)
     assert "diverged" in tight.reasons
+    # A bound on the standard deviation below every refined point's: each refined one fails.
+    certain = mdbrief.refine_matches(*args, max_sigma_px=1e-6)
+    assert not certain.ok.any()
+    assert "uncertain: its standard deviation exceeds maxSigmaPx" in certain.reasons
 
 
 def test_bad_input_names_the_python_argument(pair):

@@ -21,7 +21,7 @@ const OptionTable<MatchRefinementOptions>& matchRefinementOptionFields() {
                       "half the refinement patch's side, level pixels", R::closed(2, 15),
                       [](auto& o) -> auto& { return o.patchRadius; }),
       integerField<O>("finerLevels", "", "finer_levels", "--refine-finer-levels",
-                      "levels finer than the keypoints' to refine on", R::closed(0, 8),
+                      "levels finer than the keypoints' to refine on", R::closed(0, 16),
                       [](auto& o) -> auto& { return o.finerLevels; }),
       integerField<O>("maxIterations", "", "max_iterations", "--refine-max-iterations",
                       "Gauss-Newton iterations per level at most", R::closed(1, 100),
@@ -32,6 +32,9 @@ const OptionTable<MatchRefinementOptions>& matchRefinementOptionFields() {
       realField<O>("minEigenvalue", "", "min_eigenvalue", "--refine-min-eigenvalue",
                    "smallest structure tensor eigenvalue of a patch that fixes both directions", R::closed(0, 10),
                    [](auto& o) -> auto& { return o.minEigenvalue; }),
+      realField<O>("maxSigmaPx", "", "max_sigma_px", "--refine-max-sigma-px",
+                   "a refined point less certain than this (its standard deviation, input pixels) fails",
+                   R::openLow(0, 100), [](auto& o) -> auto& { return o.maxSigmaPx; }),
   };
   return table;
 }
@@ -50,6 +53,8 @@ const char* toString(RefinementFailure failure) {
       return "aperture: the patch does not fix both directions";
     case RefinementFailure::Diverged:
       return "diverged";
+    case RefinementFailure::Uncertain:
+      return "uncertain: its standard deviation exceeds maxSigmaPx";
   }
   return "unknown failure";
 }
@@ -110,10 +115,10 @@ constexpr double kTurnSignificance = 8.0;
 
 // Aligns b's patch on level lb with a's on level la, from `start`; a shift beyond `maxShift`
 // input pixels diverged. aToPlane: a's input pixels to plane units; planeToB: plane units to b's
-// input pixels (the size ratio included).
+// input pixels (the size ratio included). Without estimateTurn, start's turn is held.
 LevelResult alignOnLevel(const ImagePyramid& pa, int la, const cv::Point2d& pointA, const ImagePyramid& pb, int lb,
                          const cv::Point2d& pointB, const cv::Matx22d& aToPlane, const cv::Matx22d& planeToB,
-                         const Alignment& start, double maxShift, const MatchRefinementOptions& o) {
+                         const Alignment& start, double maxShift, const MatchRefinementOptions& o, bool estimateTurn) {
   LevelResult result;
   const LevelGrid ga = pa.grid(la), gb = pb.grid(lb);
   const cv::Mat& ia = pa.smoothedFloat(la);
@@ -124,13 +129,19 @@ LevelResult alignOnLevel(const ImagePyramid& pa, int la, const cv::Point2d& poin
     result.outcome = LevelOutcome::OutsideImage;
     return result;
   }
+  // a's samples on the patch's grid and a pixel around it, once: the gradients are their
+  // central differences.
+  const int wide = side + 2;
+  std::vector<float> grid(static_cast<size_t>(wide) * wide);
+  for (int v = -r - 1, k = 0; v <= r + 1; ++v)
+    for (int u = -r - 1; u <= r + 1; ++u, ++k) grid[k] = bilinear(ia, ca.x + u, ca.y + v);
   std::vector<float> templ(count), gx(count), gy(count);
-  for (int v = -r, k = 0; v <= r; ++v)
-    for (int u = -r; u <= r; ++u, ++k) {
-      const double x = ca.x + u, y = ca.y + v;
-      templ[k] = bilinear(ia, x, y);
-      gx[k] = 0.5f * (bilinear(ia, x + 1, y) - bilinear(ia, x - 1, y));
-      gy[k] = 0.5f * (bilinear(ia, x, y + 1) - bilinear(ia, x, y - 1));
+  for (int v = 0, k = 0; v < side; ++v)
+    for (int u = 0; u < side; ++u, ++k) {
+      const float* row = &grid[static_cast<size_t>(v + 1) * wide + u + 1];
+      templ[k] = row[0];
+      gx[k] = 0.5f * (row[1] - row[-1]);
+      gy[k] = 0.5f * (row[wide] - row[-wide]);
     }
   float deviation = 0;
   if (!normalise(templ, deviation)) {
@@ -244,7 +255,7 @@ LevelResult alignOnLevel(const ImagePyramid& pa, int la, const cv::Point2d& poin
     return out;
   };
   double significance = 0;
-  if (!turnFixed) return align(start, false, significance);
+  if (!turnFixed || !estimateTurn) return align(start, false, significance);
   // Estimating the turn costs the shift precision wherever the two move the same samples (the
   // tests' rendered plane, which did not roll: median error 0.068 -> 0.072 px), so the turn is
   // kept only where it stands out of its noise; otherwise the shift is fitted alone, the patch
@@ -296,7 +307,7 @@ RefinedMatch refineOne(const ImagePyramid& pa, const Camera& cameraA, const cv::
   for (int j = 0; j <= steps; ++j) {
     const int lb = kb.octave - j;
     const LevelResult r =
-        alignOnLevel(pa, ka.octave - j, ka.pt, pb, lb, kb.pt, aToPlane, planeToB, alignment, o.maxShift * ownStep, o);
+        alignOnLevel(pa, ka.octave - j, ka.pt, pb, lb, kb.pt, aToPlane, planeToB, alignment, o.maxShift * ownStep, o, j == 0);
     if (r.outcome != LevelOutcome::Aligned) {
       if (j > 0) break;  // a finer level that cannot align adds nothing: keep the coarser result
       return fail(r.outcome == LevelOutcome::OutsideImage ? RefinementFailure::OutsideImage
@@ -307,6 +318,7 @@ RefinedMatch refineOne(const ImagePyramid& pa, const Camera& cameraA, const cv::
     sigmaLevel = r.sigmaLevel * pb.grid(lb).step.x;
     level = lb;
   }
+  if (!(sigmaLevel <= o.maxSigmaPx)) return fail(RefinementFailure::Uncertain);
   cv::Vec3d bearing;
   const cv::Point2d refined = cv::Point2d(kb.pt) + alignment.shift;
   if (!cameraB.pixelToBearing(refined, bearing)) return fail(RefinementFailure::OutsideImage);
