@@ -137,7 +137,7 @@ std::string inlierSummary(const MatchArgs& args, const Features& a, const Featur
 
 // One row per match: B's refined x, y (input pixels; B's keypoint where it failed), sigma_px
 // (-1 where it failed: JSON has no infinity), the finest level refined on (-1), and the
-// failure (RefinementFailure: 0 refined, 1 outside the image, 2 aperture, 3 diverged).
+// failure (RefinementFailure: 0 refined, 1 outside the image, 2 aperture, 3 diverged, 4 uncertain).
 cv::Mat refinedTable(const std::vector<RefinedMatch>& refined) {
   cv::Mat table(static_cast<int>(refined.size()), 5, CV_64F);
   for (int i = 0; i < table.rows; ++i) {
@@ -255,7 +255,7 @@ void addMatchCommand(CLI::App& app) {
       "--refine also node 'refined', N x 5 CV_64F, row i for match i: (x, y) B's refined position in pixels (B's "
       "keypoint where it failed), sigma_px (standard deviation along the least certain direction; -1 where it "
       "failed), the finest pyramid level refined on (-1), and the failure (0 refined, 1 patch outside the image or "
-      "the lens, 2 aperture: an edge or flat patch, 3 diverged).");
+      "the lens, 2 aperture: an edge or flat patch, 3 diverged, 4 uncertain: sigma_px above --refine-max-sigma-px).");
   cmd->add_option("A", args->query, "Query features (extract output)")
       ->check(inputFileCheck())->required();
   cmd->add_option("B", args->train, "Train features (extract output)")

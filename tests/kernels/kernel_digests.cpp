@@ -166,6 +166,20 @@ uint64_t hessianDigest(const std::vector<float>& level) {
     }
   }
   d.add(total);
+  // Gaussian passes over rows of pixels and along a row, the widths around each vector length.
+  std::vector<float> weights(49);
+  for (size_t t = 0; t < weights.size(); ++t) weights[t] = 1.f / static_cast<float>(3 + t);
+  const std::vector<uint8_t> pixels = texture();
+  std::vector<const uint8_t*> rows(49);
+  for (size_t t = 0; t < rows.size(); ++t) rows[t] = &pixels[(3 * t + 1) * kCols + 5];
+  for (const int taps : {1, 7, 35, 49})
+    for (const int width : {1, 5, 8, 13, 16, 31, 53}) {
+      std::vector<float> out(width);
+      k.weightedRows(rows.data(), taps, weights.data(), width, out.data());
+      d.add(out);
+      k.weightedRow(&level[2 * kCols + 3], taps, weights.data(), width, out.data());
+      d.add(out);
+    }
   return d.h;
 }
 
@@ -340,7 +354,7 @@ uint64_t resizeDigest(const std::vector<uint8_t>& img) {
 }
 
 // Recorded on x86-64 (every level gives them).
-constexpr uint64_t kSmoothing = 0x035e1da41e92902cull, kHessian = 0xe238f8e09b5da087ull,
+constexpr uint64_t kSmoothing = 0x035e1da41e92902cull, kHessian = 0x49a77b667f81b441ull,
                    kDescriptor = 0x8ee3f96fc7f86082ull, kMatcher = 0xff9176c19ebb9f4aull,
                    kMaskWeights = 0x4bc4bc6c1deb2075ull, kResize = 0xd1e90b4367e98a08ull;
 

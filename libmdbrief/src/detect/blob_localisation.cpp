@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "detect/hessian_kernels.hpp"
+
 namespace mdbrief::detail {
 
 namespace {
@@ -10,7 +12,12 @@ namespace {
 // Beyond a few pixels' walk the maximum is another blob's.
 constexpr int kMaxSteps = 3;
 constexpr int kMaxRadius = 24;  // ceil(3 max(kHalvedFromSigma, sqrt(kMaxSigma^2 - 1) / 2))
-constexpr int kPaddedWidth = (5 + 2 * kMaxRadius + 3 + 7) & ~7;
+constexpr int kMaxWidth = 5 + 2 * kMaxRadius;
+// Rows padded with zeros to whole vectors of 16 lanes (the widest level's), so that no column
+// is left to a scalar tail (each column's sum is the same at every width), and as wide as the
+// horizontal pass's 16 sums read: 16 + 2 radius columns.
+constexpr int kPadded = (2 * kMaxRadius + 16 + 15) & ~15;
+static_assert(kPadded >= kMaxWidth);
 
 int reflect101(int i, int n) {
   if (n == 1) return 0;
@@ -43,38 +50,34 @@ Taps gaussianTaps(double sigma) {
   return t;
 }
 
-// The smoothed image at the 5x5 pixels around (cx, cy), row-major: down the columns first (each
-// tap over a contiguous run of columns, which the compiler vectorises without reordering any
-// sum), then along the 5 rows, 8 columns at a time of which 5 are kept. Only the 5 + 2 radius
-// columns around the block are smoothed, padded with zeros to whole vectors.
-void smoothedBlock(const cv::Mat& image, int cx, int cy, const Taps& taps, float out[25]) {
-  const int radius = taps.radius;
-  const int width = 5 + 2 * radius;
-  const int padded = (width + 3 + 7) & ~7;  // the horizontal pass reads 3 columns beyond the 5th
-  float vertical[5][kPaddedWidth] = {};
-  float row[kPaddedWidth] = {};
+// The smoothed image at the 5x5 pixels around (cx, cy), row-major: down the 5 + 2 radius columns
+// around the block first, then along the 5 rows; each sum in the order of its taps, so every SIMD
+// level gives the same bits (hessian_kernels.hpp).
+void smoothedBlock(const hessian_kernels::HessianKernels& kernels, const cv::Mat& image, int cx, int cy, const Taps& taps,
+                   float out[25]) {
+  const int radius = taps.radius, width = 5 + 2 * radius, padded = (2 * radius + 16 + 15) & ~15;
+  // The image's rows where the padded columns lie in them (only the first `width` columns count:
+  // the rest are read and their sums dropped), reflected copies otherwise.
+  const uint8_t* rows[kMaxWidth];
+  uint8_t copies[kMaxWidth][kPadded];
   const int left = cx - 2 - radius;
-  const bool inside = left >= 0 && left + width <= image.cols;
+  const bool inside = left >= 0 && left + padded <= image.cols;
   for (int r = 0; r < width; ++r) {
     const uint8_t* pixels = image.ptr<uint8_t>(reflect101(cy - 2 - radius + r, image.rows));
-    if (inside)
-      for (int c = 0; c < width; ++c) row[c] = pixels[left + c];
-    else
-      for (int c = 0; c < width; ++c) row[c] = pixels[reflect101(left + c, image.cols)];
-    // Input row r feeds output rows r - 2 radius .. r (tap r - out).
-    for (int out = std::max(0, r - 2 * radius); out <= std::min(4, r); ++out) {
-      const float w = taps.weight[r - out];
-      float* sum = vertical[out];
-      for (int c = 0; c < padded; ++c) sum[c] += w * row[c];
+    if (inside) {
+      rows[r] = pixels + left;
+      continue;
     }
+    for (int c = 0; c < width; ++c) copies[r][c] = pixels[reflect101(left + c, image.cols)];
+    std::fill(copies[r] + width, copies[r] + kPadded, uint8_t{0});
+    rows[r] = copies[r];
   }
+  float vertical[5][kPadded], horizontal[16];
+  for (int r = 0; r < 5; ++r) kernels.weightedRows(rows + r, 2 * radius + 1, taps.weight, padded, vertical[r]);
   for (int r = 0; r < 5; ++r) {
-    float sum[8] = {};
-    for (int t = 0; t <= 2 * radius; ++t) {
-      const float w = taps.weight[t];
-      for (int c = 0; c < 8; ++c) sum[c] += w * vertical[r][c + t];
-    }
-    for (int c = 0; c < 5; ++c) out[5 * r + c] = sum[c];
+    // 16 sums of which the first 5 are the block's.
+    kernels.weightedRow(vertical[r], 2 * radius + 1, taps.weight, 16, horizontal);
+    std::copy(horizontal, horizontal + 5, out + 5 * r);
   }
 }
 
@@ -90,12 +93,13 @@ float determinant(const float s[25], int u, int v) {
 }
 
 std::optional<cv::Point2d> locate(const cv::Mat& image, const cv::Point2d& start, double sigma, double maxDistance) {
+  const hessian_kernels::HessianKernels kernels = hessian_kernels::activeHessianKernels();
   const Taps taps = gaussianTaps(sigma);
   int x = static_cast<int>(std::lround(start.x)), y = static_cast<int>(std::lround(start.y));
   for (int step = 0; step <= kMaxSteps; ++step) {
     if (x < 0 || y < 0 || x >= image.cols || y >= image.rows) return std::nullopt;
     float s[25], r[9];
-    smoothedBlock(image, x, y, taps, s);
+    smoothedBlock(kernels, image, x, y, taps, s);
     for (int v = 0; v < 3; ++v)
       for (int u = 0; u < 3; ++u) r[3 * v + u] = determinant(s, u + 1, v + 1);
     // The quadratic through the 3x3 responses (hessian.cpp's subPixelOffset, without its fallback:

@@ -76,7 +76,44 @@ int Candidates(const float* row, const float* maxAbove, const float* maxRow, con
   return count;
 }
 
-HessianKernels Kernels() { return {ResponseRow, RowMax3, Candidates, HWY_TARGET}; }
+void WeightedRows(const uint8_t* const* rows, int taps, const float* weights, int width, float* HWY_RESTRICT out) {
+  const hn::ScalableTag<float> d;
+  const hn::Rebind<uint8_t, decltype(d)> d8;
+  const hn::Rebind<int32_t, decltype(d)> di;
+  const int n = static_cast<int>(hn::Lanes(d));
+  int c = 0;
+  for (; c + n <= width; c += n) {
+    auto sum = hn::Zero(d);
+    for (int t = 0; t < taps; ++t) {
+      const auto pixels = hn::ConvertTo(d, hn::PromoteTo(di, hn::LoadU(d8, rows[t] + c)));
+      sum = hn::Add(sum, hn::Mul(hn::Set(d, weights[t]), pixels));
+    }
+    hn::StoreU(sum, d, out + c);
+  }
+  for (; c < width; ++c) {
+    float sum = 0.f;
+    for (int t = 0; t < taps; ++t) sum += weights[t] * static_cast<float>(rows[t][c]);
+    out[c] = sum;
+  }
+}
+
+void WeightedRow(const float* row, int taps, const float* weights, int width, float* HWY_RESTRICT out) {
+  const hn::ScalableTag<float> d;
+  const int n = static_cast<int>(hn::Lanes(d));
+  int c = 0;
+  for (; c + n <= width; c += n) {
+    auto sum = hn::Zero(d);
+    for (int t = 0; t < taps; ++t) sum = hn::Add(sum, hn::Mul(hn::Set(d, weights[t]), hn::LoadU(d, row + c + t)));
+    hn::StoreU(sum, d, out + c);
+  }
+  for (; c < width; ++c) {
+    float sum = 0.f;
+    for (int t = 0; t < taps; ++t) sum += weights[t] * row[c + t];
+    out[c] = sum;
+  }
+}
+
+HessianKernels Kernels() { return {ResponseRow, RowMax3, Candidates, WeightedRows, WeightedRow, HWY_TARGET}; }
 
 }  // namespace mdbrief::hessian_kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();

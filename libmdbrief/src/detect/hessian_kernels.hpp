@@ -18,7 +18,13 @@ struct HessianKernels {
   // eight neighbours, in increasing order, into xs (room for end - begin entries); maxAbove,
   // maxRow and maxBelow are rowMax3 of the rows above, at and below. Returns how many.
   int (*candidates)(const float* row, const float* maxAbove, const float* maxRow, const float* maxBelow, int begin,
-                    int end, float threshold, int32_t* xs);  int64_t target = 0;  // the Highway target these kernels were compiled for (HWY_AVX2, ...)
+                    int end, float threshold, int32_t* xs);
+  // Gaussian passes for blob_localisation.cpp, each sum over t = 0 .. taps - 1 in that order from
+  // 0, for c in [0, width): over rows of 8-bit pixels, out[c] = sum of weights[t] rows[t][c];
+  // along a row, out[c] = sum of weights[t] row[c + t].
+  void (*weightedRows)(const uint8_t* const* rows, int taps, const float* weights, int width, float* out);
+  void (*weightedRow)(const float* row, int taps, const float* weights, int width, float* out);
+  int64_t target = 0;  // the Highway target these kernels were compiled for (HWY_AVX2, ...)
 };
 
 // The kernels of the active SIMD level.
