@@ -276,7 +276,7 @@ void addEvalCommand(CLI::App& app) {
       std::sort(a->supportScales.begin(), a->supportScales.end());
       const auto methods = !a->supportScales.empty() ? supportScaleStudyMethods(a->supportScales)
                            : a->testSets.empty()     ? standardPrMethods(!a->quick)
-                                                     : testSetStudyMethods(a->testSets);
+                                                     : comparisonSetStudyMethods(a->testSets);
       requireDisjointTraining(methods, imagePaths);
       runPrecisionRecall(groups, methods, a->pr);
     });
