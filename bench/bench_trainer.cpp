@@ -7,10 +7,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include "trainer/candidate_tests.hpp"
+#include "trainer/candidate_comparisons.hpp"
+#include "trainer/comparison_responses.hpp"
 #include "trainer/greedy_selection.hpp"
 #include "trainer/separation_selection.hpp"
-#include "trainer/test_responses.hpp"
 
 namespace {
 
@@ -29,15 +29,15 @@ std::vector<uint8_t> syntheticPatches(size_t count) {
   return px;
 }
 
-void BM_CandidateTests(benchmark::State& state) {
-  for (auto _ : state) benchmark::DoNotOptimize(candidateTests());
+void BM_CandidateComparisons(benchmark::State& state) {
+  for (auto _ : state) benchmark::DoNotOptimize(candidateComparisons());
 }
-BENCHMARK(BM_CandidateTests)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CandidateComparisons)->Unit(benchmark::kMillisecond);
 
 void BM_CountAllCandidates(benchmark::State& state) {
   const size_t patches = static_cast<size_t>(state.range(0));
   const auto px = syntheticPatches(patches);
-  const auto tests = candidateTests();
+  const auto tests = candidateComparisons();
   for (auto _ : state) benchmark::DoNotOptimize(countResponses({px.data(), patches}, tests));
   state.counters["tests_x_patches/s"] = benchmark::Counter(
       double(tests.size()) * patches, benchmark::Counter::kIsIterationInvariantRate);
@@ -47,7 +47,7 @@ BENCHMARK(BM_CountAllCandidates)->Arg(2048)->Unit(benchmark::kMillisecond)->UseR
 void BM_SortAndGreedy512(benchmark::State& state) {
   const size_t patches = 2048;
   const auto px = syntheticPatches(patches);
-  const auto candidates = candidateTests();
+  const auto candidates = candidateComparisons();
   const ResponseCounts counts{patches, countResponses({px.data(), patches}, candidates), 0, {}};
   const PatchLanes lanes(PatchRows::of({px.data(), patches}), StreamingOptions{}.chunkWords);
   for (auto _ : state) {
@@ -72,7 +72,7 @@ struct Pairs {
 void BM_CountDisagreementsAllCandidates(benchmark::State& state) {
   const size_t pairs = static_cast<size_t>(state.range(0));
   const Pairs p(pairs);
-  const auto tests = candidateTests();
+  const auto tests = candidateComparisons();
   for (auto _ : state)
     benchmark::DoNotOptimize(countDisagreements({p.reference.data(), pairs}, p.counterparts(), tests));
 }
@@ -83,7 +83,7 @@ BENCHMARK(BM_CountDisagreementsAllCandidates)->Arg(2048)->Unit(benchmark::kMilli
 void BM_SeparationSelection512(benchmark::State& state) {
   const size_t n = 2048;
   const Pairs p(n);
-  const auto candidates = candidateTests();
+  const auto candidates = candidateComparisons();
   const ResponseCounts counts{n, countResponses({p.reference.data(), n}, candidates), n,
                               countDisagreements({p.reference.data(), n}, p.counterparts(), candidates)};
   const auto order = sortByCriterion(counts, SelectionCriterion::Stability);

@@ -19,12 +19,14 @@
 #include "cli/extraction_flags.hpp"
 #include "mdbrief/camera/io.hpp"
 #include "mdbrief/api/feature2d.hpp"
+#include "mdbrief/detect/detector.hpp"
 #include "mdbrief/match/matcher.hpp"
 #include "mdbrief/api/presets.hpp"
 #include "mdbrief/base/simd_level.hpp"
 #include "toolkit/cpu_model.hpp"
 #include "toolkit/data_folders.hpp"
 #include "toolkit/image_file.hpp"
+#include "toolkit/option_flags.hpp"
 #include "scenes/photo_camera.hpp"
 
 namespace mdbrief::cli {
@@ -34,7 +36,7 @@ struct BenchFlags {
   std::string image, level = "all";
   bool levelGiven = false;  // --level replaces MDBRIEF_SIMD_LEVEL
   CameraFileFlags camera;
-  int nfeatures = 1000;
+  int nfeatures = presetSettings(Preset::Tracking).features.detector.nfeatures;  // the preset bench runs
   int repeat = 15;
 };
 
@@ -69,7 +71,6 @@ std::function<void()> openCvRun(const cv::Ptr<cv::Feature2D>& feature, const cv:
 
 void run(const BenchFlags& flags) {
   if (flags.repeat < 1 || flags.repeat > 1000) throw InputError("--repeat: must be in [1, 1000]");
-  if (flags.nfeatures < 1 || flags.nfeatures > 100000) throw InputError("--nfeatures: must be in [1, 100000]");
   // The levels first, before any work: --level replaces MDBRIEF_SIMD_LEVEL; without it the
   // variable caps them as it caps every kernel.
   std::vector<SimdLevel> levels = supportedSimdLevels();
@@ -157,7 +158,7 @@ void addBenchCommand(CLI::App& app) {
   cmd->add_option("--camera", flags->camera.path, "Its calibration (default: a pinhole for an undistorted photo)")
       ->check(inputFileCheck());
   addCameraFileFlags(*cmd, flags->camera, "--camera");
-  cmd->add_option("--nfeatures", flags->nfeatures, "Keypoints to detect (ORB's budget too)")->capture_default_str();
+  addFieldFlag(*cmd, detectorOptionFields(), "nfeatures", flags->nfeatures, "cv::ORB's budget too");
   CLI::Option* level =
       cmd->add_option("--level", flags->level, "A SIMD level (portable, sse4, neon, avx2, avx512), or all")
           ->capture_default_str();

@@ -51,8 +51,8 @@ void drawKeypoints(cv::Mat& canvas, const std::vector<cv::KeyPoint>& keypoints, 
 
 // One keypoint's test pairs, p1 -> p2 lines (p1 ends red, p2 ends blue), at `zoom` about
 // `origin` (so they can be drawn on a magnified crop).
-void drawTestLines(cv::Mat& canvas, const std::vector<std::pair<cv::Point2f, cv::Point2f>>& tests,
-                   cv::Point2f origin, float zoom) {
+void drawComparisonLines(cv::Mat& canvas, const std::vector<std::pair<cv::Point2f, cv::Point2f>>& tests,
+                         cv::Point2f origin, float zoom) {
   const auto at = [&](cv::Point2f p) { return (p - origin) * zoom; };
   for (const auto& [p1, p2] : tests) cv::line(canvas, at(p1), at(p2), {0, 220, 0}, 1, cv::LINE_AA);
   const int r = zoom > 2 ? 2 : 1;
@@ -64,9 +64,9 @@ void drawTestLines(cv::Mat& canvas, const std::vector<std::pair<cv::Point2f, cv:
 
 // The tests on the image, and a magnified copy of their neighbourhood in the top-left corner:
 // at full size a test footprint is a few dozen pixels, too small to see the distortion.
-void drawTests(cv::Mat& canvas, const cv::Mat& grey, const std::vector<std::pair<cv::Point2f, cv::Point2f>>& tests,
-               const cv::KeyPoint& keypoint) {
-  drawTestLines(canvas, tests, {0, 0}, 1.f);
+void drawComparisons(cv::Mat& canvas, const cv::Mat& grey,
+                     const std::vector<std::pair<cv::Point2f, cv::Point2f>>& tests, const cv::KeyPoint& keypoint) {
+  drawComparisonLines(canvas, tests, {0, 0}, 1.f);
   std::vector<cv::Point2f> points;
   for (const auto& [p1, p2] : tests) points.insert(points.end(), {p1, p2});
   const cv::Rect box = (cv::boundingRect(points) + cv::Size(8, 8) - cv::Point(4, 4)) & cv::Rect({0, 0}, grey.size());
@@ -75,7 +75,7 @@ void drawTests(cv::Mat& canvas, const cv::Mat& grey, const std::vector<std::pair
   cv::Mat inset;
   cv::resize(grey(box), inset, cv::Size(), zoom, zoom, cv::INTER_NEAREST);
   cv::cvtColor(inset, inset, cv::COLOR_GRAY2BGR);
-  drawTestLines(inset, tests, cv::Point2f(box.tl()), zoom);
+  drawComparisonLines(inset, tests, cv::Point2f(box.tl()), zoom);
   cv::circle(inset, (keypoint.pt - cv::Point2f(box.tl())) * zoom, 4, {255, 255, 255}, cv::FILLED, cv::LINE_AA);
   cv::rectangle(canvas, box, {255, 255, 255}, 1);
   const cv::Rect place = cv::Rect({0, 0}, inset.size()) & cv::Rect({0, 0}, canvas.size());
@@ -152,9 +152,9 @@ void runDraw(const DrawArgs& args) {
                        std::to_string(f.keypoints.size()) + " described keypoints");
     const auto feature = makeFeature(args.flags, calibration, args.image, image.size());
     const ImagePyramid pyramid(image, feature->options().detector.pyramid);
-    const auto tests = feature->extractor().testPositions(pyramid, f.keypoints[k]);
+    const auto tests = feature->extractor().comparisonPositions(pyramid, f.keypoints[k]);
     if (tests.empty()) throw InputError("--keypoint " + std::to_string(k) + ": its tests cannot be placed");
-    drawTests(canvas, image, tests, f.keypoints[k]);
+    drawComparisons(canvas, image, tests, f.keypoints[k]);
   }
 
   std::string summary = std::to_string(f.keypoints.size()) + " keypoints drawn";

@@ -306,9 +306,9 @@ Features extractFeatures(const ExtractionFlags& flags, const CameraPtr& calibrat
                          const cv::Mat& image, const std::optional<std::vector<cv::KeyPoint>>& given) {
   const cv::Ptr<MdBrief> feature = makeFeature(flags, calibration, imagePath, image.size());
   Features f;
-  const TestSet& tests = feature->extractor().testSet();
+  const ComparisonSet& tests = feature->extractor().comparisonSet();
   f.provenance = {tests.name,
-                  contentDigest(tests.tests.data(), tests.tests.size() * sizeof(TestPair)),
+                  contentDigest(tests.tests.data(), tests.tests.size() * sizeof(ComparisonPair)),
                   calibration ? cameraDigest(*calibration) : "",
                   pyramidText(feature->options().detector.pyramid),
                   sizeText(image.size()),

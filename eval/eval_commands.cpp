@@ -94,7 +94,7 @@ void addSimCommand(CLI::App& app) {
   cmd->add_option("--views", o->views, "Positions of the distance-evolution path")->check(CLI::Range(2, 1000))->capture_default_str();
   cmd->add_option("--recognition-views", o->recognitionViews, "Views of the recognition sequence")->check(CLI::Range(2, 1000))->capture_default_str();
   cmd->add_option("--keypoints", o->keypoints, "ORB keypoints on the texture")->check(CLI::Range(2, 100000))->capture_default_str();
-  cmd->add_option("--bits", o->bits, "Descriptor length")->check(CLI::Range(32, 512))->capture_default_str();
+  addFieldFlag(*cmd, descriptorOptionFields(), "bits", o->bits);
   cmd->add_option("--mask-deg", o->maskDeg, "Mask angle of the projected experiment")->check(CLI::Range(0.1, 89.0))->capture_default_str();
   cmd->add_option("--detected-views", o->detectedViews, "Views of the detected experiment")->check(CLI::Range(2, 1000))->capture_default_str();
   cmd->add_option("--detected-keypoints", o->detectedKeypoints, "Detector budget per view")->check(CLI::Range(10, 100000))->capture_default_str();
@@ -103,7 +103,6 @@ void addSimCommand(CLI::App& app) {
   cmd->add_flag("--no-detected", *noDetected, "Skip the detected-keypoint experiment");
   cmd->callback([o, cams, docDir, noProjected, noDetected] {
     if (o->texturePath.empty()) o->texturePath = *docDir + "/graf1.png";
-    if (o->bits % 32) throw InputError("--bits " + std::to_string(o->bits) + ": must be a multiple of 32");
     o->runProjected = !*noProjected;
     o->runDetected = !*noDetected;
     checkCameraNames(*cams);
@@ -276,7 +275,7 @@ void addEvalCommand(CLI::App& app) {
       std::sort(a->supportScales.begin(), a->supportScales.end());
       const auto methods = !a->supportScales.empty() ? supportScaleStudyMethods(a->supportScales)
                            : a->testSets.empty()     ? standardPrMethods(!a->quick)
-                                                     : testSetStudyMethods(a->testSets);
+                                                     : comparisonSetStudyMethods(a->testSets);
       requireDisjointTraining(methods, imagePaths);
       runPrecisionRecall(groups, methods, a->pr);
     });
@@ -300,22 +299,15 @@ void addPipelinesCommand(CLI::App& app) {
       ->check(CLI::Range(0.1, 100.0))
       ->capture_default_str();
   cmd->add_option("--out", a->options.outDir, "Output folder for pipelines_summary.csv")->required();
-  cmd->add_option("--hessian-sigma", a->options.library.hessianSigma, "DetectorOptions::hessianSigma")
-      ->check(fieldRangeCheck(detectorOptionFields(), "hessian_sigma"))
-      ->capture_default_str();
-  cmd->add_option("--hessian-threshold", a->options.library.hessianThreshold, "DetectorOptions::hessianThreshold")
-      ->check(fieldRangeCheck(detectorOptionFields(), "hessian_threshold"))
-      ->capture_default_str();
-  cmd->add_option("--levels", a->options.library.pyramid.levels, "Pyramid levels of the library's detectors")
-      ->check(fieldRangeCheck(pyramidOptionFields(), "levels"))
-      ->capture_default_str();
-  cmd->add_option("--scale-factor", a->options.library.pyramid.scaleFactor,
-                  "Pyramid scale factor of the library's detectors")
-      ->check(fieldRangeCheck(pyramidOptionFields(), "scale_factor"))
-      ->capture_default_str();
-  cmd->add_flag("--spread", a->options.library.spread, "DetectorOptions::spread for the library's detectors");
-  cmd->add_flag("--conformal", a->options.library.conformal,
-                "DetectorOptions::conformal for the library's detectors (detection on the stereographic view)");
+  // The library detectors' options, from their tables (toolkit/option_flags.hpp addFieldFlag).
+  DetectorOptions& library = a->options.library;
+  const std::string detectors = "the library's detectors";
+  addFieldFlag(*cmd, detectorOptionFields(), "hessian_sigma", library.hessianSigma, detectors, library);
+  addFieldFlag(*cmd, detectorOptionFields(), "hessian_threshold", library.hessianThreshold, detectors, library);
+  addFieldFlag(*cmd, pyramidOptionFields(), "levels", library.pyramid.levels, detectors, library.pyramid);
+  addFieldFlag(*cmd, pyramidOptionFields(), "scale_factor", library.pyramid.scaleFactor, detectors, library.pyramid);
+  addFieldFlag(*cmd, detectorOptionFields(), "spread", library.spread, detectors, library);
+  addFieldFlag(*cmd, detectorOptionFields(), "conformal", library.conformal, detectors, library);
   cmd->add_option("--only", a->only, "Only the pipelines whose name starts with one of these");
   cmd->callback([a] {
     asInputErrors([&] {

@@ -50,9 +50,9 @@ void requireDisjointTraining(const std::vector<MethodSpec>& methods, const std::
   std::set<std::string> checked;
   for (const auto& m : methods) {
     if (m.family != MethodFamily::Library) continue;
-    const std::string set = m.options.pattern.empty() ? defaultTestSetName() : m.options.pattern;
+    const std::string set = m.options.pattern.empty() ? defaultComparisonSetName() : m.options.pattern;
     if (!checked.insert(set).second) continue;
-    for (const auto& d : resolveTestSet(set).trainingImages)
+    for (const auto& d : resolveComparisonSet(set).trainingImages)
       if (const auto hit = evaluated.find(d); hit != evaluated.end())
         throw std::invalid_argument("test set " + set + " was trained on " + hit->second +
                                     ", an image of this evaluation: its figures would be measured on training "

@@ -55,15 +55,15 @@ std::vector<MethodSpec> standardPrMethods(bool withStudies) {
   // Length study with the default set.
   for (int bits : {32, 64})
     m.push_back(briefFamilyMethod("dBRIEF-" + std::to_string(bits), DescriptorKind::DBrief, bits, true, af));
-  const auto study = testSetStudyMethods(builtinTestSetNames());
+  const auto study = comparisonSetStudyMethods(builtinComparisonSetNames());
   m.insert(m.end(), study.begin(), study.end());
   return m;
 }
 
-std::vector<MethodSpec> testSetStudyMethods(const std::vector<std::string>& testSets) {
+std::vector<MethodSpec> comparisonSetStudyMethods(const std::vector<std::string>& testSets) {
   std::vector<MethodSpec> m;
   for (const auto& set : testSets) {
-    const int size = static_cast<int>(resolveTestSet(set).tests.size());
+    const int size = static_cast<int>(resolveComparisonSet(set).tests.size());
     const std::string label = std::filesystem::path(set).extension() == ".json" ? std::filesystem::path(set).stem().string() : set;
     for (const auto& [prefix, kind] : {std::pair{"dBRIEF-", DescriptorKind::DBrief}, std::pair{"mdBRIEF-", DescriptorKind::MdBrief}})
       for (int bits : {128, 256, 512})

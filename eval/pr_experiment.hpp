@@ -55,13 +55,13 @@ struct PrOptions {
 };
 
 // The paper's comparison set; with studies also the length study (32, 64 bits) and the
-// test-set study (testSetStudyMethods of every name of builtinTestSetNames()).
+// test-set study (comparisonSetStudyMethods of every name of builtinComparisonSetNames()).
 std::vector<MethodSpec> standardPrMethods(bool withStudies = true);
 
 // The test-set study: dBRIEF and mdBRIEF at 128, 256 and 512 bits (those the set is long
 // enough for) with each test set (registry name or JSON path), named "dBRIEF-256@<set>" (a
 // JSON path by its file stem).
-std::vector<MethodSpec> testSetStudyMethods(const std::vector<std::string>& testSets);
+std::vector<MethodSpec> comparisonSetStudyMethods(const std::vector<std::string>& testSets);
 
 // mdBRIEF-256 and dBRIEF-256 (default set) at each DescriptorOptions::supportScale, named
 // "mdBRIEF-256-s<scale>": the footprint study for keypoints of other detectors.

@@ -9,6 +9,8 @@
 #include "command_helpers.hpp"
 #include "eval_commands.hpp"
 #include "retrieval_experiment.hpp"
+#include "mdbrief/detect/detector.hpp"
+#include "toolkit/option_flags.hpp"
 #include "vocabulary/training_features.hpp"
 
 namespace mdbrief::eval {
@@ -55,9 +57,7 @@ void addRetrievalCommand(CLI::App& app) {
       ->check(CLI::Range(1, kMaxVocabularyDepth))
       ->capture_default_str();
   cmd->add_option("--seed", a->options.training.seed, "Training seed")->capture_default_str();
-  cmd->add_option("--nfeatures", a->options.nfeatures, "Keypoints per image at most")
-      ->check(CLI::Range(10, 100000))
-      ->capture_default_str();
+  addFieldFlag(*cmd, detectorOptionFields(), "nfeatures", a->options.nfeatures, "every method's budget");
   cmd->add_option("--recall-at", a->options.recallAt, "The k of recall@k")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();

@@ -17,7 +17,7 @@ namespace mdbrief::eval {
 
 struct RetrievalOptions {
   vocab::VocabularyTrainingOptions training;  // branching, depth and seed shared by the methods
-  int nfeatures = 1000;                       // keypoints per image at most, every method
+  int nfeatures = vocab::FeatureOptions{}.nfeatures;  // keypoints per image at most, every method
   std::vector<int> recallAt{1, 5};
   std::string outDir;                         // retrieval.csv, retrieval_speed.csv, the vocabularies
 };

@@ -463,7 +463,7 @@ void runSimulation(const std::vector<SimCamera>& cameras, const SimOptions& o) {
     for (const auto& p : cameras)
       if (r.camera->modelName() == "radial" && p.camera->modelName() == "pinhole")
         info.row().add(r.name).add(std::string("max_displacement_px")).add(maxRadialDisplacement(*r.camera, *p.camera));
-  info.row().add(std::string("all")).add(std::string("default_test_set")).add(defaultTestSetName());
+  info.row().add(std::string("all")).add(std::string("default_test_set")).add(defaultComparisonSetName());
   info.write(path(o, "sim_info.csv"));
 }
 

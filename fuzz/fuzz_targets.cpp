@@ -63,7 +63,7 @@ void camera(const uint8_t* d, size_t n) {
   });
 }
 void patternJson(const uint8_t* d, size_t n) {
-  expectingErrors([&] { loadTestSetJson(asFile(d, n, ".json")); });
+  expectingErrors([&] { loadComparisonSetJson(asFile(d, n, ".json")); });
 }
 void keypoints(const uint8_t* d, size_t n) {
   expectingErrors([&] { cli::loadKeypoints(asFile(d, n, ".yml")); });

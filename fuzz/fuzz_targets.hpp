@@ -20,7 +20,7 @@ struct Target {
 // camera (loadCamera and readCameraRig: every format of camera/io.hpp, the project YAML,
 // calib-adapter, Kalibr, basalt, ORB-SLAM3, EuRoC / Kimera, OpenCV, OpenCV K and D, COLMAP,
 // OCamCalib, and the rigs' extrinsics), pattern_json
-// (loadTestSetJson), keypoints (mdbrief extract --keypoints), patch_set (HDF5 readPatchSet),
+// (loadComparisonSetJson), keypoints (mdbrief extract --keypoints), patch_set (HDF5 readPatchSet),
 // train_config (mdbrief-train --config TOML), vocabulary (Vocabulary::load), vocabulary_text
 // (importDbow2Text), database (Database::load with databaseVocabulary()), held_out_list
 // (readHeldOutImages: --held-out of the trainers), homography (readHomography: draw

@@ -15,7 +15,7 @@
 #include "mdbrief/detect/image_pyramid.hpp"
 #include "mdbrief/internal/describe/patch_sampling.hpp"
 #include "mdbrief/internal/base/size_text.hpp"
-#include "mdbrief/describe/test_set.hpp"
+#include "mdbrief/describe/comparison_set.hpp"
 #include "patchextract/patch_sampler.hpp"
 #include "toolkit/image_file.hpp"
 #include "scenes/plane_renderer.hpp"

@@ -2,7 +2,7 @@
 // Training patches, sampled by the runtime descriptor's own placement
 // (mdbrief/internal/describe/patch_sampling.hpp), so the trainer's candidate tests see the pixels the
 // descriptor compares: patch pixel (i, j) is what compute() reads for a test point at offset
-// (i - 16, j - 16) (test_set.hpp). An image without a calibration is described through the
+// (i - 16, j - 16) (comparison_set.hpp). An image without a calibration is described through the
 // camera the evaluation assumes for photos (scenes/photo_camera.hpp), as dBRIEF and mdBRIEF
 // describe the Oxford sequences.
 #include <cstdint>

@@ -1,13 +1,13 @@
 #pragma once
 // What every generated pattern header in this folder defines (written by
 // trainer/pattern_writer.hpp): its tests and one PatternInfo. Self-contained, so the patterns
-// depend on nothing; the runtime library reads them into mdbrief::TestSet (mdbrief/describe/test_set.hpp,
+// depend on nothing; the runtime library reads them into mdbrief::ComparisonSet (mdbrief/describe/comparison_set.hpp,
 // libmdbrief/src/describe/patterns.cpp).
 #include <cstdint>
 
 namespace mdbrief::patterns {
 
-// One test: offsets {x1, y1, x2, y2} of mdbrief::TestPair.
+// One test: offsets {x1, y1, x2, y2} of mdbrief::ComparisonPair.
 using TestRow = int8_t[4];
 
 struct PatternInfo {

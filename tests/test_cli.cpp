@@ -1113,7 +1113,7 @@ TEST_F(CliTest, ImagesThatDoNotDecodeSayWhy) {
 // Issue 29: match could not tell files of two test sets apart, nor that --inliers --camera named
 // another lens than the one that described them. Feature files record both; match refuses a
 // mismatch and still reads files without the record.
-TEST_F(CliTest, MatchRefusesFilesOfAnotherTestSetOrLens) {
+TEST_F(CliTest, MatchRefusesFilesOfAnotherComparisonSetOrLens) {
   REQUIRE_IMAGE(image, "view.png");
   ASSERT_EQ(run({"extract", "--camera", kCamera, image, "-o", path("a.yml")}).code, 0);
   ASSERT_EQ(run({"extract", "--camera", kCamera, "--pattern", "brief_random_512", image, "-o", path("r.yml")}).code,

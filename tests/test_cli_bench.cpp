@@ -12,6 +12,8 @@
 #include "cli_runner.hpp"
 #include "program_runner.hpp"
 #include "mdbrief/base/simd_level.hpp"
+#include "mdbrief/detect/detector.hpp"
+#include "option_flag_message.hpp"
 
 namespace {
 
@@ -64,6 +66,10 @@ TEST_F(CliBenchTest, RefusesWhatItCannotMeasure) {
 #endif
   expectOneLineNaming(runMdbrief({"bench", "--image", (dir_ / "missing.png").string()}), "missing.png");
   expectOneLineNaming(runMdbrief({"bench", "--image", image_, "--repeat", "0"}), "--repeat");
+  // Issue 46: --nfeatures is the library's flag (detectorOptionFields), with its range and message.
+  for (const char* bad : {"0", "10000001"})
+    expectOneLineNaming(runMdbrief({"bench", "--image", image_, "--nfeatures", bad}),
+                        mdbrief::testing::optionFlagMessage(mdbrief::detectorOptionFields(), "nfeatures", bad));
   expectOneLineNaming(runMdbrief({"bench", "--image", image_, "--camera",
                                   MDBRIEF_SOURCE_DIR "/configs/cameras/lafida_fisheye0.yaml"}),
                       "--camera");

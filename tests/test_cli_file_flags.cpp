@@ -7,7 +7,8 @@
 // file, so a new file flag cannot be added unchecked. Each checked flag is then given a folder, a
 // FIFO, /dev/zero and a missing file in a subprocess with a time limit. The numeric flags are walked
 // too: one that sets a library option takes exactly its option's range (toolkit/option_flags.hpp
-// fieldRangeCheck), any other range must be listed as the tool's own.
+// fieldRangeCheck), any other range must be listed as the tool's own; and a flag spelt as a field
+// of the library's option tables is made from that field (its help is the field's).
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
@@ -28,14 +29,18 @@
 #include "cli/commands.hpp"
 #include "eval/eval_cli.hpp"
 #include "eval/eval_commands.hpp"
+#include "patchextract/patch_extraction.hpp"
 #include "patchextract/patchextract_cli.hpp"
+#include "patchextract/view_change.hpp"
 #include "trainer/pattern_random_cli.hpp"
 #include "trainer/train_cli.hpp"
+#include "trainer/train_options.hpp"
 #include "vocabulary/train_vocabulary_cli.hpp"
 #include "mdbrief/describe/descriptor.hpp"
 #include "mdbrief/detect/detector.hpp"
 #include "mdbrief/detect/image_pyramid.hpp"
 #include "mdbrief/geometry/two_view.hpp"
+#include "mdbrief/match/match_refinement.hpp"
 #include "mdbrief/match/matcher.hpp"
 #include "program_runner.hpp"
 #include "toolkit/input_file_flag.hpp"
@@ -275,17 +280,21 @@ TEST_F(BadInputs, EveryFileFlagOfTheTrainingToolsRefusesAFolderAFifoADeviceAndAM
   }
 }
 
-// Numeric flags that are parameters of the tools' own experiments, not of a library option.
+// Numeric flags that are parameters of the tools' own experiments or outputs, not of a library
+// option.
 const std::set<std::string> kToolOwnRanges = {
-    "sim --views", "sim --recognition-views", "sim --keypoints", "sim --bits", "sim --mask-deg",
+    "sim --views", "sim --recognition-views", "sim --keypoints", "sim --mask-deg",
     "sim --detected-views", "sim --detected-keypoints", "sim --mask-angles",
     "eval --poses", "eval --keypoints", "eval --radius",
     "pipelines --poses", "pipelines --budgets", "pipelines --radius",
     "tracker --budget", "tracker --ratios", "tracker --stereo-budget",
-    "retrieval --training-count", "retrieval --branching", "retrieval --depth", "retrieval --nfeatures",
+    "retrieval --training-count", "retrieval --branching", "retrieval --depth",
     "retrieval --recall-at",
     "timing --repeats", "timing --keypoints",
     "export-user-sample --poses", "export-rotated-views --views",
+    "mdbrief-train-vocabulary --branching", "mdbrief-train-vocabulary --depth", "mdbrief-train-vocabulary --rounds",
+    "mdbrief-train-vocabulary --mask-agreement",
+    "mdbrief-pattern-random --tests",
 };
 
 struct TableField {
@@ -324,6 +333,21 @@ void walkOptions(CLI::App& app, const std::string& path, const std::function<voi
   }
 }
 
+// Every flag of every command of mdbrief and mdbrief-eval, and of the training tools, with its
+// path ("bench --nfeatures", "mdbrief-train-vocabulary --bits").
+void visitEveryToolFlag(const std::function<void(const std::string&, CLI::Option&)>& visit) {
+  for (const bool eval : {false, true}) {
+    CLI::App app;
+    if (eval) mdbrief::eval::addEvalCommands(app);
+    else addMdbriefCommands(app);
+    walkOptions(app, "", visit);
+  }
+  for (const TrainingTool& tool : trainingTools()) {
+    const std::unique_ptr<CLI::App> app = tool.commandLine();
+    for (CLI::Option* option : app->get_options()) visit(std::string(tool.name) + " " + flagName(*option), *option);
+  }
+}
+
 // Issue 45: --inlier-threshold took [0, 1e6] while the library's maxPixels is (0, 1000], so 0,
 // 5000 or nan failed after the matching with a message about maxPixels.
 TEST(FlagRanges, EveryFlagOfALibraryOptionTakesTheOptionsRangeAndNoOther) {
@@ -358,19 +382,63 @@ TEST(FlagRanges, EveryFlagOfALibraryOptionTakesTheOptionsRangeAndNoOther) {
     if (option.get_type_name().find(" in [") != std::string::npos && !kToolOwnRanges.count(name))
       unlisted.push_back(name);
   };
-  for (const bool eval : {false, true}) {
-    CLI::App app;
-    if (eval) mdbrief::eval::addEvalCommands(app);
-    else addMdbriefCommands(app);
-    walkOptions(app, "", visit);
-  }
+  visitEveryToolFlag(visit);
   EXPECT_TRUE(unlisted.empty()) << "ranges neither from an option table (fieldRangeCheck) nor listed as the tool's "
                                    "own: "
                                 << ::testing::PrintToString(unlisted);
   for (const char* name : {"match --inlier-threshold", "draw --inlier-threshold", "pipelines --levels",
                            "pipelines --scale-factor", "pipelines --hessian-sigma", "pipelines --hessian-threshold",
-                           "eval --support-scales"})
+                           "eval --support-scales", "bench --nfeatures", "sim --bits", "retrieval --nfeatures",
+                           "mdbrief-train-vocabulary --nfeatures", "mdbrief-train-vocabulary --bits"})
     EXPECT_TRUE(fielded.count(name)) << name;
+}
+
+// Flags spelt as a field's of an option table that set an option of a struct without a table:
+// the seed of a vocabulary's training (not TwoViewOptions::seed), and the random pattern's
+// RandomPatternOptions (up to 4096 tests, where the trainer's TrainOptions learns at most 512).
+const std::set<std::string> kSameNameOtherOption = {
+    "retrieval --seed", "mdbrief-train-vocabulary --seed", "mdbrief-pattern-random --seed",
+    "mdbrief-pattern-random --tests", "mdbrief-pattern-random --make-default"};
+
+// Issue 46: bench and mdbrief-train-vocabulary spelt --nfeatures by hand, each with its own help
+// and range (bench's [1, 100000] against the library's [1, 10000000]), and sim its own --bits. A
+// flag spelt as a field's flag of an option table (the library's, the trainer's, the patch
+// extraction's) is made from a field of that name (OptionFlags, or addFieldFlag for a tool that
+// takes a few): its help holds the field's doc, so a change of the flag is one edit of the table.
+// Numbers and switches: a text flag's name (--camera, --out) says too little to be one option.
+TEST(FlagRanges, AFlagSpeltAsAnOptionsFlagIsMadeFromItsField) {
+  std::multimap<std::string, std::string> docs;  // flag -> the doc of each field of that flag
+  const auto add = [&](const auto& table) {
+    for (const auto& f : table)
+      if (f.flag && (f.type == FieldType::Integer || f.type == FieldType::Real || f.type == FieldType::Flag))
+        docs.emplace(f.flag, f.doc);
+  };
+  add(pyramidOptionFields());
+  add(detectorOptionFields());
+  add(descriptorOptionFields());
+  add(matchOptionFields());
+  add(twoViewOptionFields());
+  add(matchRefinementOptionFields());
+  add(train::trainOptionFields());
+  add(train::extractionOptionFields());
+  add(train::viewChangeOptionFields());
+  std::vector<std::string> byHand;
+  std::set<std::string> made;
+  visitEveryToolFlag([&](const std::string& name, CLI::Option& option) {
+    const auto [first, last] = docs.equal_range(flagName(option));
+    if (first == last || kSameNameOtherOption.count(name)) return;
+    bool fromField = false;
+    for (auto doc = first; doc != last; ++doc)
+      fromField = fromField || option.get_description().find(doc->second) != std::string::npos;
+    if (fromField) made.insert(name);
+    else byHand.push_back(name);
+  });
+  EXPECT_TRUE(byHand.empty()) << "flags spelt as an option's but not made from its field: "
+                              << ::testing::PrintToString(byHand);
+  for (const char* name : {"extract --nfeatures", "bench --nfeatures", "mdbrief-train-vocabulary --nfeatures",
+                           "retrieval --nfeatures", "mdbrief-train-vocabulary --bits", "sim --bits", "match --ratio",
+                           "pipelines --spread"})
+    EXPECT_TRUE(made.count(name)) << name;
 }
 
 }  // namespace

@@ -13,12 +13,12 @@
 namespace mdbrief {
 namespace {
 
-TestSet randomTests(int n, unsigned seed) {
+ComparisonSet randomComparisons(int n, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> u(-15, 14);
-  TestSet set{"test_random", {}, {}};
+  ComparisonSet set{"test_random", {}, {}};
   while (static_cast<int>(set.tests.size()) < n) {
-    TestPair t{int8_t(u(rng)), int8_t(u(rng)), int8_t(u(rng)), int8_t(u(rng))};
+    ComparisonPair t{int8_t(u(rng)), int8_t(u(rng)), int8_t(u(rng)), int8_t(u(rng))};
     if (t.x1 != t.x2 || t.y1 != t.y2) set.tests.push_back(t);
   }
   return set;
@@ -49,7 +49,7 @@ DescriptorOptions briefOptions(int bits) {
 }
 
 TEST(Brief, BitsFollowTheTestsAndTheBitOrderOnARamp) {
-  const TestSet tests = randomTests(256, 1);
+  const ComparisonSet tests = randomComparisons(256, 1);
   const DescriptorExtractor brief(nullptr, briefOptions(256), tests);
   for (const float angle : {-1.f, 0.f, 90.f, 33.f, 210.f}) {
     std::vector<cv::KeyPoint> kps{cv::KeyPoint(128.3f, 127.6f, 31.f, angle, 1.f, 0)};
@@ -60,7 +60,7 @@ TEST(Brief, BitsFollowTheTestsAndTheBitOrderOnARamp) {
     const double deg = angle < 0 ? 0.0 : angle;
     int checked = 0;
     for (int d = 0; d < 256; ++d) {
-      const TestPair& t = tests.tests[d];
+      const ComparisonPair& t = tests.tests[d];
       const double dx = rotatedX(t.x2, t.y2, deg) - rotatedX(t.x1, t.y1, deg);
       if (std::abs(dx) < 0.1) continue;  // closer than the 1/32 px sampling grid can resolve
       EXPECT_EQ(bit(desc, 0, d), dx > 0) << "test " << d << " angle " << angle;
@@ -71,7 +71,7 @@ TEST(Brief, BitsFollowTheTestsAndTheBitOrderOnARamp) {
 }
 
 TEST(Brief, ShorterDescriptorIsThePrefixOfTheLongerOne) {
-  const TestSet tests = randomTests(512, 2);
+  const ComparisonSet tests = randomComparisons(512, 2);
   cv::Mat img(200, 300, CV_8U);
   cv::randu(img, 0, 256);
   std::vector<cv::KeyPoint> kps;
@@ -86,7 +86,7 @@ TEST(Brief, ShorterDescriptorIsThePrefixOfTheLongerOne) {
 }
 
 TEST(Brief, KeypointsWhoseTestsLeaveTheImageAreDroppedConsistently) {
-  const TestSet tests = randomTests(256, 3);
+  const ComparisonSet tests = randomComparisons(256, 3);
   cv::Mat img(120, 160, CV_8U);
   cv::randu(img, 0, 256);
   std::vector<cv::KeyPoint> kps{
@@ -109,7 +109,7 @@ TEST(Brief, KeypointsWhoseTestsLeaveTheImageAreDroppedConsistently) {
 // The footprint follows the size, not the octave: sizes that are not positive finite numbers
 // are dropped, any octave is accepted, and nothing is read outside the image.
 TEST(Brief, KeypointsFromOutsideAreDescribedBySizeOrDropped) {
-  const TestSet tests = randomTests(256, 4);
+  const ComparisonSet tests = randomComparisons(256, 4);
   cv::Mat img(120, 160, CV_8U, cv::Scalar(10));
   const ImagePyramid pyramid(img, PyramidOptions{}, 2);
   std::vector<cv::KeyPoint> kps{
@@ -133,7 +133,7 @@ TEST(Brief, KeypointsFromOutsideAreDescribedBySizeOrDropped) {
 // A footprint under one input pixel compares one interpolated value with itself: all zeros,
 // all stable, and two such keypoints anywhere would match at distance 0. They are dropped.
 TEST(Brief, KeypointsWhoseFootprintIsUnderOnePixelAreDropped) {
-  const TestSet tests = randomTests(256, 5);
+  const ComparisonSet tests = randomComparisons(256, 5);
   const ImagePyramid pyramid(horizontalRamp(), PyramidOptions{});
   for (const DescriptorKind kind : {DescriptorKind::Brief, DescriptorKind::MaskedBrief}) {
     for (const double supportScale : {1.0, 4.0}) {
@@ -153,7 +153,7 @@ TEST(Brief, KeypointsWhoseFootprintIsUnderOnePixelAreDropped) {
       EXPECT_EQ(kps[0].pt.x, 120.f);
       EXPECT_EQ(kps[1].pt.x, 130.f);
       EXPECT_TRUE(DescriptorExtractor(nullptr, o, tests)
-                      .testPositions(pyramid, cv::KeyPoint(100, 100, 1e-30f, 0, 1, 0))
+                      .comparisonPositions(pyramid, cv::KeyPoint(100, 100, 1e-30f, 0, 1, 0))
                       .empty());
     }
   }
@@ -162,13 +162,13 @@ TEST(Brief, KeypointsWhoseFootprintIsUnderOnePixelAreDropped) {
 // The same keypoint at sizes s and 1.2 s samples a footprint 1.2 x wider, whichever levels the
 // two sizes fall on; supportScale scales it the same way.
 TEST(Brief, FootprintIsProportionalToTheKeypointSize) {
-  const TestSet tests = randomTests(256, 6);
+  const ComparisonSet tests = randomComparisons(256, 6);
   const ImagePyramid pyramid(cv::Mat(600, 800, CV_8UC1, cv::Scalar(0)), PyramidOptions{});
   const auto spread = [&](float size, double supportScale) {
     auto o = briefOptions(256);
     o.supportScale = supportScale;
     const auto pos =
-        DescriptorExtractor(nullptr, o, tests).testPositions(pyramid, cv::KeyPoint(400, 300, size, 30, 1, 0));
+        DescriptorExtractor(nullptr, o, tests).comparisonPositions(pyramid, cv::KeyPoint(400, 300, size, 30, 1, 0));
     EXPECT_EQ(pos.size(), 256u);
     double sum = 0;
     for (const auto& [p1, p2] : pos) sum += cv::norm(p1 - cv::Point2f(400, 300)) + cv::norm(p2 - cv::Point2f(400, 300));
@@ -183,10 +183,10 @@ TEST(Brief, FootprintIsProportionalToTheKeypointSize) {
   EXPECT_THROW(DescriptorExtractor(nullptr, bad, tests), std::invalid_argument);
 }
 
-// testPositions() is empty exactly for the keypoints compute() drops: near the border some of
+// comparisonPositions() is empty exactly for the keypoints compute() drops: near the border some of
 // the (rotated) tests leave the level although every point can be placed.
 TEST(Brief, TestPositionsAreEmptyExactlyWhenComputeDropsTheKeypoint) {
-  const TestSet tests = randomTests(256, 8);
+  const ComparisonSet tests = randomComparisons(256, 8);
   const ImagePyramid pyramid(horizontalRamp(), PyramidOptions{});
   for (const DescriptorKind kind : {DescriptorKind::Brief, DescriptorKind::MaskedBrief}) {
     auto o = briefOptions(256);
@@ -199,7 +199,7 @@ TEST(Brief, TestPositionsAreEmptyExactlyWhenComputeDropsTheKeypoint) {
         cv::Mat descriptors;
         extractor.compute(pyramid, one, descriptors);
         const bool described = one.size() == 1;
-        EXPECT_EQ(extractor.testPositions(pyramid, cv::KeyPoint(x, 128.f, 31.f, angle)).empty(), !described)
+        EXPECT_EQ(extractor.comparisonPositions(pyramid, cv::KeyPoint(x, 128.f, 31.f, angle)).empty(), !described)
             << "x " << x << " angle " << angle;
         ++(described ? kept : dropped);
       }
@@ -209,7 +209,7 @@ TEST(Brief, TestPositionsAreEmptyExactlyWhenComputeDropsTheKeypoint) {
 }
 
 TEST(Brief, InvalidOptionsAreRejected) {
-  const TestSet tests = randomTests(256, 5);
+  const ComparisonSet tests = randomComparisons(256, 5);
   for (const int bits : {0, 16, 100, 544}) {
     auto o = briefOptions(256);
     o.bits = bits;
@@ -229,7 +229,7 @@ TEST(Brief, InvalidOptionsAreRejected) {
 
 // The BOLD-like masked BRIEF: BRIEF's bits, plus the mask of the three rotations, no camera.
 TEST(MaskedBrief, IsBriefPlusTheAgreementOfThreeRotationsOnARamp) {
-  const TestSet tests = randomTests(256, 11);
+  const ComparisonSet tests = randomComparisons(256, 11);
   auto o = briefOptions(256);
   const DescriptorExtractor brief(nullptr, o, tests);
   o.kind = DescriptorKind::MaskedBrief;
@@ -245,7 +245,7 @@ TEST(MaskedBrief, IsBriefPlusTheAgreementOfThreeRotationsOnARamp) {
   ASSERT_EQ(mm.size(), dm.size());
   int checked = 0, unstable = 0;
   for (int d = 0; d < 256; ++d) {
-    const TestPair& t = tests.tests[d];
+    const ComparisonPair& t = tests.tests[d];
     double v[3];
     for (int r = 0; r < 3; ++r) {
       const double deg = 40.0 + (r == 0 ? 0.0 : r == 1 ? 15.0 : -15.0);
@@ -264,7 +264,7 @@ TEST(MaskedBrief, IsBriefPlusTheAgreementOfThreeRotationsOnARamp) {
 // compute() describes the keypoints in parallel blocks: its output must not depend on how many
 // threads share them. A serial run (one thread allowed) is the reference for runs on 2, 3 and 8.
 TEST(Brief, ParallelExtractionIsDeterministic) {
-  const TestSet tests = randomTests(256, 6);
+  const ComparisonSet tests = randomComparisons(256, 6);
   cv::Mat img(480, 752, CV_8U);
   cv::randu(img, 0, 256);
   std::vector<cv::KeyPoint> kps;

@@ -229,13 +229,13 @@ TEST(MdBriefMask, EqualsTheAgreementOfTheThreeRotationsOnARamp) {
   cv::Mat desc, masks;
   ex.compute(ramp, kps, desc, masks);
   ASSERT_EQ(masks.rows, 1);
-  const auto dx = [](const TestPair& t, double deg) {
+  const auto dx = [](const ComparisonPair& t, double deg) {
     const double a = deg * CV_PI / 180.0;
     return (std::cos(a) * t.x2 - std::sin(a) * t.y2) - (std::cos(a) * t.x1 - std::sin(a) * t.y1);
   };
   int checked = 0, unstable = 0;
   for (int d = 0; d < 256; ++d) {
-    const TestPair& t = ex.testSet().tests[d];
+    const ComparisonPair& t = ex.comparisonSet().tests[d];
     const double v[3] = {dx(t, 40.0), dx(t, 55.0), dx(t, 25.0)};
     if (std::abs(v[0]) < 0.1 || std::abs(v[1]) < 0.1 || std::abs(v[2]) < 0.1) continue;
     const bool expected = (v[0] > 0) == (v[1] > 0) && (v[0] > 0) == (v[2] > 0);

@@ -37,18 +37,18 @@ TEST(DescriptorSupport, OrbAndModOrbKeypointsAreDescribedWhereTheirOctavePlacesT
   o.pattern = "brief_random_512";
   const DescriptorExtractor brief(cam, o);
   const ImagePyramid pyramid(image, modOrb.pyramid);
-  const TestSet& tests = brief.testSet();
+  const ComparisonSet& tests = brief.comparisonSet();
   for (std::vector<cv::KeyPoint>* kps : {&orb, &own}) {
     ASSERT_EQ(kps->size(), 1000u);
     int checked = 0;
     for (const cv::KeyPoint& kp : *kps) {
-      const auto placed = brief.testPositions(pyramid, kp);
+      const auto placed = brief.comparisonPositions(pyramid, kp);
       if (placed.empty()) continue;  // near the border
       ++checked;
       const double scale = std::pow(1.2, kp.octave), a = kp.angle * CV_PI / 180.0;
       const double c = std::cos(a) * scale, sn = std::sin(a) * scale;
       for (size_t d = 0; d < placed.size(); ++d) {
-        const TestPair& t = tests.tests[d];
+        const ComparisonPair& t = tests.tests[d];
         const cv::Point2d p1(kp.pt.x + c * t.x1 - sn * t.y1, kp.pt.y + sn * t.x1 + c * t.y1);
         const cv::Point2d p2(kp.pt.x + c * t.x2 - sn * t.y2, kp.pt.y + sn * t.x2 + c * t.y2);
         // Fixed-point positions: 1/32 of a level pixel.

@@ -50,8 +50,8 @@ std::map<std::string, double> groupAuc(const fs::path& summaryCsv, const std::st
 TEST(LearnedSets, ShippedSetsRecordTheirTrainingImagesAndNoneIsHeldOut) {
   const auto& heldOut = train::shippedHeldOutImages();
   ASSERT_GT(heldOut.size(), 8u) << "configs/held-out-images.txt lists the evaluation images";
-  for (const auto& name : builtinTestSetNames()) {
-    const TestSet set = builtinTestSet(name);
+  for (const auto& name : builtinComparisonSetNames()) {
+    const ComparisonSet set = builtinComparisonSet(name);
     if (name.rfind("brief_random", 0) == 0) {
       EXPECT_TRUE(set.trainingImages.empty()) << name;
       continue;
@@ -111,7 +111,7 @@ TEST(LearnedSets, DefaultBeatsRandomOnHeldOutOxford) {
       for (int k = 1; k <= 6; ++k) paths.push_back((*dir / s / ("img" + std::to_string(k) + ".png")).string());
     }
   ASSERT_EQ(group.sequences.size(), kOxfordSequences.size());
-  const std::string learned = defaultTestSetName(), random = "brief_random_512";
+  const std::string learned = defaultComparisonSetName(), random = "brief_random_512";
   const std::vector<MethodSpec> methods{
       briefFamilyMethod("learned-256", DescriptorKind::MdBrief, 256, true, DistortionForm::Affine, 20.0, learned),
       briefFamilyMethod("learned-128", DescriptorKind::MdBrief, 128, true, DistortionForm::Affine, 20.0, learned),

@@ -15,6 +15,8 @@
 #include "eval/eval_cli.hpp"
 #include "eval/eval_commands.hpp"
 #include "eval/retrieval_experiment.hpp"
+#include "mdbrief/detect/detector.hpp"
+#include "option_flag_message.hpp"
 #include "test_data.hpp"
 #include "scenes/photo_camera.hpp"
 
@@ -170,7 +172,8 @@ TEST(RetrievalCli, BadInputExitsWith2NamingTheOptionOrFile) {
       {with({"--training-count", "0"}), "--training-count"},
       {with({"--branching", "1"}), "--branching"},
       {with({"--depth", "0"}), "--depth"},
-      {with({"--nfeatures", "5"}), "--nfeatures"},
+      // Issue 46: the library's flag, with its range and message (the tool's own was [10, 100000]).
+      {with({"--nfeatures", "0"}), testing::optionFlagMessage(detectorOptionFields(), "nfeatures", "0")},
       {with({"--recall-at", "0"}), "--recall-at"},
       {with({"--datasets", "nope"}), "--datasets"},
       {with({"--seed", "x"}), "--seed"},

@@ -244,7 +244,7 @@ TEST(MdBriefFeature2D, FileStorageRoundTripKeepsEveryOption) {
   o.detector.conformal = true;
   o.descriptor.kind = DescriptorKind::DBrief;
   o.descriptor.bits = 128;
-  o.descriptor.pattern = builtinTestSetNames().back();  // any non-empty name survives the trip
+  o.descriptor.pattern = builtinComparisonSetNames().back();  // any non-empty name survives the trip
   o.descriptor.useOrientation = false;
   o.descriptor.orientation = OrientationSource::Keypoint;
   o.descriptor.orientationRadius = 9;

@@ -47,7 +47,7 @@ cv::Mat opencvDocImage(const char* name) {
 // is what the sampler gets (null: the photo camera, which the extractor must then hold).
 void expectPatchesGiveTheRuntimeBits(const DescriptorExtractor& extractor, const Camera* calibration,
                                      const ImagePyramid& pyramid, const std::vector<cv::KeyPoint>& kps) {
-  const TestSet& tests = extractor.testSet();
+  const ComparisonSet& tests = extractor.comparisonSet();
   size_t patches = 0, compared = 0, ties = 0;
   uint8_t patch[kPatchSize * kPatchSize];
   for (const cv::KeyPoint& kp : kps) {
@@ -60,7 +60,7 @@ void expectPatchesGiveTheRuntimeBits(const DescriptorExtractor& extractor, const
     ASSERT_EQ(one.size(), 1u) << "compute() dropped a keypoint whose patch was sampled at " << kp.pt;
     EXPECT_EQ(angle, one[0].angle) << kp.pt;
     for (size_t d = 0; d < tests.tests.size(); ++d) {
-      const TestPair& t = tests.tests[d];
+      const ComparisonPair& t = tests.tests[d];
       const int v1 = patch[(t.y1 + kPatchHalf) * kPatchSize + t.x1 + kPatchHalf];
       const int v2 = patch[(t.y2 + kPatchHalf) * kPatchSize + t.x2 + kPatchHalf];
       const bool runtime = (desc.at<uint8_t>(0, int(d / 8)) >> (d % 8)) & 1;

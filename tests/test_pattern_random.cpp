@@ -40,11 +40,11 @@ TEST(RandomPattern, RegeneratedFilesAreByteIdenticalToTheShippedOnes) {
 }
 
 TEST(RandomPattern, MatchesTheCompiledSet) {
-  const auto tests = train::gaussianRandomTests(512, train::RandomPatternOptions{}.seed);
-  const TestSet builtin = builtinTestSet("brief_random_512");
+  const auto tests = train::gaussianRandomComparisons(512, train::RandomPatternOptions{}.seed);
+  const ComparisonSet builtin = builtinComparisonSet("brief_random_512");
   ASSERT_EQ(tests.size(), builtin.tests.size());
   for (size_t i = 0; i < tests.size(); ++i) {
-    const TestPair &a = tests[i], &b = builtin.tests[i];
+    const ComparisonPair &a = tests[i], &b = builtin.tests[i];
     EXPECT_TRUE(a.x1 == b.x1 && a.y1 == b.y1 && a.x2 == b.x2 && a.y2 == b.y2) << i;
   }
 }
@@ -52,9 +52,9 @@ TEST(RandomPattern, MatchesTheCompiledSet) {
 namespace {
 
 // The content digest (toolkit/content_digest.hpp) of the tests as x1 y1 x2 y2 bytes.
-std::string digestOf(const std::vector<TestPair>& tests) {
-  static_assert(sizeof(TestPair) == 4);
-  return contentDigest(tests.data(), tests.size() * sizeof(TestPair));
+std::string digestOf(const std::vector<ComparisonPair>& tests) {
+  static_assert(sizeof(ComparisonPair) == 4);
+  return contentDigest(tests.data(), tests.size() * sizeof(ComparisonPair));
 }
 
 }  // namespace
@@ -64,15 +64,15 @@ std::string digestOf(const std::vector<TestPair>& tests) {
 // times 6.4 rounded half away from zero and clipped, the rejection rules), with the content
 // digest (FNV-1a 64) of the x1 y1 x2 y2 bytes.
 TEST(RandomPattern, GivesTheSetsOfAnIndependentImplementation) {
-  const auto shipped = train::gaussianRandomTests(512, 20170529);
-  const auto field = [](const TestPair& t) { return std::vector<int>{t.x1, t.y1, t.x2, t.y2}; };
+  const auto shipped = train::gaussianRandomComparisons(512, 20170529);
+  const auto field = [](const ComparisonPair& t) { return std::vector<int>{t.x1, t.y1, t.x2, t.y2}; };
   EXPECT_EQ(field(shipped[0]), (std::vector<int>{-2, 11, 7, 12}));
   EXPECT_EQ(field(shipped[1]), (std::vector<int>{0, -3, 2, -5}));
   EXPECT_EQ(field(shipped[2]), (std::vector<int>{-2, 5, -7, 4}));
   EXPECT_EQ(field(shipped[3]), (std::vector<int>{-2, 0, -8, 7}));
   EXPECT_EQ(field(shipped[511]), (std::vector<int>{3, 8, 5, 3}));
   EXPECT_EQ(digestOf(shipped), "1bcc80b02aa1aa68");
-  EXPECT_EQ(digestOf(train::gaussianRandomTests(4096, 1)), "14bbdaf851f480aa");
+  EXPECT_EQ(digestOf(train::gaussianRandomComparisons(4096, 1)), "14bbdaf851f480aa");
 }
 
 // What follows from the definition (random_pattern.hpp), on a large set: every field in the
@@ -80,10 +80,10 @@ TEST(RandomPattern, GivesTheSetsOfAnIndependentImplementation) {
 // each field distributed as a Gaussian of sigma S/5 = 6.4 rounded and clipped (a chi-square test
 // over the 30 values), the four independent of each other, and another seed another set.
 TEST(RandomPattern, FollowsItsDefinition) {
-  const auto a = train::gaussianRandomTests(4096, 1);
+  const auto a = train::gaussianRandomComparisons(4096, 1);
   ASSERT_EQ(a.size(), 4096u);
   std::set<std::array<int, 4>> seen;
-  for (const TestPair& t : a) {
+  for (const ComparisonPair& t : a) {
     for (const int v : {t.x1, t.y1, t.x2, t.y2}) {
       EXPECT_GE(v, -15);
       EXPECT_LE(v, 14);
@@ -96,7 +96,7 @@ TEST(RandomPattern, FollowsItsDefinition) {
   const double sigma = 32 / 5.0;
   const auto cdf = [&](double x) { return 0.5 * std::erfc(-x / (sigma * std::sqrt(2.0))); };
   std::vector<std::vector<double>> values(4);
-  for (const TestPair& t : a) {
+  for (const ComparisonPair& t : a) {
     const int v[4] = {t.x1, t.y1, t.x2, t.y2};
     for (int f = 0; f < 4; ++f) values[f].push_back(v[f]);
   }
@@ -122,10 +122,10 @@ TEST(RandomPattern, FollowsItsDefinition) {
       EXPECT_LT(std::abs(correlation), 0.05) << "fields " << f << " and " << g;  // 3 standard errors
     }
   }
-  const auto b = train::gaussianRandomTests(4096, 2);
+  const auto b = train::gaussianRandomComparisons(4096, 2);
   int same = 0;
   for (size_t i = 0; i < a.size(); ++i)
     same += a[i].x1 == b[i].x1 && a[i].y1 == b[i].y1 && a[i].x2 == b[i].x2 && a[i].y2 == b[i].y2;
   EXPECT_LT(same, 20);
-  EXPECT_THROW(train::gaussianRandomTests(0, 1), std::invalid_argument);
+  EXPECT_THROW(train::gaussianRandomComparisons(0, 1), std::invalid_argument);
 }

@@ -1,5 +1,5 @@
-// Runtime test sets: the compiled-in registry, TestSet::first, JSON loading and the pattern
-// writer (header, JSON copy, registry).
+// Runtime comparison sets: the compiled-in registry, ComparisonSet::first, JSON loading, the
+// pattern writer (header, JSON copy, registry) and the deprecated names of 0.2.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -10,6 +10,7 @@
 #include <sstream>
 #include <thread>
 #include <tuple>
+#include <type_traits>
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -17,7 +18,9 @@
 #include <unistd.h>
 
 #include "mdbrief/internal/base/io/atomic_file.hpp"
+#include "mdbrief/describe/descriptor.hpp"
 #include "mdbrief/describe/patterns.hpp"
+#include "mdbrief/describe/test_set.hpp"  // the deprecated header still compiles
 #include "trainer/pattern_writer.hpp"
 #include "test_data.hpp"
 #include "write_limits.hpp"
@@ -35,8 +38,8 @@ void writeText(const fs::path& p, const std::string& text) {
   std::ofstream(p, std::ios::binary) << text;
 }
 
-bool sameTests(const std::vector<TestPair>& a, const std::vector<TestPair>& b) {
-  return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const TestPair& l, const TestPair& r) {
+bool sameComparisons(const std::vector<ComparisonPair>& a, const std::vector<ComparisonPair>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const ComparisonPair& l, const ComparisonPair& r) {
     return l.x1 == r.x1 && l.y1 == r.y1 && l.x2 == r.x2 && l.y2 == r.y2;
   });
 }
@@ -53,13 +56,13 @@ PatternDocument smallDocument(const std::string& name, int count = 64) {
   return d;
 }
 
-// loadTestSetJson on a file with `text` must throw a runtime_error naming the file and `what`.
+// loadComparisonSetJson on a file with `text` must throw a runtime_error naming the file and `what`.
 void expectJsonError(const std::string& text, const std::string& what) {
   TempDir dir("bad");
   const fs::path p = dir.path / "bad.json";
   writeText(p, text);
   try {
-    loadTestSetJson(p.string());
+    loadComparisonSetJson(p.string());
     ADD_FAILURE() << "no exception for: " << text;
   } catch (const std::runtime_error& e) {
     const std::string msg = e.what();
@@ -71,21 +74,21 @@ void expectJsonError(const std::string& text, const std::string& what) {
 }  // namespace
 
 TEST(Registry, ListsTheRandomSetSortedWithAValidDefault) {
-  const auto names = builtinTestSetNames();
+  const auto names = builtinComparisonSetNames();
   EXPECT_TRUE(std::is_sorted(names.begin(), names.end()));
   EXPECT_NE(std::find(names.begin(), names.end(), "brief_random_512"), names.end());
-  EXPECT_NE(std::find(names.begin(), names.end(), defaultTestSetName()), names.end());
-  EXPECT_NO_THROW(builtinTestSet(defaultTestSetName()));
+  EXPECT_NE(std::find(names.begin(), names.end(), defaultComparisonSetName()), names.end());
+  EXPECT_NO_THROW(builtinComparisonSet(defaultComparisonSetName()));
 }
 
 TEST(Registry, EveryBuiltinSetHasInRangeDistinctTests) {
-  for (const auto& name : builtinTestSetNames()) {
-    const TestSet set = builtinTestSet(name);
+  for (const auto& name : builtinComparisonSetNames()) {
+    const ComparisonSet set = builtinComparisonSet(name);
     EXPECT_EQ(set.name, name);
     EXPECT_GE(set.tests.size(), 32u);
     EXPECT_EQ(set.tests.size() % 32, 0u);
     std::set<std::tuple<int, int, int, int>> seen;
-    for (const TestPair& t : set.tests) {
+    for (const ComparisonPair& t : set.tests) {
       for (int v : {t.x1, t.y1, t.x2, t.y2}) {
         EXPECT_GE(v, -15) << name;  // the trainer's and generator's range: no border pixels
         EXPECT_LE(v, 14) << name;
@@ -98,26 +101,26 @@ TEST(Registry, EveryBuiltinSetHasInRangeDistinctTests) {
 }
 
 TEST(Registry, RandomSetHas512Tests) {
-  EXPECT_EQ(builtinTestSet("brief_random_512").tests.size(), 512u);
+  EXPECT_EQ(builtinComparisonSet("brief_random_512").tests.size(), 512u);
 }
 
 TEST(Registry, UnknownNameThrowsListingKnownNames) {
   try {
-    builtinTestSet("no_such_set");
+    builtinComparisonSet("no_such_set");
     FAIL();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("brief_random_512"), std::string::npos);
   }
-  EXPECT_THROW(resolveTestSet("no_such_set_or_file"), std::invalid_argument);
+  EXPECT_THROW(resolveComparisonSet("no_such_set_or_file"), std::invalid_argument);
 }
 
-TEST(TestSetFirst, TakesPrefixesInStepsOf32) {
-  const TestSet set = builtinTestSet("brief_random_512");
+TEST(ComparisonSetFirst, TakesPrefixesInStepsOf32) {
+  const ComparisonSet set = builtinComparisonSet("brief_random_512");
   for (int n = 32; n <= 512; n += 32) {
-    const TestSet sub = set.first(n);
+    const ComparisonSet sub = set.first(n);
     ASSERT_EQ(sub.tests.size(), static_cast<size_t>(n));
     EXPECT_EQ(sub.name, set.name);
-    EXPECT_TRUE(sameTests(sub.tests, {set.tests.begin(), set.tests.begin() + n}));
+    EXPECT_TRUE(sameComparisons(sub.tests, {set.tests.begin(), set.tests.begin() + n}));
   }
   for (int n : {-32, 0, 1, 31, 33, 100, 511, 544, 1024})
     EXPECT_THROW(set.first(n), std::invalid_argument) << n;
@@ -125,10 +128,10 @@ TEST(TestSetFirst, TakesPrefixesInStepsOf32) {
 
 TEST(PatternJson, ShippedCopyMatchesTheCompiledSet) {
   const fs::path json = mdbrief::testing::sourceDir() / "patterns" / "brief_random_512.json";
-  const TestSet loaded = loadTestSetJson(json.string());
+  const ComparisonSet loaded = loadComparisonSetJson(json.string());
   EXPECT_EQ(loaded.name, "brief_random_512");
-  EXPECT_TRUE(sameTests(loaded.tests, builtinTestSet("brief_random_512").tests));
-  EXPECT_TRUE(sameTests(resolveTestSet(json.string()).tests, loaded.tests));
+  EXPECT_TRUE(sameComparisons(loaded.tests, builtinComparisonSet("brief_random_512").tests));
+  EXPECT_TRUE(sameComparisons(resolveComparisonSet(json.string()).tests, loaded.tests));
 }
 
 TEST(PatternJson, RoundTrip) {
@@ -137,9 +140,9 @@ TEST(PatternJson, RoundTrip) {
   doc.testComments.assign(doc.tests.size(), "mean 0.50 max corr 0.10");
   const fs::path p = dir.path / "round_trip.json";
   internal::writeFileAtomically(p, patternJsonText(doc));
-  const TestSet loaded = loadTestSetJson(p.string());
+  const ComparisonSet loaded = loadComparisonSetJson(p.string());
   EXPECT_EQ(loaded.name, doc.name);
-  EXPECT_TRUE(sameTests(loaded.tests, doc.tests));
+  EXPECT_TRUE(sameComparisons(loaded.tests, doc.tests));
 }
 
 TEST(PatternJson, MalformedFilesThrowNamingFileAndProblem) {
@@ -174,7 +177,7 @@ TEST(PatternJson, MalformedFilesThrowNamingFileAndProblem) {
                   "key 'tests' appears twice");
   expectJsonError("{\"name\": \"x\", \"info\": {\"a\": 1, \"a\": 2}, \"tests\": [" + tests32 + "]}",
                   "key 'a' appears twice");
-  EXPECT_THROW(loadTestSetJson("/nonexistent/set.json"), std::runtime_error);
+  EXPECT_THROW(loadComparisonSetJson("/nonexistent/set.json"), std::runtime_error);
 }
 
 TEST(PatternHeader, HasIdentifiersInfoAndPerTestComments) {
@@ -313,10 +316,10 @@ TEST(PatternWriter, OutputsThatCannotBeWrittenAreReportedBeforeTheWork) {
 }
 
 // Issue 29: `--pattern /dev/zero` said the file did not exist. Whatever is at the path is named.
-TEST(ResolveTestSet, ADeviceOrAFolderIsNamedForWhatItIs) {
+TEST(ResolveComparisonSet, ADeviceOrAFolderIsNamedForWhatItIs) {
   const auto messageOf = [](const std::string& path) {
     try {
-      resolveTestSet(path);
+      resolveComparisonSet(path);
     } catch (const std::exception& e) {
       return std::string(e.what());
     }
@@ -326,3 +329,20 @@ TEST(ResolveTestSet, ADeviceOrAFolderIsNamedForWhatItIs) {
   EXPECT_NE(messageOf("/tmp").find("/tmp: test set file: is a folder"), std::string::npos);
   EXPECT_NE(messageOf("no_such_set").find("neither a built-in set"), std::string::npos);
 }
+
+// Issue 46: TestSet, TestPair and the functions named after them were renamed; the old names
+// still compile (with a deprecation warning, silenced here) and are the same types and results.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+TEST(DeprecatedNames, AreTheComparisonSetsTypesAndFunctions) {
+  static_assert(std::is_same_v<TestSet, ComparisonSet>);
+  static_assert(std::is_same_v<TestPair, ComparisonPair>);
+  static_assert(std::is_same_v<decltype(&DescriptorExtractor::testSet), decltype(&DescriptorExtractor::comparisonSet)>);
+  EXPECT_EQ(builtinTestSetNames(), builtinComparisonSetNames());
+  EXPECT_EQ(defaultTestSetName(), defaultComparisonSetName());
+  const TestSet old = resolveTestSet("brief_random_512");
+  EXPECT_TRUE(sameComparisons(old.tests, builtinComparisonSet("brief_random_512").tests));
+  EXPECT_TRUE(sameComparisons(builtinTestSet("brief_random_512").tests, old.tests));
+  EXPECT_THROW(loadTestSetJson("/nonexistent/set.json"), std::runtime_error);
+}
+#pragma GCC diagnostic pop

@@ -16,7 +16,7 @@
 #include "detect/smoothing_kernels.hpp"
 #include "match/matcher_kernels.hpp"
 #include "mdbrief/base/simd_level.hpp"
-#include "trainer/test_response_kernels.hpp"
+#include "trainer/comparison_response_kernels.hpp"
 
 namespace mdbrief {
 namespace {

@@ -9,8 +9,11 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "mdbrief/describe/descriptor.hpp"
+#include "mdbrief/detect/detector.hpp"
 #include "mdbrief/recognition/vocabulary.hpp"
 #include "mdbrief/recognition/vocabulary_text.hpp"
+#include "option_flag_message.hpp"
 #include "test_data.hpp"
 #include "vocabulary/descriptor_npy.hpp"
 #include "vocabulary/train_vocabulary_cli.hpp"
@@ -112,9 +115,15 @@ TEST(TrainVocabularyCli, BadInputExitsWith2NamingTheProblemAndWritesNothing) {
       {{"--images", (dir.path / "missing").string(), "--out", out}, "no such image or folder"},
       // Issue 29: a device was "no such image or folder".
       {{"--images", "/dev/zero", "--out", out}, "/dev/zero: is a character device, not a regular file"},
-      {{"--images", dir.path.string(), "--bits", "100", "--out", out}, "bits"},
-      {{"--images", dir.path.string(), "--nfeatures", "0", "--out", out}, "--nfeatures"},
-      {{"--images", dir.path.string(), "--extractor", "orb", "--nfeatures", "-1", "--out", out}, "--nfeatures"},
+      // Issue 46: --bits and --nfeatures are the library's flags, with its ranges and messages.
+      {{"--images", dir.path.string(), "--bits", "100", "--out", out},
+       mdbrief::testing::optionFlagMessage(descriptorOptionFields(), "bits", "100")},
+      {{"--images", dir.path.string(), "--nfeatures", "0", "--out", out},
+       mdbrief::testing::optionFlagMessage(detectorOptionFields(), "nfeatures", "0")},
+      {{"--images", dir.path.string(), "--extractor", "orb", "--nfeatures", "-1", "--out", out},
+       mdbrief::testing::optionFlagMessage(detectorOptionFields(), "nfeatures", "-1")},
+      {{"--images", dir.path.string(), "--nfeatures", "10000001", "--out", out},
+       mdbrief::testing::optionFlagMessage(detectorOptionFields(), "nfeatures", "10000001")},
       {{"--images", dir.path.string(), "--extractor", "sift", "--out", out}, "--extractor"},
       // The old spelling of --extractor names the new one.
       {{"--images", dir.path.string(), "--features", "orb", "--out", out}, "--features: is now --extractor"},

@@ -8,9 +8,9 @@
 
 #include <gtest/gtest.h>
 
-#include "trainer/candidate_tests.hpp"
+#include "trainer/candidate_comparisons.hpp"
+#include "trainer/comparison_responses.hpp"
 #include "trainer/greedy_selection.hpp"
-#include "trainer/test_responses.hpp"
 #include "trainer/trainer.hpp"
 
 using namespace mdbrief;
@@ -42,7 +42,7 @@ std::vector<uint8_t> structuredPatches(size_t count, uint32_t seed) {
   return px;
 }
 
-ResponseCounts countsOf(const PatchMatrix& patches, const std::vector<TestPair>& tests) {
+ResponseCounts countsOf(const PatchMatrix& patches, const std::vector<ComparisonPair>& tests) {
   ResponseCounts counts;
   counts.patches = patches.count;
   counts.ones = countResponses(patches, tests);
@@ -52,10 +52,10 @@ ResponseCounts countsOf(const PatchMatrix& patches, const std::vector<TestPair>&
 }  // namespace
 
 TEST(Candidates, Exactly377650InRangeWithinDistanceLimits) {
-  const auto c = candidateTests();
+  const auto c = candidateComparisons();
   ASSERT_EQ(c.size(), kCandidateCount);
   std::set<std::tuple<int, int, int, int>> seen;
-  for (const TestPair& t : c) {
+  for (const ComparisonPair& t : c) {
     for (int v : {t.x1, t.y1, t.x2, t.y2}) {
       ASSERT_GE(v, -15);
       ASSERT_LE(v, 14);
@@ -71,13 +71,13 @@ TEST(Candidates, Exactly377650InRangeWithinDistanceLimits) {
 TEST(Responses, MatchAScalarEvaluationIncludingPadding) {
   const size_t P = 137;  // not a multiple of 64: the last word has padding
   const auto px = randomPatches(P, 7);
-  const auto all = candidateTests();
-  std::vector<TestPair> tests(all.begin(), all.begin() + 500);
+  const auto all = candidateComparisons();
+  std::vector<ComparisonPair> tests(all.begin(), all.begin() + 500);
   tests.push_back({-16, -16, 15, 15});  // extreme offsets
-  const TestResponses r = evaluateTests({px.data(), P}, tests);
+  const ComparisonResponses r = evaluateComparisons({px.data(), P}, tests);
   ASSERT_EQ(r.words(), 3u);
   for (size_t d = 0; d < tests.size(); ++d) {
-    const TestPair& t = tests[d];
+    const ComparisonPair& t = tests[d];
     size_t ones = 0;
     for (size_t p = 0; p < P; ++p) {
       const uint8_t a = px[p * 1024 + (t.y1 + 16) * 32 + t.x1 + 16];
@@ -89,8 +89,8 @@ TEST(Responses, MatchAScalarEvaluationIncludingPadding) {
     EXPECT_EQ(r.ones(d), ones);
     EXPECT_EQ(r.column(d)[2] >> (P - 128), 0u) << "padding bits must stay 0";
   }
-  EXPECT_THROW(evaluateTests({px.data(), 0}, tests), std::invalid_argument);
-  EXPECT_THROW(evaluateTests({px.data(), P}, {{0, 0, 16, 0}}), std::invalid_argument);
+  EXPECT_THROW(evaluateComparisons({px.data(), 0}, tests), std::invalid_argument);
+  EXPECT_THROW(evaluateComparisons({px.data(), P}, {{0, 0, 16, 0}}), std::invalid_argument);
   EXPECT_THROW(countResponses({px.data(), P}, {{0, 0, 16, 0}}), std::invalid_argument);
 
   // The streamed counts and the columns recomputed from kept lanes agree with the columns,
@@ -113,9 +113,9 @@ TEST(Responses, MatchAScalarEvaluationIncludingPadding) {
 TEST(Greedy, SortIsByVarianceThenIndex) {
   const size_t P = 300;
   const auto px = structuredPatches(P, 3);
-  const auto all = candidateTests();
-  const std::vector<TestPair> tests(all.begin(), all.begin() + 3000);
-  const TestResponses r = evaluateTests({px.data(), P}, tests);
+  const auto all = candidateComparisons();
+  const std::vector<ComparisonPair> tests(all.begin(), all.begin() + 3000);
+  const ComparisonResponses r = evaluateComparisons({px.data(), P}, tests);
   const auto order = sortByVariance(countsOf({px.data(), P}, tests));
   ASSERT_EQ(order.size(), tests.size());
   for (size_t i = 1; i < order.size(); ++i) {
@@ -131,10 +131,10 @@ TEST(Greedy, SortIsByVarianceThenIndex) {
 TEST(Greedy, KeptTestsAreBelowTheFinalThresholdAndMatchASequentialWalk) {
   const size_t P = 256;
   const auto px = structuredPatches(P, 11);
-  const auto all = candidateTests();
-  std::vector<TestPair> tests;
+  const auto all = candidateComparisons();
+  std::vector<ComparisonPair> tests;
   for (size_t i = 0; i < all.size(); i += 97) tests.push_back(all[i]);
-  const TestResponses r = evaluateTests({px.data(), P}, tests);
+  const ComparisonResponses r = evaluateComparisons({px.data(), P}, tests);
   const auto order = sortByVariance(countsOf({px.data(), P}, tests));
   GreedyOptions opt;
   opt.tests = 128;
@@ -175,7 +175,7 @@ TEST(Greedy, KeptTestsAreBelowTheFinalThresholdAndMatchASequentialWalk) {
 
 TEST(Greedy, TooFewCandidatesThrow) {
   const auto px = randomPatches(64, 1);
-  const std::vector<TestPair> tests{{0, 0, 5, 5}, {1, 1, -5, -5}};
+  const std::vector<ComparisonPair> tests{{0, 0, 5, 5}, {1, 1, -5, -5}};
   const PatchLanes lanes(PatchRows::of({px.data(), 64}), 8);
   GreedyOptions opt;
   opt.tests = 3;
@@ -189,8 +189,8 @@ TEST(Trainer, IsDeterministicWithCorrelationsBelowTheFinalThreshold) {
   const auto px = structuredPatches(P, 5);
   GreedyOptions opt;
   opt.tests = 64;
-  const LearnedTests a = learnTests({px.data(), P}, opt);
-  const LearnedTests b = learnTests({px.data(), P}, opt);
+  const LearnedComparisons a = learnComparisons({px.data(), P}, opt);
+  const LearnedComparisons b = learnComparisons({px.data(), P}, opt);
   ASSERT_EQ(a.tests.size(), 64u);
   EXPECT_EQ(a.candidates, kCandidateCount);
   for (size_t i = 0; i < a.tests.size(); ++i) {
@@ -217,7 +217,7 @@ TEST(Pairs, DisagreementCountsAndBitsMatchAScalarEvaluation) {
   const auto ref = randomPatches(P, 11), cp = randomPatches(Q, 12);
   std::vector<int32_t> of(Q);
   for (size_t j = 0; j < Q; ++j) of[j] = static_cast<int32_t>(j * P / Q);
-  const std::vector<TestPair> tests{{-3, 2, 5, -7}, {0, 0, 1, 1}, {-15, -15, 14, 14}, {4, -2, -9, 8}};
+  const std::vector<ComparisonPair> tests{{-3, 2, 5, -7}, {0, 0, 1, 1}, {-15, -15, 14, 14}, {4, -2, -9, 8}};
   const Counterparts pairs{{cp.data(), Q}, of.data()};
   StreamingOptions oneWord;
   oneWord.chunkWords = 1;
@@ -226,11 +226,11 @@ TEST(Pairs, DisagreementCountsAndBitsMatchAScalarEvaluation) {
   const PatchLanes references(PatchRows::pairedReferences({ref.data(), P}, pairs), 1);
   const PatchLanes views(PatchRows::of(pairs.patches), 1);
   const std::vector<PixelPair> pixels = pixelPairsOf(tests);
-  TestResponses bits(tests.size(), Q);
+  ComparisonResponses bits(tests.size(), Q);
   evaluateFlipColumns(references, views, pixels.data(), tests.size(), bits.column(0));
   const auto at = [](const std::vector<uint8_t>& px, size_t p, int x, int y) { return px[p * 1024 + (y + 16) * 32 + x + 16]; };
   for (size_t d = 0; d < tests.size(); ++d) {
-    const TestPair& t = tests[d];
+    const ComparisonPair& t = tests[d];
     uint32_t expected = 0;
     for (size_t j = 0; j < Q; ++j) {
       const bool a = at(ref, of[j], t.x1, t.y1) < at(ref, of[j], t.x2, t.y2);
@@ -286,8 +286,8 @@ TEST(Criteria, StabilityAndSeparationPreferTestsThatSurviveTheViewChange) {
   opt.tests = 64;
   int paperLeftHalf = 0;
   for (auto c : {SelectionCriterion::Paper, SelectionCriterion::Stability, SelectionCriterion::Separation}) {
-    const LearnedTests a = learnTests({px.data(), P}, opt, c, {{cp.data(), P}, of.data()});
-    const LearnedTests b = learnTests({px.data(), P}, opt, c, {{cp.data(), P}, of.data()});
+    const LearnedComparisons a = learnComparisons({px.data(), P}, opt, c, {{cp.data(), P}, of.data()});
+    const LearnedComparisons b = learnComparisons({px.data(), P}, opt, c, {{cp.data(), P}, of.data()});
     ASSERT_EQ(a.tests.size(), 64u);
     double flip = 0;
     int leftHalf = 0;
@@ -306,7 +306,7 @@ TEST(Criteria, StabilityAndSeparationPreferTestsThatSurviveTheViewChange) {
       EXPECT_GE(leftHalf, paperLeftHalf + 16) << selectionCriterionName(c) << " keeps the stable half";
     }
   }
-  EXPECT_THROW(learnTests({px.data(), P}, opt, SelectionCriterion::Separation), std::invalid_argument);
+  EXPECT_THROW(learnComparisons({px.data(), P}, opt, SelectionCriterion::Separation), std::invalid_argument);
 }
 
 // The streamed trainer learns what the full-matrix trainer (every candidate's column held,
@@ -343,8 +343,8 @@ TEST(Trainer, StreamedSelectionEqualsTheFullMatrixTrainersOutput) {
       {SelectionCriterion::Separation, 0x17a78ddfc4ea235eull}};
   for (const auto& [criterion, digest] : expected)
     for (const StreamingOptions& streaming : {StreamingOptions{}, tiny}) {
-      const LearnedTests t =
-          learnTests({px.data(), P}, opt, criterion, {{cp.data(), Q}, of.data()}, {}, separation, streaming);
+      const LearnedComparisons t =
+          learnComparisons({px.data(), P}, opt, criterion, {{cp.data(), Q}, of.data()}, {}, separation, streaming);
       ASSERT_EQ(t.tests.size(), opt.tests);
       // FNV-1a over each test's offsets and the bytes of its three statistics.
       uint64_t h = 1469598103934665603ull;

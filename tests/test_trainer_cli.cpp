@@ -248,7 +248,7 @@ TEST(TrainCli, SeparationIsByteIdenticalAndRecordsCriterionPairsAndImages) {
             std::string::npos)
       << header;
   EXPECT_NE(header.find(" flip 0."), std::string::npos) << "per-test flip rates";
-  const TestSet learned = loadTestSetJson((dir.path / "a" / "sep_64.json").string());
+  const ComparisonSet learned = loadComparisonSetJson((dir.path / "a" / "sep_64.json").string());
   EXPECT_EQ(learned.tests.size(), 64u);
   ASSERT_EQ(learned.trainingImages.size(), 1u) << "box_in_scene only";
   EXPECT_EQ(learned.trainingImages[0], imageFileDigest(images / "box_in_scene.png"));
@@ -326,7 +326,7 @@ TEST(TrainCli, SameInputsAndSeedGiveByteIdenticalHeaders) {
   EXPECT_TRUE(fs::exists(dir.path / "a" / "registry.hpp"));
 
   // The JSON copy loads at run time; the patch file reproduces the same tests.
-  const TestSet learned = loadTestSetJson((dir.path / "a" / "tiny_64.json").string());
+  const ComparisonSet learned = loadComparisonSetJson((dir.path / "a" / "tiny_64.json").string());
   ASSERT_EQ(learned.tests.size(), 64u);
   EXPECT_EQ(readPatchSet(patchFile).count(), 800u);
   fs::create_directories(dir.path / "c");
@@ -334,7 +334,7 @@ TEST(TrainCli, SameInputsAndSeedGiveByteIdenticalHeaders) {
                                  "--name", "tiny_64",
                            "--out", (dir.path / "c").string()});
   ASSERT_EQ(reuse.code, 0) << reuse.err;
-  const TestSet again = loadTestSetJson((dir.path / "c" / "tiny_64.json").string());
+  const ComparisonSet again = loadComparisonSetJson((dir.path / "c" / "tiny_64.json").string());
   for (size_t i = 0; i < 64; ++i) {
     EXPECT_EQ(again.tests[i].x1, learned.tests[i].x1);
     EXPECT_EQ(again.tests[i].y2, learned.tests[i].y2);

@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "mdbrief/base/simd_level.hpp"
-#include "trainer/candidate_tests.hpp"
-#include "trainer/test_response_kernels.hpp"
-#include "trainer/test_responses.hpp"
+#include "trainer/candidate_comparisons.hpp"
+#include "trainer/comparison_response_kernels.hpp"
+#include "trainer/comparison_responses.hpp"
 
 namespace {
 
@@ -25,15 +25,15 @@ TEST(TrainerSimdLevel, ResponsesAndDisagreementsAreIdenticalAtEveryLevel) {
   }
   std::vector<int32_t> counterpartOf(200);
   for (size_t i = 0; i < counterpartOf.size(); ++i) counterpartOf[i] = static_cast<int32_t>((i * 7) % 200);
-  const std::vector<mdbrief::TestPair> tests = candidateTests();
-  const std::vector<mdbrief::TestPair> some(tests.begin(), tests.begin() + 5000);
+  const std::vector<mdbrief::ComparisonPair> tests = candidateComparisons();
+  const std::vector<mdbrief::ComparisonPair> some(tests.begin(), tests.begin() + 5000);
 
   std::vector<uint64_t> refBits;
   std::vector<size_t> refOnes;
   std::vector<uint32_t> refFlips, refCounts;
   for (const SimdLevel level : mdbrief::supportedSimdLevels()) {
     mdbrief::limitSimdLevel(level);
-    const TestResponses r = evaluateTests({a.data(), 200}, some);
+    const ComparisonResponses r = evaluateComparisons({a.data(), 200}, some);
     const kernels::ResponseKernels k = kernels::activeResponseKernels();
     std::vector<uint64_t> bits;
     std::vector<size_t> ones;  // counts of ones, differences and coincidences of the columns

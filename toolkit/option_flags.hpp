@@ -2,10 +2,13 @@
 // Command-line flags from an options struct's field table (mdbrief/base/option_fields.hpp): one flag
 // per field that has one, its help the field's doc with its range or choices and the default.
 // Values are collected during the parse and applied afterwards, so a bad value is reported as
-// "<flag> must be in [...], got <value>", the message every other surface gives.
+// "<flag> must be in [...], got <value>", the message every other surface gives. A tool that
+// takes only a few fields of a table adds each with addFieldFlag: the same name, help and range.
 #include <cstdint>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -36,6 +39,40 @@ CLI::Validator fieldRangeCheck(const OptionTable<Options>& table, const std::str
         return range.contains(v) ? "" : "must be " + range.text(integer) + ", got " + value;
       },
       range.text(integer), kOptionFieldCheck + keyword);
+}
+
+// A tool's flag for one field of an options table, for a tool that takes a few of the table's
+// fields rather than all of them (OptionFlags): the field's flag, its doc (then `note`: what the
+// tool also does with the value) and, for a number, its range and fieldRangeCheck, so that the
+// flag's name, help and accepted values are the table's and a change to them is one edit there.
+// The help reads as OptionFlags' ("<doc>; in [1, 10000000]"). `target` holds the tool's default,
+// which the help shows; a range that depends on other fields is taken at `defaults`. A Flag
+// field's flag turns the field's default (at `defaults`) around, as OptionFlags' does. Throws
+// std::logic_error for a keyword without a flag, or a field of another type.
+template <typename Options, typename T>
+CLI::Option* addFieldFlag(CLI::App& app, const OptionTable<Options>& table, const std::string& keyword, T& target,
+                          const std::string& note = "", const Options& defaults = {}) {
+  const std::size_t index = findField(table, keyword, &OptionField<Options>::keyword);
+  if (index == table.size() || !table[index].flag)
+    throw std::logic_error("addFieldFlag: the table has no flag for '" + keyword + "'");
+  const OptionField<Options>& field = table[index];
+  const std::string help = field.doc + (note.empty() ? "" : "; " + note);
+  if constexpr (std::is_same_v<T, bool>) {
+    if (field.type != FieldType::Flag) throw std::logic_error("addFieldFlag: '" + keyword + "' is not a flag");
+    const bool turned = !std::get<bool>(field.get(defaults));
+    return app.add_flag_function(field.flag, [&target, turned](std::int64_t count) {
+      if (count > 0) target = turned;
+    })->description(turned ? help : "turn off (on by default): " + help);
+  } else {
+    const bool integer = field.type == FieldType::Integer;
+    if (!integer && field.type != FieldType::Real)
+      throw std::logic_error("addFieldFlag: '" + keyword + "' is not a number");
+    CLI::Validator check = fieldRangeCheck(table, keyword, defaults);
+    check.description("");  // the range is in the help, as OptionFlags puts it
+    return app.add_option(field.flag, target, help + "; " + field.range(defaults).text(integer))
+        ->check(check)
+        ->capture_default_str();
+  }
 }
 
 template <typename Options>

@@ -10,7 +10,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
-#include "trainer/test_response_kernels.hpp"
+#include "trainer/comparison_response_kernels.hpp"
 
 namespace mdbrief::train {
 
@@ -102,12 +102,12 @@ std::vector<size_t> sortByCriterion(const ResponseCounts& counts, SelectionCrite
   return order;
 }
 
-double correlation(const TestResponses& responses, size_t a, size_t b) {
+double correlation(const ComparisonResponses& responses, size_t a, size_t b) {
   const double p = static_cast<double>(responses.patches());
   return std::fabs(2.0 / p * static_cast<double>(responses.differences(a, b)) - 1.0);
 }
 
-GreedyResult selectUncorrelated(const PatchLanes& patches, const std::vector<TestPair>& candidates,
+GreedyResult selectUncorrelated(const PatchLanes& patches, const std::vector<ComparisonPair>& candidates,
                                 const std::vector<size_t>& sorted, const GreedyOptions& options,
                                 const std::function<void(size_t, int)>& progress,
                                 const StreamingOptions& streaming) {

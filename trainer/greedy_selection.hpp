@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "mdbrief/base/enum_names.hpp"
-#include "trainer/test_responses.hpp"
+#include "trainer/comparison_responses.hpp"
 
 namespace mdbrief::train {
 
@@ -72,12 +72,12 @@ struct GreedyResult {
 // pass), if set, is called from the calling thread. Throws std::invalid_argument if there are
 // fewer candidates than requested tests, the thresholds are not positive or an offset lies
 // outside [-16, 15].
-GreedyResult selectUncorrelated(const PatchLanes& patches, const std::vector<TestPair>& candidates,
+GreedyResult selectUncorrelated(const PatchLanes& patches, const std::vector<ComparisonPair>& candidates,
                                 const std::vector<size_t>& sorted, const GreedyOptions& options,
                                 const std::function<void(size_t, int)>& progress = {},
                                 const StreamingOptions& streaming = {});
 
 // Correlation of the paper between two columns, in [0, 1].
-double correlation(const TestResponses& responses, size_t a, size_t b);
+double correlation(const ComparisonResponses& responses, size_t a, size_t b);
 
 }  // namespace mdbrief::train

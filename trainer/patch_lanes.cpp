@@ -9,8 +9,8 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
-#include "mdbrief/describe/test_set.hpp"
-#include "trainer/test_response_kernels.hpp"
+#include "mdbrief/describe/comparison_set.hpp"
+#include "trainer/comparison_response_kernels.hpp"
 
 namespace mdbrief::train {
 

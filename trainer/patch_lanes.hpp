@@ -1,5 +1,5 @@
 #pragma once
-// Patches transposed for the response kernels (test_response_kernels.hpp): 64 patches make one
+// Patches transposed for the response kernels (comparison_response_kernels.hpp): 64 patches make one
 // word, one byte per patch, so a test on 64 patches is one comparison of two 64-byte rows. The
 // words are cut into chunks of a few words, and inside a chunk the layout is pixel-major (each
 // pixel's bytes for all of the chunk's words in a row): a test reads two short contiguous rows,
@@ -15,7 +15,7 @@
 namespace mdbrief::train {
 
 // Patches: count x 32 x 32 uint8, row-major (pixel (x, y) of patch p at p*1024 + y*32 + x, the
-// keypoint at (16, 16), as the offsets of test_set.hpp).
+// keypoint at (16, 16), as the offsets of comparison_set.hpp).
 struct PatchMatrix {
   const uint8_t* pixels = nullptr;
   size_t count = 0;

@@ -97,7 +97,7 @@ void validate(const PatternDocument& d) {
                                 std::to_string(d.testComments.size()) + " test comments for " +
                                 std::to_string(d.tests.size()) + " tests");
   for (size_t i = 0; i < d.tests.size(); ++i) {
-    const TestPair& t = d.tests[i];
+    const ComparisonPair& t = d.tests[i];
     for (int v : {t.x1, t.y1, t.x2, t.y2})
       if (v < -kPatchHalf || v >= kPatchHalf)
         throw std::invalid_argument("pattern '" + d.name + "': test " + std::to_string(i) +
@@ -143,7 +143,7 @@ std::string patternHeaderText(const PatternDocument& d) {
       << "// " << d.description << "\n"
       << "inline constexpr TestRow " << id << "[" << count << "] = {\n";
   for (size_t i = 0; i < d.tests.size(); ++i) {
-    const TestPair& t = d.tests[i];
+    const ComparisonPair& t = d.tests[i];
     out << "    {" << int(t.x1) << ", " << int(t.y1) << ", " << int(t.x2) << ", " << int(t.y2)
         << "},  // " << i;
     if (!d.testComments.empty()) out << ": " << d.testComments[i];
@@ -170,7 +170,7 @@ std::string patternJsonText(const PatternDocument& d) {
     out << (i ? ",\n    " : "\n    ") << jsonString(d.provenance[i]);
   out << (d.provenance.empty() ? "],\n" : "\n  ],\n") << "  \"tests\": [\n";
   for (size_t i = 0; i < d.tests.size(); ++i) {
-    const TestPair& t = d.tests[i];
+    const ComparisonPair& t = d.tests[i];
     out << "    [" << int(t.x1) << ", " << int(t.y1) << ", " << int(t.x2) << ", " << int(t.y2)
         << "]" << (i + 1 < d.tests.size() ? ",\n" : "\n");
   }

@@ -1,6 +1,6 @@
 #pragma once
 // Writing test sets: the generated C++ pattern header (patterns/<name>.hpp), its JSON copy
-// (loadable with loadTestSetJson) and patterns/registry.hpp. One emitter shared by the trainer
+// (loadable with loadComparisonSetJson) and patterns/registry.hpp. One emitter shared by the trainer
 // and the random-set generator, so every shipped header has the same form.
 //
 // Outputs are deterministic (no timestamps) and written atomically
@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "mdbrief/describe/test_set.hpp"
+#include "mdbrief/describe/comparison_set.hpp"
 
 namespace mdbrief {
 
@@ -21,7 +21,7 @@ struct PatternDocument {
   std::string generator;    // the command that made it, without output paths
   // Header-comment lines after the command: settings, patch count, data digest...
   std::vector<std::string> provenance;
-  std::vector<TestPair> tests;  // emitted in this order; offsets in [-16, 15]
+  std::vector<ComparisonPair> tests;  // emitted in this order; offsets in [-16, 15]
   // Optional, empty or one per test: the per-test comment (e.g. "mean 0.48 max corr 0.17").
   std::vector<std::string> testComments;
   // Digests of the training images (PatternInfo::trainingImages), sorted; empty for random sets.

@@ -50,14 +50,14 @@ int8_t sampleOffset(PortableGaussian& g) {
 
 }  // namespace
 
-std::vector<TestPair> gaussianRandomTests(int count, uint32_t seed) {
+std::vector<ComparisonPair> gaussianRandomComparisons(int count, uint32_t seed) {
   if (count < 1) throw std::invalid_argument("random test set: count must be positive");
   PortableGaussian gauss(seed);
   std::set<std::tuple<int, int, int, int>> seen;
-  std::vector<TestPair> tests;
+  std::vector<ComparisonPair> tests;
   tests.reserve(count);
   while (static_cast<int>(tests.size()) < count) {
-    TestPair t;
+    ComparisonPair t;
     t.x1 = sampleOffset(gauss);
     t.y1 = sampleOffset(gauss);
     t.x2 = sampleOffset(gauss);
@@ -74,7 +74,7 @@ std::vector<TestPair> gaussianRandomTests(int count, uint32_t seed) {
 PatternDocument randomPatternDocument(const RandomPatternOptions& options) {
   PatternDocument doc;
   doc.name = options.name.empty() ? "brief_random_" + std::to_string(options.tests) : options.name;
-  doc.tests = gaussianRandomTests(options.tests, options.seed);
+  doc.tests = gaussianRandomComparisons(options.tests, options.seed);
   doc.generator = "mdbrief-pattern-random --tests " + std::to_string(options.tests) +
                   " --seed " + std::to_string(options.seed) +
                   (options.name.empty() ? "" : " --name " + options.name);
@@ -84,7 +84,7 @@ PatternDocument randomPatternDocument(const RandomPatternOptions& options) {
       "Points drawn from std::mt19937 + Box-Muller (portable), rounded to integer offsets,",
       "clipped to [-15, 14]; self-comparisons and repeated tests are rejected.",
       "Per test: the Euclidean length of the test in pixels."};
-  for (const TestPair& t : doc.tests) {
+  for (const ComparisonPair& t : doc.tests) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "length %.1f", std::hypot(t.x2 - t.x1, t.y2 - t.y1));
     doc.testComments.emplace_back(buf);

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "trainer/pattern_writer.hpp"
-#include "mdbrief/describe/test_set.hpp"
+#include "mdbrief/describe/comparison_set.hpp"
 
 namespace mdbrief::train {
 
@@ -21,7 +21,7 @@ struct RandomPatternOptions {
 // count distinct tests: no test compares a pixel with itself, no test repeats another (in
 // either point order). Portable: std::mt19937 plus an own Box-Muller transform, so every
 // standard library gives the same set. Throws std::invalid_argument if count < 1.
-std::vector<TestPair> gaussianRandomTests(int count, uint32_t seed);
+std::vector<ComparisonPair> gaussianRandomComparisons(int count, uint32_t seed);
 
 // The set with the header comment and per-test comments (test length in pixels).
 PatternDocument randomPatternDocument(const RandomPatternOptions& options);

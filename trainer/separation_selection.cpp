@@ -11,7 +11,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "trainer/test_response_kernels.hpp"
+#include "trainer/comparison_response_kernels.hpp"
 
 namespace mdbrief::train {
 
@@ -78,7 +78,7 @@ class SampleColumns {
 }  // namespace
 
 SeparationResult selectBySeparation(const PatchMatrix& patches, const Counterparts& counterparts,
-                                    const std::vector<TestPair>& candidates, const ResponseCounts& counts,
+                                    const std::vector<ComparisonPair>& candidates, const ResponseCounts& counts,
                                     const std::vector<size_t>& order, const SeparationOptions& options,
                                     const std::function<void(size_t)>& progress,
                                     const StreamingOptions& streaming) {
@@ -98,7 +98,7 @@ SeparationResult selectBySeparation(const PatchMatrix& patches, const Counterpar
   // Per pool candidate: v = 2 alpha (1 - alpha), f, its test, and on the sample: alpha (sa) and
   // the flip rate (sf).
   std::vector<double> v(pool), f(pool), sa(pool), sf(pool);
-  std::vector<TestPair> poolTests(pool);
+  std::vector<ComparisonPair> poolTests(pool);
   for (size_t i = 0; i < pool; ++i) {
     if (order[i] >= candidates.size())
       throw std::invalid_argument("separation selection: candidate " + std::to_string(order[i]) + " does not exist");

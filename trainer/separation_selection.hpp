@@ -31,9 +31,9 @@
 #include <functional>
 #include <vector>
 
-#include "mdbrief/describe/test_set.hpp"
+#include "mdbrief/describe/comparison_set.hpp"
+#include "trainer/comparison_responses.hpp"
 #include "trainer/patch_lanes.hpp"
-#include "trainer/test_responses.hpp"
 
 namespace mdbrief::train {
 
@@ -63,7 +63,7 @@ struct SeparationResult {
 // the pool is smaller than `tests`, the counts or pairs are missing or disagree, or an option is
 // out of range.
 SeparationResult selectBySeparation(const PatchMatrix& patches, const Counterparts& counterparts,
-                                    const std::vector<TestPair>& candidates, const ResponseCounts& counts,
+                                    const std::vector<ComparisonPair>& candidates, const ResponseCounts& counts,
                                     const std::vector<size_t>& order, const SeparationOptions& options,
                                     const std::function<void(size_t)>& progress = {},
                                     const StreamingOptions& streaming = {});

@@ -5,7 +5,7 @@
 
 #include "mdbrief/internal/base/io/input_file.hpp"
 #include "trainer/pattern_writer.hpp"
-#include "trainer/candidate_tests.hpp"
+#include "trainer/candidate_comparisons.hpp"
 
 namespace mdbrief::train {
 

@@ -7,7 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "toolkit/content_digest.hpp"
-#include "trainer/candidate_tests.hpp"
+#include "trainer/candidate_comparisons.hpp"
 #include "trainer/patch_lanes.hpp"
 #include "trainer/separation_selection.hpp"
 
@@ -21,15 +21,16 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options, SelectionCriterion criterion,
-                        const Counterparts& counterparts, const TrainingProgress& progress,
-                        const SeparationOptions& separation, const StreamingOptions& streaming) {
+LearnedComparisons learnComparisons(const PatchMatrix& patches, const GreedyOptions& options,
+                                    SelectionCriterion criterion, const Counterparts& counterparts,
+                                    const TrainingProgress& progress, const SeparationOptions& separation,
+                                    const StreamingOptions& streaming) {
   if (patches.count == 0) throw std::invalid_argument("training: no patches");
   if (needsCounterparts(criterion) && counterparts.patches.count == 0)
     throw std::invalid_argument("training: selection criterion " + selectionCriterionName(criterion) +
                                 " needs counterpart patches");
-  const std::vector<TestPair> candidates = candidateTests();
-  LearnedTests out;
+  const std::vector<ComparisonPair> candidates = candidateComparisons();
+  LearnedComparisons out;
   out.candidates = candidates.size();
   out.patches = patches.count;
   out.criterion = criterion;
@@ -90,7 +91,7 @@ LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options
 
   const size_t n = greedy.kept.size();
   for (size_t d : greedy.kept) out.tests.push_back(candidates[d]);
-  const TestResponses kept = evaluateTests(patches, out.tests, streaming);
+  const ComparisonResponses kept = evaluateComparisons(patches, out.tests, streaming);
   out.mean.resize(n);
   out.maxCorrelation.assign(n, 0.0);
   for (size_t i = 0; i < n; ++i) {
@@ -104,10 +105,10 @@ LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options
   return out;
 }
 
-TestSetQuality measureTestSet(const PatchMatrix& patches, const std::vector<TestPair>& tests) {
-  if (tests.size() < 2) throw std::invalid_argument("measureTestSet: need at least 2 tests");
-  const TestResponses r = evaluateTests(patches, tests);
-  TestSetQuality q;
+ComparisonSetQuality measureComparisonSet(const PatchMatrix& patches, const std::vector<ComparisonPair>& tests) {
+  if (tests.size() < 2) throw std::invalid_argument("measureComparisonSet: need at least 2 tests");
+  const ComparisonResponses r = evaluateComparisons(patches, tests);
+  ComparisonSetQuality q;
   const double p = static_cast<double>(r.patches());
   for (size_t d = 0; d < tests.size(); ++d) {
     const double alpha = r.ones(d) / p;

@@ -9,10 +9,10 @@
 #include <vector>
 
 #include "trainer/pattern_writer.hpp"
-#include "mdbrief/describe/test_set.hpp"
+#include "mdbrief/describe/comparison_set.hpp"
 #include "trainer/greedy_selection.hpp"
 #include "trainer/separation_selection.hpp"
-#include "trainer/test_responses.hpp"
+#include "trainer/comparison_responses.hpp"
 
 namespace mdbrief::train {
 
@@ -23,8 +23,8 @@ struct StageTimes {
   double greedySeconds = 0;    // all greedy passes
 };
 
-struct LearnedTests {
-  std::vector<TestPair> tests;          // in selection order
+struct LearnedComparisons {
+  std::vector<ComparisonPair> tests;          // in selection order
   std::vector<double> mean;             // per test: fraction of patches where it is 1
   std::vector<double> maxCorrelation;   // per test: max correlation with the other kept tests
   std::vector<double> flipRate;         // per test: fraction of matching pairs where it flips
@@ -48,17 +48,17 @@ using TrainingProgress = std::function<void(const char* stage, size_t done, size
 // is reported even for the paper's criterion. Throws std::invalid_argument if the patch set is
 // empty, options.tests exceeds the number of candidates, or the criterion needs pairs and there
 // are none. `streaming` changes time and memory only, never the tests.
-LearnedTests learnTests(const PatchMatrix& patches, const GreedyOptions& options,
-                        SelectionCriterion criterion = SelectionCriterion::Paper,
-                        const Counterparts& counterparts = {}, const TrainingProgress& progress = {},
-                        const SeparationOptions& separation = {}, const StreamingOptions& streaming = {});
+LearnedComparisons learnComparisons(const PatchMatrix& patches, const GreedyOptions& options,
+                                    SelectionCriterion criterion = SelectionCriterion::Paper,
+                                    const Counterparts& counterparts = {}, const TrainingProgress& progress = {},
+                                    const SeparationOptions& separation = {}, const StreamingOptions& streaming = {});
 
 // Quality of a test set on a patch set: the learning's two criteria.
-struct TestSetQuality {
+struct ComparisonSetQuality {
   double meanVariance = 0;     // mean over tests of alpha(1 - alpha) (max 0.25)
   double meanCorrelation = 0;  // mean over test pairs of the paper's correlation
 };
-TestSetQuality measureTestSet(const PatchMatrix& patches, const std::vector<TestPair>& tests);
+ComparisonSetQuality measureComparisonSet(const PatchMatrix& patches, const std::vector<ComparisonPair>& tests);
 
 // The content digest (toolkit/content_digest.hpp) of the patch pixels: the header's data digest.
 std::string patchDigest(const PatchMatrix& patches);

@@ -9,7 +9,7 @@
 #include <sys/resource.h>
 
 #include "mdbrief/internal/base/io/atomic_file.hpp"
-#include "trainer/candidate_tests.hpp"
+#include "trainer/candidate_comparisons.hpp"
 
 namespace mdbrief::train {
 
@@ -172,8 +172,8 @@ TrainResult train(const TrainOptions& s, const TrainProgress& progress) {
   go.tests = s.tests;
   const Counterparts pairs{{patches.counterpartPixels.data(), patches.counterpartCount()},
                            patches.counterpartOf.data()};
-  result.learned = learnTests(matrix, go, criterion, pairs, progress, s.separation, s.streaming);
-  const LearnedTests& learned = result.learned;
+  result.learned = learnComparisons(matrix, go, criterion, pairs, progress, s.separation, s.streaming);
+  const LearnedComparisons& learned = result.learned;
 
   PatternDocument& doc = result.pattern;
   doc.name = name;
@@ -228,7 +228,7 @@ TrainResult train(const TrainOptions& s, const TrainProgress& progress) {
 }
 
 void printTrainSummary(const TrainOptions& options, const TrainResult& r, std::ostream& out) {
-  const LearnedTests& learned = r.learned;
+  const LearnedComparisons& learned = r.learned;
   for (const std::string& warning : r.warnings) out << "warning: " << warning << "\n";
   out << "summary\n";
   if (r.extracted) {

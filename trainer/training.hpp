@@ -16,7 +16,7 @@ namespace mdbrief::train {
 
 struct TrainResult {
   PatternDocument pattern;         // the learned set, as written: name, tests, provenance, comments
-  LearnedTests learned;            // per-test statistics and stage times
+  LearnedComparisons learned;            // per-test statistics and stage times
   bool extracted = false;          // patches extracted from images (else read from patchesFile)
   ExtractionReport extraction;     // when extracted
   size_t patches = 0;

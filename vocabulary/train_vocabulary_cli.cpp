@@ -11,11 +11,14 @@
 #include <tbb/parallel_for.h>
 
 #include "mdbrief/camera/io.hpp"
+#include "mdbrief/describe/descriptor.hpp"
+#include "mdbrief/detect/detector.hpp"
 #include "mdbrief/internal/base/io/atomic_file.hpp"
 #include "mdbrief/internal/base/size_text.hpp"
 #include "mdbrief/recognition/vocabulary_text.hpp"
 #include "toolkit/command_line.hpp"
 #include "toolkit/input_file_flag.hpp"
+#include "toolkit/option_flags.hpp"
 #include "toolkit/progress_reporter.hpp"
 #include "toolkit/tool_errors.hpp"
 #include "vocabulary/descriptor_npy.hpp"
@@ -94,7 +97,7 @@ void run(Args& a, std::ostream& out, bool progressTty) {
   features.preset = parsePreset(a.preset);
   features.bits = a.bits;
   features.nfeatures = a.nfeatures;
-  if (!a.images.empty()) mdBriefOptions(features);  // bad --bits or --nfeatures before any work
+  if (!a.images.empty()) mdBriefOptions(features);  // the options describeImage uses, checked before any work
   a.training.weighting = parseWeighting(a.weighting);
   // ORB descriptors have no masks; descriptor files without masks neither.
   a.training.masked = !a.plain && features.kind == FeatureKind::MdBrief && (a.descriptors.empty() || !a.masks.empty());
@@ -161,11 +164,10 @@ struct TrainVocabularyApp : CLI::App {
     add_option("--preset", a.preset, "mdbrief: the preset whose detector and descriptor run")
         ->check(CLI::IsMember(namesOf(kPresetNames)))
         ->capture_default_str();
-    add_option("--bits", a.bits, "mdbrief: descriptor length, 32..512 in steps of 32 (default: the preset's)");
+    // The library's flags, from its option tables (toolkit/option_flags.hpp addFieldFlag).
+    addFieldFlag(*this, descriptorOptionFields(), "bits", a.bits, "--extractor mdbrief")->default_str("the preset's");
     addRenamedFlag(*this, "--features", "--extractor", "--nfeatures is the number of keypoints");
-    add_option("--nfeatures", a.nfeatures, "Keypoints per image at most")
-        ->check(CLI::Range(1, 10000000))
-        ->capture_default_str();
+    addFieldFlag(*this, detectorOptionFields(), "nfeatures", a.nfeatures, "--extractor orb's too");
     add_option("--descriptors", a.descriptors,
                "Instead of images: .npy descriptor files (uint8, N x bytes), one per image")
         ->check(inputFileCheck());

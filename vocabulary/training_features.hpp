@@ -12,6 +12,7 @@
 
 #include "mdbrief/camera/camera.hpp"
 #include "mdbrief/api/presets.hpp"
+#include "mdbrief/detect/detector.hpp"
 #include "patchextract/image_digest.hpp"
 #include "vocabulary/vocabulary_training.hpp"
 
@@ -24,7 +25,7 @@ struct FeatureOptions {
   FeatureKind kind = FeatureKind::MdBrief;
   Preset preset = Preset::Tracking;  // MdBrief: the preset's features
   int bits = 0;                      // MdBrief: 0 = the preset's length, else 32..512 in steps of 32
-  int nfeatures = 1000;              // keypoints per image at most (MdBrief: detector.nfeatures)
+  int nfeatures = DetectorOptions{}.nfeatures;  // keypoints per image at most (MdBrief: detector.nfeatures)
 };
 
 // The preset's options with bits and nfeatures applied. Throws OptionError for bad values.

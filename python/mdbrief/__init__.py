@@ -32,14 +32,15 @@ without the GIL (but a Database's index, which adding changes, is used with it h
 import cv2 as _cv2  # noqa: F401
 
 from ._mdbrief import __version__  # noqa: F401
-from ._mdbrief import (Camera, CameraRig, Database, MdBrief, RefinedMatches, TestSet, TwoViewResult, Vocabulary,
-                       camera_models, check_known_pose, default_pattern, fit_essential, fit_homography,
+from ._mdbrief import (Camera, CameraRig, ComparisonSet, Database, MdBrief, RefinedMatches, TestSet, TwoViewResult,
+                       Vocabulary, camera_models, check_known_pose, default_pattern, fit_essential, fit_homography,
                        limit_simd_level, load_camera, load_pattern, load_rig, match, match_guided, option_fields,
                        patterns, pixels_per_radian, presets, refine_matches, simd_level, supported_simd_level,
                        supported_simd_levels, train)
 
-__all__ = ["Camera", "CameraRig", "Database", "MdBrief", "RefinedMatches", "TestSet", "TwoViewResult", "Vocabulary",
-           "camera_models", "check_known_pose", "default_pattern", "fit_essential", "fit_homography",
+# TestSet: ComparisonSet's name in 0.2, the same class object (deprecated).
+__all__ = ["Camera", "CameraRig", "ComparisonSet", "Database", "MdBrief", "RefinedMatches", "TestSet", "TwoViewResult",
+           "Vocabulary", "camera_models", "check_known_pose", "default_pattern", "fit_essential", "fit_homography",
            "limit_simd_level", "load_camera", "load_pattern", "load_rig", "match", "match_guided", "option_fields",
            "patterns", "pixels_per_radian", "presets", "refine_matches", "simd_level", "supported_simd_level",
            "supported_simd_levels", "train"]

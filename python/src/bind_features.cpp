@@ -27,13 +27,13 @@ const OptionTable<MdBriefOptions>& keywordTable(const py::dict& keywords) {
   return mdBriefOptionFields();
 }
 
-// pattern may also be a TestSet (one just trained, say): then the options' pattern is
+// pattern may also be a ComparisonSet (one just trained, say): then the options' pattern is
 // `patternText` (default: the set's name), and the set itself describes.
 FeaturePtr makeFeature(std::shared_ptr<Camera> camera, MdBriefOptions base, const py::dict& keywords,
                        const std::optional<std::string>& patternText = std::nullopt) {
-  std::optional<TestSet> tests;
-  if (keywords.contains("pattern") && py::isinstance<TestSet>(keywords["pattern"])) {
-    tests = keywords["pattern"].cast<TestSet>();
+  std::optional<ComparisonSet> tests;
+  if (keywords.contains("pattern") && py::isinstance<ComparisonSet>(keywords["pattern"])) {
+    tests = keywords["pattern"].cast<ComparisonSet>();
     base.descriptor.pattern = patternText.value_or(tests->name);
   }
   const MdBriefOptions options = optionsFromKeywords(
@@ -57,17 +57,17 @@ void requireCameraSize(const MdBrief& feature, const cv::Mat& image) {
 }
 
 // Pickled as the camera, every option by keyword and the test set in use, so a set given as a
-// TestSet or a file need not exist where it is unpickled.
+// ComparisonSet or a file need not exist where it is unpickled.
 py::tuple featureState(const MdBrief& f) {
   return py::make_tuple(std::const_pointer_cast<Camera>(f.camera()), keywordDict(mdBriefKeywords(), f.options()),
-                        py::cast(f.extractor().testSet()));
+                        py::cast(f.extractor().comparisonSet()));
 }
 
 FeaturePtr featureFromState(const py::tuple& state) {
   if (state.size() != 3 || !(state[0].is_none() || py::isinstance<Camera>(state[0])) ||
-      !py::isinstance<py::dict>(state[1]) || !py::isinstance<TestSet>(state[2]))
+      !py::isinstance<py::dict>(state[1]) || !py::isinstance<ComparisonSet>(state[2]))
     throw py::value_error("MdBrief: bad pickled state (MdBrief.__getstate__ gives (camera: Camera or None, "
-                          "options: dict, test_set: TestSet))");
+                          "options: dict, test_set: ComparisonSet))");
   py::dict keywords = state[1].cast<py::dict>();
   const std::string pattern = keywords.contains("pattern") ? pathFrom(keywords["pattern"], "pattern") : "";
   keywords["pattern"] = state[2];
@@ -79,7 +79,7 @@ std::string initDoc() {
          "Detector + descriptor, as mdbrief::MdBrief in C++. camera: an mdbrief.Camera (None only for\n"
          "descriptor='brief' or 'mbrief'). preset: the options to start from (mdbrief.presets():\n"
          "tracking, the library's defaults; matching; paper). Every option of MdBriefOptions is a\n"
-         "keyword that changes the preset's value; pattern may also be a TestSet (mdbrief.train()'s).\n"
+         "keyword that changes the preset's value; pattern may also be a ComparisonSet (mdbrief.train()'s).\n"
          "MdBrief objects pickle (camera, options and the test set in use). The defaults\n"
          "(docs/guide/README.md, options and presets; docs/RESULTS.md says why):\n\n" +
          keywordDoc(mdBriefKeywords(), MdBriefOptions{}) +
@@ -165,7 +165,7 @@ void bindFeatures(py::module_& m) {
           py::arg("image"), py::arg("mask") = py::none(),
           "detect() then compute() on one image pyramid: (keypoints, descriptors, masks).")
       .def(py::pickle(&featureState, &featureFromState))
-      .def_property_readonly("test_set", [](const MdBrief& f) { return f.extractor().testSet(); },
+      .def_property_readonly("test_set", [](const MdBrief& f) { return f.extractor().comparisonSet(); },
                              "The tests in use (the pattern's first `bits`).")
       .def_property_readonly("options", [](const MdBrief& f) { return keywordDict(mdBriefKeywords(), f.options()); },
                              "Every option, by keyword name.")

@@ -19,10 +19,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-py::array_t<int8_t> testsArray(const TestSet& set) {
+py::array_t<int8_t> testsArray(const ComparisonSet& set) {
   py::array_t<int8_t> out({static_cast<py::ssize_t>(set.tests.size()), py::ssize_t{4}});
   for (size_t i = 0; i < set.tests.size(); ++i) {
-    const TestPair& t = set.tests[i];
+    const ComparisonPair& t = set.tests[i];
     int8_t* row = out.mutable_data(static_cast<py::ssize_t>(i), 0);
     row[0] = t.x1, row[1] = t.y1, row[2] = t.x2, row[3] = t.y2;
   }
@@ -30,7 +30,7 @@ py::array_t<int8_t> testsArray(const TestSet& set) {
 }
 
 // The JSON form mdbrief-train writes (<name>.json), which load_pattern and MdBrief read back.
-void saveTestSet(const TestSet& set, const py::handle& pathArgument) {
+void saveComparisonSet(const ComparisonSet& set, const py::handle& pathArgument) {
   const std::string path = pathFrom(pathArgument, "path");
   PatternDocument document;
   document.name = set.name;
@@ -45,25 +45,25 @@ void saveTestSet(const TestSet& set, const py::handle& pathArgument) {
   }
 }
 
-py::tuple testSetState(const TestSet& set) {
+py::tuple comparisonSetState(const ComparisonSet& set) {
   py::list tests;
-  for (const TestPair& t : set.tests) tests.append(py::make_tuple(t.x1, t.y1, t.x2, t.y2));
+  for (const ComparisonPair& t : set.tests) tests.append(py::make_tuple(t.x1, t.y1, t.x2, t.y2));
   return py::make_tuple(set.name, tests, set.trainingImages);
 }
 
 // A set from Python: tests as (N, 4) rows (x1, y1, x2, y2) of offsets in [-16, 15].
-TestSet makeTestSet(const std::string& name, const py::handle& rows, const std::vector<std::string>& trainingImages) {
+ComparisonSet makeComparisonSet(const std::string& name, const py::handle& rows, const std::vector<std::string>& trainingImages) {
   // Refused here, not first at save(): a set that cannot be saved is refused when it is made.
   try {
     requirePatternName(name);
   } catch (const std::invalid_argument& e) {
-    throw py::value_error(std::string("TestSet: ") + e.what());
+    throw py::value_error(std::string("ComparisonSet: ") + e.what());
   }
-  TestSet set;
+  ComparisonSet set;
   set.name = name;
   set.trainingImages = trainingImages;
   if (!py::isinstance<py::iterable>(rows))
-    throw py::type_error(std::string("TestSet: tests must be rows of 4 ints (x1, y1, x2, y2), got ") +
+    throw py::type_error(std::string("ComparisonSet: tests must be rows of 4 ints (x1, y1, x2, y2), got ") +
                          Py_TYPE(rows.ptr())->tp_name);
   for (const py::handle row : rows) {
     std::vector<int> v;
@@ -82,24 +82,24 @@ TestSet makeTestSet(const std::string& name, const py::handle& rows, const std::
           int overflow = 0;
           const long long x = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
           if (overflow != 0 || x < -16 || x > 15)
-            throw py::value_error("TestSet: test " + std::to_string(set.tests.size()) + " has offset " +
+            throw py::value_error("ComparisonSet: test " + std::to_string(set.tests.size()) + " has offset " +
                                   std::string(py::str(index)) + " outside [-16, 15]");
         }
-      throw py::type_error("TestSet: tests must be rows of 4 ints (x1, y1, x2, y2)");
+      throw py::type_error("ComparisonSet: tests must be rows of 4 ints (x1, y1, x2, y2)");
     }
-    if (v.size() != 4) throw py::value_error("TestSet: tests must be rows of 4 ints (x1, y1, x2, y2)");
+    if (v.size() != 4) throw py::value_error("ComparisonSet: tests must be rows of 4 ints (x1, y1, x2, y2)");
     for (int x : v)
       if (x < -16 || x > 15)
-        throw py::value_error("TestSet: test " + std::to_string(set.tests.size()) + " has offset " +
+        throw py::value_error("ComparisonSet: test " + std::to_string(set.tests.size()) + " has offset " +
                               std::to_string(x) + " outside [-16, 15]");
     set.tests.push_back({static_cast<int8_t>(v[0]), static_cast<int8_t>(v[1]), static_cast<int8_t>(v[2]),
                          static_cast<int8_t>(v[3])});
   }
-  if (set.tests.empty()) throw py::value_error("TestSet: tests is empty");
+  if (set.tests.empty()) throw py::value_error("ComparisonSet: tests is empty");
   return set;
 }
 
-TestSet testSetFromState(const py::tuple& state) {
+ComparisonSet comparisonSetFromState(const py::tuple& state) {
   const auto texts = [](const py::handle& list) {
     if (!py::isinstance<py::list>(list)) return false;
     for (const py::handle item : list)
@@ -107,18 +107,18 @@ TestSet testSetFromState(const py::tuple& state) {
     return true;
   };
   if (state.size() != 3 || !py::isinstance<py::str>(state[0]) || !texts(state[2]))
-    throw py::value_error("TestSet: bad pickled state (TestSet.__getstate__ gives (name: str, tests: list, "
+    throw py::value_error("ComparisonSet: bad pickled state (ComparisonSet.__getstate__ gives (name: str, tests: list, "
                           "training_images: list of str))");
-  return makeTestSet(state[0].cast<std::string>(), state[1], state[2].cast<std::vector<std::string>>());
+  return makeComparisonSet(state[0].cast<std::string>(), state[1], state[2].cast<std::vector<std::string>>());
 }
 
-TestSet loadPattern(const py::handle& argument) {
-  if (py::isinstance<TestSet>(argument)) return argument.cast<TestSet>();
+ComparisonSet loadPattern(const py::handle& argument) {
+  if (py::isinstance<ComparisonSet>(argument)) return argument.cast<ComparisonSet>();
   const std::string nameOrPath = pathFrom(argument, "name_or_path");
-  const auto names = builtinTestSetNames();
+  const auto names = builtinComparisonSetNames();
   if (std::find(names.begin(), names.end(), nameOrPath) == names.end()) requireFile(nameOrPath);
   try {
-    return resolveTestSet(nameOrPath);
+    return resolveComparisonSet(nameOrPath);
   } catch (const std::exception& e) {
     throw py::value_error(e.what());
   }
@@ -147,7 +147,7 @@ train::TrainProgress signalCheckingProgress() {
 
 // mdbrief.train(**options): TrainOptions from the keywords of its field table, plus `verbose`;
 // camera may also be an mdbrief.Camera (saved to a temporary calibration file).
-TestSet train(const py::kwargs& kwargs) {
+ComparisonSet train(const py::kwargs& kwargs) {
   TemporaryFolder temp;
   py::dict options;
   bool verbose = false;
@@ -195,13 +195,13 @@ TestSet train(const py::kwargs& kwargs) {
     train::printTrainSummary(o, result, log);
     py::print(log.str(), py::arg("end") = "");
   }
-  return TestSet{result.pattern.name, result.pattern.tests, result.pattern.trainingImages};
+  return ComparisonSet{result.pattern.name, result.pattern.tests, result.pattern.trainingImages};
 }
 
 std::string trainDoc() {
   return "train(**options)\n\n"
          "Off-line learning, as mdbrief-train runs it (docs/training.md); the same options and seed give the\n"
-         "same test set, byte for byte. Returns the TestSet. With out (a patterns folder), also writes\n"
+         "same test set, byte for byte. Returns the ComparisonSet. With out (a patterns folder), also writes\n"
          "<name>.hpp, <name>.json and registry.hpp there. camera: a calibration path or an mdbrief.Camera.\n"
          "Paths may be str, bytes or os.PathLike (images and held_out: one, or a list).\n"
          "verbose=True prints mdbrief-train's summary. The options and their defaults (None = the default):\n\n" +
@@ -213,24 +213,26 @@ std::string trainDoc() {
 }  // namespace
 
 void bindPatterns(py::module_& m) {
-  boundClass<TestSet>(m, "TestSet",
-                      "A binary test set: (x1, y1, x2, y2) offsets in the 32x32 patch, in [-16, 15].")
-      .def(py::init(&makeTestSet), py::arg("name"), py::arg("tests"),
+  boundClass<ComparisonSet>(m, "ComparisonSet",
+                            "A comparison set (the paper's binary test set): (x1, y1, x2, y2) offsets in the 32x32\n"
+                            "patch, in [-16, 15]; comparison d is I(x1, y1) < I(x2, y2). mdbrief.TestSet, its name in\n"
+                            "0.2, is the same class object (a deprecated alias).")
+      .def(py::init(&makeComparisonSet), py::arg("name"), py::arg("tests"),
            py::arg("training_images") = std::vector<std::string>{},
-           "TestSet(name, tests, training_images=()): tests as (N, 4) rows (x1, y1, x2, y2), e.g. an\n"
+           "ComparisonSet(name, tests, training_images=()): tests as (N, 4) rows (x1, y1, x2, y2), e.g. an\n"
            "int array; offsets in [-16, 15].")
-      .def_readonly("name", &TestSet::name)
+      .def_readonly("name", &ComparisonSet::name)
       .def_property_readonly("tests", &testsArray, "(N, 4) int8 array, the first rows form the shortest descriptor.")
-      .def_readonly("training_images", &TestSet::trainingImages,
+      .def_readonly("training_images", &ComparisonSet::trainingImages,
                     "Digests of the images the set was learned from (empty for a random set).")
-      .def("__len__", [](const TestSet& s) { return s.tests.size(); })
-      .def("save", &saveTestSet, py::arg("path"),
+      .def("__len__", [](const ComparisonSet& s) { return s.tests.size(); })
+      .def("save", &saveComparisonSet, py::arg("path"),
            "Writes the set as mdbrief-train's <name>.json (path: str, bytes or os.PathLike), atomically;\n"
            "load_pattern(path) and MdBrief(camera, pattern=path) read it back.")
-      .def(py::pickle(&testSetState, &testSetFromState))
+      .def(py::pickle(&comparisonSetState, &comparisonSetFromState))
       .def(
           "first",
-          [](const TestSet& s, int n) {
+          [](const ComparisonSet& s, int n) {
             try {
               return s.first(n);
             } catch (const std::invalid_argument& e) {
@@ -238,15 +240,17 @@ void bindPatterns(py::module_& m) {
             }
           },
           py::arg("n"), "The first n tests (a multiple of 32).")
-      .def("__repr__", [](const TestSet& s) {
-        return "<mdbrief.TestSet " + s.name + ", " + std::to_string(s.tests.size()) + " tests>";
+      .def("__repr__", [](const ComparisonSet& s) {
+        return "<mdbrief.ComparisonSet " + s.name + ", " + std::to_string(s.tests.size()) + " tests>";
       });
+  // The class's name of 0.2, kept as an alias of the same class object (deprecated).
+  m.attr("TestSet") = m.attr("ComparisonSet");
 
-  m.def("patterns", &builtinTestSetNames, "Names of the compiled-in test sets, sorted.");
-  m.def("default_pattern", &defaultTestSetName, "The set MdBrief uses when pattern is ''.");
+  m.def("patterns", &builtinComparisonSetNames, "Names of the compiled-in test sets, sorted.");
+  m.def("default_pattern", &defaultComparisonSetName, "The set MdBrief uses when pattern is ''.");
   m.def("load_pattern", &loadPattern, py::arg("name_or_path"),
         "A compiled-in set by name, a JSON test set file (str, bytes or os.PathLike, as\n"
-        "mdbrief-train writes it), or a TestSet (returned as is). The same works as\n"
+        "mdbrief-train writes it), or a ComparisonSet (returned as is). The same works as\n"
         "MdBrief(camera, pattern=...).");
   m.def("train", &train, trainDoc().c_str());
 }

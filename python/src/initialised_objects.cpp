@@ -91,10 +91,12 @@ void requireInitialised(const py::handle& object) {
 }
 
 void finishClasses(py::module_& m) {
+  std::set<PyTypeObject*> finished;  // a class under a second name (TestSet) is wrapped once
   for (const auto& [name, value] : m.attr("__dict__").cast<py::dict>()) {
     if (!PyType_Check(value.ptr())) continue;
     auto* type = reinterpret_cast<PyTypeObject*>(value.ptr());
     if (!py::detail::get_type_info(type)) continue;  // not a pybind11 class
+    if (!finished.insert(type).second) continue;
     if (!guardedTypes().count(type))
       throw std::logic_error("class " + publicName(type) + " was declared with py::class_, not boundClass");
     initialiseOnlyOnce(value, "__init__");

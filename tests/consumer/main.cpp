@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
     const cv::Point2f d = k1[m.queryIdx].pt - k2[m.trainIdx].pt - cv::Point2f(5, 3);
     correct += d.dot(d) < 4.f;
   }
-  std::printf("pattern %s: %zu keypoints, %d of %zu matches correct\n", mdbrief::defaultTestSetName().c_str(),
+  std::printf("pattern %s: %zu keypoints, %d of %zu matches correct\n", mdbrief::defaultComparisonSetName().c_str(),
               k1.size(), correct, matches.size());
   // The two-view fits on the matches' bearings (a static library brings OpenGV to the link).
   std::vector<cv::Vec3d> a, b;

@@ -204,15 +204,15 @@ UNINITIALISED = [
     ("Vocabulary.word_count", lambda: mdbrief.Vocabulary.__new__(mdbrief.Vocabulary).word_count),
     ("Database.query", lambda: mdbrief.Database.__new__(mdbrief.Database).query(np.zeros((1, 32), np.uint8))),
     ("len(Database)", lambda: len(mdbrief.Database.__new__(mdbrief.Database))),
-    ("TestSet.name", lambda: mdbrief.TestSet.__new__(mdbrief.TestSet).name),
-    ("len(TestSet)", lambda: len(mdbrief.TestSet.__new__(mdbrief.TestSet))),
+    ("ComparisonSet.name", lambda: mdbrief.ComparisonSet.__new__(mdbrief.ComparisonSet).name),
+    ("len(ComparisonSet)", lambda: len(mdbrief.ComparisonSet.__new__(mdbrief.ComparisonSet))),
 ]
 
 
 @pytest.mark.parametrize("case", [c for _, c in UNINITIALISED], ids=[name for name, _ in UNINITIALISED])
 def test_an_object_made_with_new_alone_raises_instead_of_crashing(case):
     """Issue 29: Camera.__new__(Camera).width crashed (exit 139), Database.__new__(Database).query
-    read garbage and TestSet.__new__(TestSet).name raised MemoryError. Run in a child process, so
+    read garbage and ComparisonSet.__new__(ComparisonSet).name raised MemoryError. Run in a child process, so
     that a crash fails this test instead of ending the session."""
     import multiprocessing
     context = multiprocessing.get_context("fork")
@@ -274,9 +274,9 @@ def test_integers_beyond_a_c_int_get_the_range_error():
 
 
 def test_a_set_name_the_registry_refuses_is_refused_at_once(tmp_path):
-    """Issue 29: TestSet('A B', ...) and train(name='A B') were accepted, then refused at save()."""
+    """Issue 29: ComparisonSet('A B', ...) and train(name='A B') were accepted, then refused at save()."""
     with pytest.raises(ValueError, match="pattern name 'A B' must match"):
-        mdbrief.TestSet("A B", [[0, 0, 1, 1]] * 32)
+        mdbrief.ComparisonSet("A B", [[0, 0, 1, 1]] * 32)
     with pytest.raises(ValueError, match="pattern name 'A B' must match"):
         mdbrief.train(images=str(tmp_path), name="A B")
-    assert mdbrief.TestSet("a_b", [[0, 0, 1, 1]] * 32).name == "a_b"
+    assert mdbrief.ComparisonSet("a_b", [[0, 0, 1, 1]] * 32).name == "a_b"

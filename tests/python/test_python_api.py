@@ -124,7 +124,7 @@ def test_test_sets_are_passed_saved_and_pickled(tmp_path, image_pair):
 
     # A set of our own (the default's tests reversed): saved, loaded and pickled it describes
     # the same, and differently from the default.
-    own = mdbrief.TestSet("reversed_set", default.tests[::-1])
+    own = mdbrief.ComparisonSet("reversed_set", default.tests[::-1])
     unpickled = pickle.loads(pickle.dumps(own))
     assert unpickled.name == own.name and unpickled.training_images == own.training_images
     np.testing.assert_array_equal(unpickled.tests, own.tests)
@@ -146,12 +146,23 @@ def test_test_sets_are_passed_saved_and_pickled(tmp_path, image_pair):
     assert mdbrief.load_pattern(own) is not None
 
     with pytest.raises(ValueError, match="Not A Name"):
-        mdbrief.TestSet("Not A Name", default.tests).save(tmp_path / "bad.json")
+        mdbrief.ComparisonSet("Not A Name", default.tests).save(tmp_path / "bad.json")
     assert not (tmp_path / "bad.json").exists()
     with pytest.raises(ValueError, match="outside"):
-        mdbrief.TestSet("far", [[0, 0, 16, 0]])
+        mdbrief.ComparisonSet("far", [[0, 0, 16, 0]])
     with pytest.raises(ValueError, match="4 ints"):
-        mdbrief.TestSet("short", [[0, 0, 1]])
+        mdbrief.ComparisonSet("short", [[0, 0, 1]])
+
+
+def test_test_set_is_comparison_sets_deprecated_name():
+    """Issue 46: the class was renamed ComparisonSet; TestSet, its name in 0.2, is the same class
+    object, so isinstance checks, pickles and code written for 0.2 keep working."""
+    assert mdbrief.TestSet is mdbrief.ComparisonSet
+    assert mdbrief.ComparisonSet.__name__ == "ComparisonSet"
+    assert "TestSet" in mdbrief.ComparisonSet.__doc__
+    made = mdbrief.TestSet("old_name", [[0, 0, 1, 1]] * 32)
+    assert isinstance(made, mdbrief.ComparisonSet)
+    assert isinstance(pickle.loads(pickle.dumps(made)), mdbrief.TestSet)
 
 
 def test_module_holds_only_its_own_names():

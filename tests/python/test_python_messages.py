@@ -93,8 +93,8 @@ def test_match_guided_takes_none_as_match_does():
 @pytest.mark.parametrize("cls, state", [
     ("Camera", (1, 2, 3, {})),
     ("Camera", ("pinhole", 640, 480, 4)),
-    ("TestSet", (1, [[0, 0, 0, 0]], [])),
-    ("TestSet", ("t", [[0, 0, 0, 0]], 5)),
+    ("ComparisonSet", (1, [[0, 0, 0, 0]], [])),
+    ("ComparisonSet", ("t", [[0, 0, 0, 0]], 5)),
     ("MdBrief", ("not a camera", {}, None)),
 ])
 def test_bad_pickled_states_are_named(cls, state):
@@ -144,5 +144,5 @@ def test_detector_is_a_deprecated_name_of_method(pinhole):
 @pytest.mark.parametrize("offset", [2**63, 2**31, -2**63 - 1, 16])
 def test_an_offset_out_of_range_is_named_as_given(offset):
     """Issue 45: an offset beyond a C int was "not a row of 4 ints", though it is one; it is out of range."""
-    with pytest.raises(ValueError, match=rf"TestSet: test 1 has offset {offset} outside \[-16, 15\]"):
-        mdbrief.TestSet("big", [[0, 0, 1, 1], [0, 1, offset, 0]] + [[0, 0, 1, 1]] * 30)
+    with pytest.raises(ValueError, match=rf"ComparisonSet: test 1 has offset {offset} outside \[-16, 15\]"):
+        mdbrief.ComparisonSet("big", [[0, 0, 1, 1], [0, 1, offset, 0]] + [[0, 0, 1, 1]] * 30)

@@ -18,7 +18,8 @@ import mdbrief
 from conftest import FISHEYE_CAMERA, PINHOLE_CAMERA, SOURCE
 
 MODULE = mdbrief._mdbrief
-CLASSES = sorted((c for _, c in inspect.getmembers(MODULE, inspect.isclass) if c.__module__ == MODULE.__name__),
+# A set: TestSet is ComparisonSet under its old name, one class.
+CLASSES = sorted({c for _, c in inspect.getmembers(MODULE, inspect.isclass) if c.__module__ == MODULE.__name__},
                  key=lambda c: c.__name__)
 VOCABULARY = SOURCE / "configs/vocabularies/tracking_k10_L4.mdbvoc"
 # The option table behind each **kwargs (mdbrief.option_fields), or the camera's parameters.
@@ -43,7 +44,7 @@ def live(cls):
         "MdBrief": lambda: mdbrief.MdBrief(camera),
         "RefinedMatches": lambda: mdbrief.refine_matches(mdbrief.MdBrief(camera), SAMPLES["image_a"](), [],
                                                          SAMPLES["image_b"](), [], []),
-        "TestSet": lambda: mdbrief.load_pattern(mdbrief.default_pattern()),
+        "ComparisonSet": lambda: mdbrief.load_pattern(mdbrief.default_pattern()),
         "TwoViewResult": lambda: mdbrief.fit_essential(bearings, bearings),
         "Vocabulary": lambda: mdbrief.Vocabulary.load(str(VOCABULARY)),
     }
@@ -124,7 +125,7 @@ def test_the_module_is_enumerated():
     names = {name for name, *_ in CALLABLES}
     for expected in ["pixels_per_radian", "Camera.pixel_to_bearing", "Camera.__init__", "Camera.__setstate__",
                      "CameraRig.ids", "CameraRig.relative_pose", "CameraRig.__len__", "Database.__init__",
-                     "Database.load", "MdBrief.__init__", "TestSet.first", "load_pattern", "train"]:
+                     "Database.load", "MdBrief.__init__", "ComparisonSet.first", "load_pattern", "train"]:
         assert expected in names, expected
     for _, function, _, _ in CALLABLES:
         assert signatures(function), function.__doc__
@@ -247,7 +248,7 @@ def cases(name, function, owner, takes_self):
 @pytest.mark.parametrize("name, function, owner, takes_self", CALLABLES, ids=[c[0] for c in CALLABLES])
 def test_uninitialised_objects_are_refused_as_self_and_as_every_argument(name, function, owner, takes_self):
     """Issue 45: CameraRig.__new__(CameraRig).ids crashed; pixels_per_radian(Camera.__new__(Camera), ...),
-    Database(Vocabulary.__new__(Vocabulary)) and MdBrief(camera, pattern=TestSet.__new__(TestSet))
+    Database(Vocabulary.__new__(Vocabulary)) and MdBrief(camera, pattern=ComparisonSet.__new__(ComparisonSet))
     crashed or read garbage."""
     failures = []
     for description, call, cls, argument in cases(name, function, owner, takes_self):
@@ -265,7 +266,7 @@ def test_the_issue_cases_name_the_class():
         (lambda: mdbrief.pixels_per_radian(uninitialised(mdbrief.Camera), [[1.0, 2.0]]), "Camera"),
         (lambda: mdbrief.Camera.pixel_to_bearing(uninitialised(mdbrief.Camera), [[1.0, 2.0]]), "Camera"),
         (lambda: mdbrief.Database(uninitialised(mdbrief.Vocabulary)), "Vocabulary"),
-        (lambda: mdbrief.MdBrief(live(mdbrief.Camera), pattern=uninitialised(mdbrief.TestSet)), "TestSet"),
+        (lambda: mdbrief.MdBrief(live(mdbrief.Camera), pattern=uninitialised(mdbrief.ComparisonSet)), "ComparisonSet"),
         (lambda: mdbrief.MdBrief(uninitialised(mdbrief.Camera)), "Camera"),
     ]
     for call, name in cases:
@@ -273,7 +274,7 @@ def test_the_issue_cases_name_the_class():
                                       f"__new__ alone): " + CREATE[name])
 
 
-CREATE = {"Camera": "create it with mdbrief.Camera(...)", "TestSet": "create it with mdbrief.TestSet(...)",
+CREATE = {"Camera": "create it with mdbrief.Camera(...)", "ComparisonSet": "create it with mdbrief.ComparisonSet(...)",
           "CameraRig": "mdbrief.CameraRig objects come from the module's functions, see help(mdbrief.CameraRig)",
           "Vocabulary": "mdbrief.Vocabulary objects come from the module's functions, see help(mdbrief.Vocabulary)"}
 
@@ -308,4 +309,4 @@ def test_initialising_a_live_object_again_is_refused(cls):
 
 def live_arguments(cls):
     return {"Camera": ("pinhole", 10, 10), "Database": (live(mdbrief.Vocabulary),),
-            "MdBrief": (live(mdbrief.Camera),), "TestSet": ("t", [[0, 0, 0, 0]])}[cls.__name__]
+            "MdBrief": (live(mdbrief.Camera),), "ComparisonSet": ("t", [[0, 0, 0, 0]])}[cls.__name__]

@@ -51,7 +51,7 @@ MdBrief::MdBrief(CameraPtr camera, const MdBriefOptions& options)
       detector_(camera_, options.detector),
       extractor_(camera_, options.descriptor) {}
 
-MdBrief::MdBrief(CameraPtr camera, const MdBriefOptions& options, const TestSet& tests)
+MdBrief::MdBrief(CameraPtr camera, const MdBriefOptions& options, const ComparisonSet& tests)
     : camera_(std::move(camera)),
       options_((validate(options), options)),
       detector_(camera_, options.detector),

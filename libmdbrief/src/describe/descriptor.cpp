@@ -9,7 +9,7 @@
 
 #include "describe/descriptor_kernels.hpp"
 #include "mdbrief/describe/patterns.hpp"
-#include "describe/test_placement.hpp"
+#include "describe/comparison_placement.hpp"
 
 namespace mdbrief {
 namespace {
@@ -40,11 +40,11 @@ void sampleDescriptor(const cv::Mat& img, const cv::Mat& pairs, const int* x, co
 }
 
 // The tests' first points, then their second points.
-Offsets offsetsOf(const TestSet& tests) {
+Offsets offsetsOf(const ComparisonSet& tests) {
   const size_t n = tests.tests.size();
   std::vector<int32_t> x(2 * n), y(2 * n);
   for (size_t d = 0; d < n; ++d) {
-    const TestPair& t = tests.tests[d];
+    const ComparisonPair& t = tests.tests[d];
     x[d] = t.x1, y[d] = t.y1, x[n + d] = t.x2, y[n + d] = t.y2;
   }
   return {std::move(x), std::move(y)};
@@ -54,9 +54,9 @@ Offsets offsetsOf(const TestSet& tests) {
 
 DescriptorExtractor::DescriptorExtractor(CameraPtr camera, DescriptorOptions options)
     : DescriptorExtractor(camera, options,
-                          resolveTestSet(options.pattern.empty() ? defaultTestSetName() : options.pattern)) {}
+                          resolveComparisonSet(options.pattern.empty() ? defaultComparisonSetName() : options.pattern)) {}
 
-DescriptorExtractor::DescriptorExtractor(CameraPtr camera, DescriptorOptions options, const TestSet& tests)
+DescriptorExtractor::DescriptorExtractor(CameraPtr camera, DescriptorOptions options, const ComparisonSet& tests)
     : camera_(std::move(camera)), options_(std::move(options)) {
   validate(options_);
   if (!camera_ && usesCamera(options_.kind)) throw std::invalid_argument("dBRIEF and mdBRIEF need a camera model");
@@ -159,7 +159,7 @@ int DescriptorExtractor::levelsFor(const std::vector<cv::KeyPoint>& keypoints, c
   return levels;
 }
 
-std::vector<std::pair<cv::Point2f, cv::Point2f>> DescriptorExtractor::testPositions(
+std::vector<std::pair<cv::Point2f, cv::Point2f>> DescriptorExtractor::comparisonPositions(
     const ImagePyramid& pyramid, const cv::KeyPoint& keypoint) const {
   const Support support = supportOf(keypoint.size, options_.supportScale, pyramidScales(pyramid));
   if (support.level < 0) return {};

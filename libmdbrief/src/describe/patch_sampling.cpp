@@ -4,8 +4,8 @@
 #include <utility>
 #include <vector>
 
-#include "mdbrief/describe/test_set.hpp"
-#include "describe/test_placement.hpp"
+#include "mdbrief/describe/comparison_set.hpp"
+#include "describe/comparison_placement.hpp"
 
 namespace mdbrief::internal {
 namespace {

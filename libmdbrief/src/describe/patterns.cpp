@@ -27,27 +27,27 @@ const PatternInfo* findBuiltin(const std::string& name) {
 
 std::string knownNames() {
   std::string list;
-  for (const auto& n : builtinTestSetNames()) list += (list.empty() ? "" : ", ") + n;
+  for (const auto& n : builtinComparisonSetNames()) list += (list.empty() ? "" : ", ") + n;
   return list;
 }
 
 }  // namespace
 
-std::vector<std::string> builtinTestSetNames() {
+std::vector<std::string> builtinComparisonSetNames() {
   std::vector<std::string> names;
   for (const PatternInfo* info : patterns::kRegistry) names.emplace_back(info->name);
   std::sort(names.begin(), names.end());
   return names;
 }
 
-std::string defaultTestSetName() { return patterns::kDefaultPattern; }
+std::string defaultComparisonSetName() { return patterns::kDefaultPattern; }
 
-TestSet builtinTestSet(const std::string& name) {
+ComparisonSet builtinComparisonSet(const std::string& name) {
   const PatternInfo* info = findBuiltin(name);
   if (!info)
     throw std::invalid_argument("unknown test set '" + name + "' (built-in: " + knownNames() +
                                 ")");
-  TestSet set{info->name, {}, {}};
+  ComparisonSet set{info->name, {}, {}};
   for (int d = 0; d < info->count; ++d) {
     const auto& t = info->tests[d];
     set.tests.push_back({t[0], t[1], t[2], t[3]});
@@ -57,19 +57,19 @@ TestSet builtinTestSet(const std::string& name) {
   return set;
 }
 
-TestSet resolveTestSet(const std::string& nameOrPath) {
-  if (findBuiltin(nameOrPath)) return builtinTestSet(nameOrPath);
+ComparisonSet resolveComparisonSet(const std::string& nameOrPath) {
+  if (findBuiltin(nameOrPath)) return builtinComparisonSet(nameOrPath);
   // Anything at the path is read as a file, so that a device or a folder is named as such (issue
   // 29: /dev/zero was "neither a built-in set nor an existing JSON file").
   std::error_code ec;
   if (std::filesystem::symlink_status(nameOrPath, ec).type() != std::filesystem::file_type::not_found && !ec)
-    return loadTestSetJson(nameOrPath);
+    return loadComparisonSetJson(nameOrPath);
   throw std::invalid_argument("test set '" + nameOrPath +
                               "' is neither a built-in set (" + knownNames() +
                               ") nor an existing JSON file");
 }
 
-TestSet loadTestSetJson(const std::string& path) {
+ComparisonSet loadComparisonSetJson(const std::string& path) {
   const auto fail = [&](const std::string& problem) {
     return std::runtime_error(path + ": " + problem);
   };
@@ -91,7 +91,7 @@ TestSet loadTestSetJson(const std::string& path) {
   if (!doc.contains("tests") || !doc["tests"].is_array())
     throw fail("missing array key \"tests\"");
 
-  TestSet set;
+  ComparisonSet set;
   set.name = doc["name"].get<std::string>();
   const auto& tests = doc["tests"];
   set.tests.reserve(tests.size());
@@ -114,8 +114,8 @@ TestSet loadTestSetJson(const std::string& path) {
       if (!inside) throw fail(where + " has offset " + offset.dump() + " outside [-16, 15]");
       v[k] = offset.get<int>();
     }
-    set.tests.push_back(TestPair{static_cast<int8_t>(v[0]), static_cast<int8_t>(v[1]),
-                                 static_cast<int8_t>(v[2]), static_cast<int8_t>(v[3])});
+    set.tests.push_back(ComparisonPair{static_cast<int8_t>(v[0]), static_cast<int8_t>(v[1]),
+                        static_cast<int8_t>(v[2]), static_cast<int8_t>(v[3])});
   }
   if (doc.contains("training_images")) {
     const auto& images = doc["training_images"];

@@ -40,7 +40,7 @@ class MdBrief : public cv::Feature2D {
   MdBrief(CameraPtr camera, const MdBriefOptions& options);
   // With an explicit test set (one just learned, say): options.descriptor.pattern is not read;
   // the set's first options.descriptor.bits tests are used.
-  MdBrief(CameraPtr camera, const MdBriefOptions& options, const TestSet& tests);
+  MdBrief(CameraPtr camera, const MdBriefOptions& options, const ComparisonSet& tests);
 
   // cv::Feature2D: detect() and compute() of the base class forward here. image: 8UC1, 8UC3
   // or 8UC4 (BGR/BGRA) of the camera's size; mask: empty or 8UC1 of the image size. With

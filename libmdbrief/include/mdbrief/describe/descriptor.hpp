@@ -17,7 +17,7 @@
 #include "mdbrief/base/enum_names.hpp"
 #include "mdbrief/detect/image_pyramid.hpp"
 #include "mdbrief/base/option_fields.hpp"
-#include "mdbrief/describe/test_set.hpp"
+#include "mdbrief/describe/comparison_set.hpp"
 
 namespace mdbrief {
 
@@ -135,7 +135,7 @@ class DescriptorExtractor {
   // camera may be null only for DescriptorKind::Brief and MaskedBrief.
   explicit DescriptorExtractor(CameraPtr camera, DescriptorOptions options = {});
   // With an explicit test set (options.pattern is ignored); its first options.bits tests are used.
-  DescriptorExtractor(CameraPtr camera, DescriptorOptions options, const TestSet& tests);
+  DescriptorExtractor(CameraPtr camera, DescriptorOptions options, const ComparisonSet& tests);
 
   // Samples on the levels of `pyramid` (the detector's, when detection and description share it).
   // Keypoints: level-0 pixels, angle in degrees (cv::KeyPoint's convention, -1 = none), size
@@ -162,20 +162,27 @@ class DescriptorExtractor {
   // mdBRIEF with OrientationSource::TangentPlane): the detector's angles are then not needed.
   bool measuresOrientation() const;
   const DescriptorOptions& options() const { return options_; }
-  const TestSet& testSet() const { return tests_; }
+  const ComparisonSet& comparisonSet() const { return tests_; }
   const CameraPtr& camera() const { return camera_; }
 
   // The image positions (level-0 pixels) of the test points of one keypoint on `pyramid`, for
   // drawing: element d is (p1, p2) of test d for rotation 0, placed and checked as compute()
   // does (the same code), so empty exactly when compute() would drop the keypoint. An angle
   // that compute() re-measures is re-measured here too; otherwise keypoint.angle is used.
-  std::vector<std::pair<cv::Point2f, cv::Point2f>> testPositions(const ImagePyramid& pyramid,
-                                                                 const cv::KeyPoint& keypoint) const;
+  std::vector<std::pair<cv::Point2f, cv::Point2f>> comparisonPositions(const ImagePyramid& pyramid,
+                                                                       const cv::KeyPoint& keypoint) const;
+
+  // The names of 0.2, deprecated (a BRIEF test is now called a comparison).
+  [[deprecated("renamed comparisonSet")]] const ComparisonSet& testSet() const { return comparisonSet(); }
+  [[deprecated("renamed comparisonPositions")]] std::vector<std::pair<cv::Point2f, cv::Point2f>> testPositions(
+      const ImagePyramid& pyramid, const cv::KeyPoint& keypoint) const {
+    return comparisonPositions(pyramid, keypoint);
+  }
 
  private:
   CameraPtr camera_;
   DescriptorOptions options_;
-  TestSet tests_;
+  ComparisonSet tests_;
 };
 
 }  // namespace mdbrief

@@ -1,7 +1,7 @@
 #pragma once
 // The 32x32 patch of a keypoint as the descriptor reads it, for the trainer's patches
 // (patchextract/): pixel (i, j) holds the value compute() samples for a test point at offset
-// (i - 16, j - 16) of the rotation-0 placement (test_set.hpp). The placement is compute()'s own
+// (i - 16, j - 16) of the rotation-0 placement (comparison_set.hpp). The placement is compute()'s own
 // code: level and footprint from the size, orientation (re-measured on the tangent plane when
 // compute() re-measures it), Affine or Paper form, the same fixed-point positions on the same
 // smoothed level, and the same checks; the bilinear value is rounded to 8 bits. So a test is 1

@@ -1,16 +1,16 @@
 #include <stdexcept>
 
-#include "mdbrief/describe/test_set.hpp"
+#include "mdbrief/describe/comparison_set.hpp"
 
 namespace mdbrief {
 
-TestSet TestSet::first(int n) const {
+ComparisonSet ComparisonSet::first(int n) const {
   const int size = static_cast<int>(tests.size());
   if (n < 32 || n > size || n % 32 != 0)
     throw std::invalid_argument("test set '" + name + "': cannot take the first " +
                                 std::to_string(n) + " tests (need a multiple of 32 in 32.." +
                                 std::to_string(size) + ")");
-  return TestSet{name, std::vector<TestPair>(tests.begin(), tests.begin() + n), trainingImages};
+  return ComparisonSet{name, std::vector<ComparisonPair>(tests.begin(), tests.begin() + n), trainingImages};
 }
 
 }  // namespace mdbrief

@@ -1,11 +1,11 @@
-#include "trainer/candidate_tests.hpp"
+#include "trainer/candidate_comparisons.hpp"
 
 namespace mdbrief::train {
 
-std::vector<TestPair> candidateTests() {
+std::vector<ComparisonPair> candidateComparisons() {
   constexpr int lo = 1, hi = kPatchSize - 2;  // patch pixels 1..30: the border excluded
   constexpr int minD2 = 3 * 3, maxD2 = 29 * 29;
-  std::vector<TestPair> tests;
+  std::vector<ComparisonPair> tests;
   tests.reserve(kCandidateCount);
   for (int a = 0; a < kPatchSize * kPatchSize; ++a) {
     const int ax = a % kPatchSize, ay = a / kPatchSize;

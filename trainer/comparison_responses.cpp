@@ -1,4 +1,4 @@
-#include "trainer/test_responses.hpp"
+#include "trainer/comparison_responses.hpp"
 
 #include <algorithm>
 #include <stdexcept>
@@ -7,7 +7,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
-#include "trainer/test_response_kernels.hpp"
+#include "trainer/comparison_response_kernels.hpp"
 
 namespace mdbrief::train {
 
@@ -28,10 +28,10 @@ std::vector<uint32_t> sumCounts(tbb::enumerable_thread_specific<std::vector<uint
 
 }  // namespace
 
-std::vector<PixelPair> pixelPairsOf(const std::vector<TestPair>& tests) {
+std::vector<PixelPair> pixelPairsOf(const std::vector<ComparisonPair>& tests) {
   std::vector<PixelPair> pixels(tests.size());
   for (size_t d = 0; d < tests.size(); ++d) {
-    const TestPair& t = tests[d];
+    const ComparisonPair& t = tests[d];
     for (int v : {t.x1, t.y1, t.x2, t.y2})
       if (v < -kPatchHalf || v >= kPatchHalf)
         throw std::invalid_argument("test " + std::to_string(d) + " has an offset outside [-16, 15]");
@@ -41,22 +41,22 @@ std::vector<PixelPair> pixelPairsOf(const std::vector<TestPair>& tests) {
   return pixels;
 }
 
-TestResponses::TestResponses(size_t tests, size_t patches)
+ComparisonResponses::ComparisonResponses(size_t tests, size_t patches)
     : tests_(tests), patches_(patches), words_((patches + 63) / 64), bits_(tests * words_, 0) {
   const ResponseKernels k = activeResponseKernels();
   popcount_ = k.popcount;
   popcountXor_ = k.popcountXor;
 }
 
-size_t TestResponses::ones(size_t test) const { return popcount_(column(test), words_); }
+size_t ComparisonResponses::ones(size_t test) const { return popcount_(column(test), words_); }
 
-size_t TestResponses::differences(size_t a, size_t b) const { return popcountXor_(column(a), column(b), words_); }
+size_t ComparisonResponses::differences(size_t a, size_t b) const { return popcountXor_(column(a), column(b), words_); }
 
-TestResponses evaluateTests(const PatchMatrix& patches, const std::vector<TestPair>& tests,
-                            const StreamingOptions& streaming) {
-  if (patches.count == 0 || !patches.pixels) throw std::invalid_argument("evaluateTests: no patches");
+ComparisonResponses evaluateComparisons(const PatchMatrix& patches, const std::vector<ComparisonPair>& tests,
+                                        const StreamingOptions& streaming) {
+  if (patches.count == 0 || !patches.pixels) throw std::invalid_argument("evaluateComparisons: no patches");
   const std::vector<PixelPair> pixels = pixelPairsOf(tests);
-  TestResponses responses(tests.size(), patches.count);
+  ComparisonResponses responses(tests.size(), patches.count);
   const ResponseKernels k = activeResponseKernels();
   const PatchRows rows = PatchRows::of(patches);
   // Each chunk writes its own words of every column.
@@ -68,7 +68,7 @@ TestResponses evaluateTests(const PatchMatrix& patches, const std::vector<TestPa
   return responses;
 }
 
-std::vector<uint32_t> countResponses(const PatchMatrix& patches, const std::vector<TestPair>& tests,
+std::vector<uint32_t> countResponses(const PatchMatrix& patches, const std::vector<ComparisonPair>& tests,
                                      const std::function<void(size_t, size_t)>& progress,
                                      const StreamingOptions& streaming) {
   if (patches.count == 0 || !patches.pixels) throw std::invalid_argument("countResponses: no patches");
@@ -88,7 +88,7 @@ std::vector<uint32_t> countResponses(const PatchMatrix& patches, const std::vect
 }
 
 std::vector<uint32_t> countDisagreements(const PatchMatrix& reference, const Counterparts& counterparts,
-                                         const std::vector<TestPair>& tests,
+                                         const std::vector<ComparisonPair>& tests,
                                          const std::function<void(size_t, size_t)>& progress,
                                          const StreamingOptions& streaming) {
   const std::vector<PixelPair> pixels = pixelPairsOf(tests);

@@ -1,8 +1,8 @@
-// The test-response kernels (test_response_kernels.hpp) for every SIMD level: compiled once per
-// Highway target (hwy/foreach_target.h), the active level's copy chosen at run time
+// The comparison-response kernels (comparison_response_kernels.hpp) for every SIMD level:
+// compiled once per Highway target (hwy/foreach_target.h), the active level's copy chosen at run time
 // (mdbrief/internal/base/simd_dispatch.hpp). Comparisons and bit counts are exact at every level.
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "trainer/test_response_kernels.cpp"
+#define HWY_TARGET_INCLUDE "trainer/comparison_response_kernels.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
 
 #include <hwy/highway.h>
@@ -10,7 +10,7 @@
 #include "mdbrief/internal/base/bit_count-inl.h"
 
 #include "mdbrief/internal/base/simd_dispatch.hpp"
-#include "trainer/test_response_kernels.hpp"
+#include "trainer/comparison_response_kernels.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace mdbrief::train::kernels::HWY_NAMESPACE {

@@ -1,6 +1,6 @@
 #pragma once
-// Kernels of the test-response evaluation (patch_lanes.hpp, test_responses.cpp) for every SIMD
-// level (mdbrief/base/simd_level.hpp), written once in test_response_kernels.cpp.
+// Kernels of the comparison-response evaluation (patch_lanes.hpp, comparison_responses.cpp) for
+// every SIMD level (mdbrief/base/simd_level.hpp), written once in comparison_response_kernels.cpp.
 #include <cstddef>
 #include <cstdint>
 
@@ -23,7 +23,7 @@ struct ResponseKernels {
   size_t (*popcountAnd)(const uint64_t* x, const uint64_t* y, size_t n);  int64_t target = 0;  // the Highway target these kernels were compiled for (HWY_AVX2, ...)
 };
 
-// The kernels of the active SIMD level (test_response_kernels.cpp, written once with Highway and
+// The kernels of the active SIMD level (comparison_response_kernels.cpp, written once with Highway and
 // compiled for every level); callers resolve them once per call (or object).
 ResponseKernels activeResponseKernels();
 

@@ -1,4 +1,4 @@
-#include "describe/test_placement.hpp"
+#include "describe/comparison_placement.hpp"
 
 #include <algorithm>
 #include <array>
@@ -10,7 +10,7 @@
 
 #include "mdbrief/internal/describe/patch_sampling.hpp"
 #include "mdbrief/camera/tangent_plane.hpp"
-#include "mdbrief/describe/test_set.hpp"
+#include "mdbrief/describe/comparison_set.hpp"
 
 namespace mdbrief::placement {
 namespace {

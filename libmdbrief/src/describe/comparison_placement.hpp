@@ -2,7 +2,7 @@
 // Where BRIEF, dBRIEF and mdBRIEF sample one keypoint: the pyramid level and footprint from its
 // size, the orientation (the keypoint's angle or re-measured on the tangent plane), the map of
 // offsets to level coordinates (BRIEF, the Affine form) or their projection through the camera
-// (the Paper form), and the checks that drop a keypoint. compute(), testPositions() and the
+// (the Paper form), and the checks that drop a keypoint. compute(), comparisonPositions() and the
 // training patches (mdbrief/internal/describe/patch_sampling.hpp) all place through placeChecked().
 #include <array>
 #include <cstdint>
@@ -17,7 +17,7 @@
 
 namespace mdbrief::placement {
 
-// Points of the offset frame (test_set.hpp), integers, structure of arrays.
+// Points of the offset frame (comparison_set.hpp), integers, structure of arrays.
 struct Offsets {
   Offsets() = default;
   // Throws std::invalid_argument for an offset beyond descriptor_kernels::kMaxOffset.

@@ -1,15 +1,15 @@
 #pragma once
-// Tests evaluated on patches (1 when I(p1) < I(p2), as the runtime descriptor): as counts per
-// test, streamed chunk by chunk for every candidate, or as bit-packed columns for the few tests
-// a selection examines. A column holds bit p = the test on patch p, in `words` uint64 words, the
-// padding bits after the last patch zero; variances and pairwise correlations are then popcounts
-// over contiguous words.
+// Comparisons (the paper's binary tests) evaluated on patches (1 when I(p1) < I(p2), as the
+// runtime descriptor): as counts per comparison, streamed chunk by chunk for every candidate, or
+// as bit-packed columns for the few a selection examines. A column holds bit p = the comparison on
+// patch p, in `words` uint64 words, the padding bits after the last patch zero; variances and
+// pairwise correlations are then popcounts over contiguous words.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <vector>
 
-#include "mdbrief/describe/test_set.hpp"
+#include "mdbrief/describe/comparison_set.hpp"
 #include "trainer/patch_lanes.hpp"
 
 namespace mdbrief::train {
@@ -19,7 +19,7 @@ struct PixelPair {
   uint16_t a = 0, b = 0;
 };
 // Throws std::invalid_argument naming the test if an offset lies outside [-16, 15].
-std::vector<PixelPair> pixelPairsOf(const std::vector<TestPair>& tests);
+std::vector<PixelPair> pixelPairsOf(const std::vector<ComparisonPair>& tests);
 
 // What the rankings need of every candidate (countResponses, countDisagreements).
 struct ResponseCounts {
@@ -29,10 +29,10 @@ struct ResponseCounts {
   std::vector<uint32_t> flips;  // per test: pairs on which it flips
 };
 
-class TestResponses {
+class ComparisonResponses {
  public:
-  TestResponses() : TestResponses(0, 0) {}
-  TestResponses(size_t tests, size_t patches);
+  ComparisonResponses() : ComparisonResponses(0, 0) {}
+  ComparisonResponses(size_t tests, size_t patches);
 
   size_t tests() const { return tests_; }
   size_t patches() const { return patches_; }
@@ -47,7 +47,7 @@ class TestResponses {
  private:
   size_t tests_ = 0, patches_ = 0, words_ = 0;
   std::vector<uint64_t> bits_;
-  // Population counts of the SIMD level active at construction (test_response_kernels.hpp).
+  // Population counts of the SIMD level active at construction (comparison_response_kernels.hpp).
   size_t (*popcount_)(const uint64_t*, size_t) = nullptr;
   size_t (*popcountXor_)(const uint64_t*, const uint64_t*, size_t) = nullptr;
 };
@@ -55,13 +55,13 @@ class TestResponses {
 // The columns of a few tests on all patches (tests x patches bits: for the kept tests, not for
 // every candidate). Throws std::invalid_argument on an empty patch set or an offset outside
 // [-16, 15].
-TestResponses evaluateTests(const PatchMatrix& patches, const std::vector<TestPair>& tests,
-                            const StreamingOptions& streaming = {});
+ComparisonResponses evaluateComparisons(const PatchMatrix& patches, const std::vector<ComparisonPair>& tests,
+                                        const StreamingOptions& streaming = {});
 
 // Per test, the number of patches on which it is 1; the patches are streamed chunk by chunk and
 // no response is stored. progress(done, total), if set, is called from worker threads after each
-// chunk, so it must be thread-safe. Same errors as evaluateTests.
-std::vector<uint32_t> countResponses(const PatchMatrix& patches, const std::vector<TestPair>& tests,
+// chunk, so it must be thread-safe. Same errors as evaluateComparisons.
+std::vector<uint32_t> countResponses(const PatchMatrix& patches, const std::vector<ComparisonPair>& tests,
                                      const std::function<void(size_t, size_t)>& progress = {},
                                      const StreamingOptions& streaming = {});
 
@@ -70,7 +70,7 @@ std::vector<uint32_t> countResponses(const PatchMatrix& patches, const std::vect
 // std::invalid_argument on no counterparts, a reference index out of range or an offset
 // outside [-16, 15].
 std::vector<uint32_t> countDisagreements(const PatchMatrix& reference, const Counterparts& counterparts,
-                                         const std::vector<TestPair>& tests,
+                                         const std::vector<ComparisonPair>& tests,
                                          const std::function<void(size_t, size_t)>& progress = {},
                                          const StreamingOptions& streaming = {});
 
