@@ -4,8 +4,8 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <memory>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -177,43 +177,74 @@ TEST(CameraModels, RaysOutsideTheModelAreRejected) {
   EXPECT_FALSE(OcamCamera(lafidaParams()).bearingToPixel({0, 0, -1}, p));
 }
 
-// A ray's length is free: where its squared components stay finite and normal (lengths 1e-100
-// to 1e100), every model gives the pixel of the unit ray, and the models that never square them
-// (perspective division, the radial and radial-tangential polynomials, Kannala-Brandt's angle)
-// give it at every length their arithmetic can hold. At the extremes the squares overflow or
-// underflow: the other models may then give no pixel, never an infinite or NaN one.
-TEST(CameraModels, ExtremeRayLengthsGiveAFinitePixelOrNone) {
-  const std::set<std::string> lengthFree = {"pinhole", "radial barrel", "radial pincushion",  "radtan",
-                                            "radtan folding", "radtan rational", "kannala_brandt",
-                                            "kannala_brandt folding"};
+// A ray's length is free (Camera::bearingToPixel): at every length a double holds, every model
+// gives the unit ray's pixel, or false exactly where the unit ray does, and d pixel / d bearing
+// scales as 1 / length. Lengths 1e-120 to 1e120 reach the models unchanged (a largest component
+// in [2^-400, 2^400]); the others, whose squared components would overflow or underflow, are
+// scaled into that band by a power of two. The rays: three directions, three the models refuse
+// (behind, sideways) and those of a 48-pixel grid of valid pixels.
+TEST(CameraModels, ExtremeRayLengthsGiveTheUnitRaysPixel) {
   int compared = 0;
   for (const NamedCamera& c : allCameras()) {
     SCOPED_TRACE(c.name);
-    for (const cv::Vec3d& ray : {cv::Vec3d(1, 1, 1), cv::Vec3d(0, 0, 1), cv::Vec3d(0.3, -0.2, 1)}) {
+    const Camera& camera = *c.camera;
+    std::vector<cv::Vec3d> rays{{1, 1, 1}, {0, 0, 1}, {0.3, -0.2, 1}, {0.3, -0.2, -1}, {0, 0, -1}, {1, 0, 0}};
+    const cv::Size size = camera.imageSize();
+    for (double v = 0.0; v <= size.height - 1.0; v += 48.0)
+      for (double u = 0.0; u <= size.width - 1.0; u += 48.0) {
+        cv::Vec3d b;
+        if (camera.isValid({u, v}) && camera.pixelToBearing({u, v}, b)) rays.push_back(b);
+      }
+    for (const cv::Vec3d& ray : rays) {
       cv::Point2d unit;
-      const bool seen = c.camera->bearingToPixel(ray / cv::norm(ray), unit);
-      if (ray[0] == 0) EXPECT_TRUE(seen) << "the optical axis";
-      const auto expectUnitPixel = [&](double length) {
-        cv::Point2d p;
-        ASSERT_EQ(c.camera->bearingToPixel(ray * (length / cv::norm(ray, cv::NORM_INF)), p), seen) << length << " " << ray;
-        if (seen) EXPECT_LT(cv::norm(p - unit), 1e-9) << length << " " << ray << " -> " << p << ", unit ray " << unit;
-        compared += seen;
-      };
-      for (const double length : {1e-100, 1e-20, 1e20, 1e100}) expectUnitPixel(length);
-      for (const double length : {1e-300, 1e-160, 1e160, 1e300, 1.7e308}) {
-        // Kannala-Brandt's hypot(x, y) overflows at the largest length.
-        if (lengthFree.count(c.name) && !(length > 1e300 && c.name.rfind("kannala_brandt", 0) == 0)) {
-          expectUnitPixel(length);
-          continue;
-        }
-        cv::Point2d p;
-        if (c.camera->bearingToPixel(ray * (length / cv::norm(ray, cv::NORM_INF)), p)) {
-          EXPECT_TRUE(std::isfinite(p.x) && std::isfinite(p.y)) << length << " " << ray << " -> " << p;
+      cv::Matx23d unitJacobian;
+      const bool seen = camera.bearingToPixelJacobian(ray / cv::norm(ray), unit, unitJacobian);
+      if (ray == cv::Vec3d(0, 0, 1)) {
+        EXPECT_TRUE(seen) << "the optical axis";
+      }
+      // Scaled to a largest component of 1 first (exactly 1 for that component), so that the
+      // largest component is `length`.
+      const cv::Vec3d direction = ray / cv::norm(ray, cv::NORM_INF);
+      const double norm = cv::norm(direction);
+      for (const double length :
+           {1e-300, 1e-160, 1e-120, 1e-100, 1e-20, 1e20, 1e100, 1e120, 1e160, 1e300, 1.7e308}) {
+        const cv::Vec3d b = direction * length;
+        cv::Point2d p, q;
+        cv::Matx23d jacobian;
+        ASSERT_EQ(camera.bearingToPixel(b, p), seen) << length << " " << ray;
+        ASSERT_EQ(camera.bearingToPixelJacobian(b, q, jacobian), seen) << length << " " << ray;
+        if (!seen) continue;
+        EXPECT_EQ(p, q) << length << " " << ray;
+        EXPECT_LT(cv::norm(p - unit), 1e-9) << length << " " << ray << " -> " << p << ", unit ray " << unit;
+        // |b| = length * norm, multiplied in turn since it overflows at 1.7e308.
+        const cv::Matx23d unitScale = jacobian * length * norm;
+        EXPECT_LT(cv::norm(unitScale - unitJacobian) / cv::norm(unitJacobian), 1e-9)
+            << length << " " << ray << ": " << jacobian << " at the unit ray " << unitJacobian;
+        ++compared;
+      }
+    }
+    // Subnormal rays, of directions whose components stay exact there: the pixel (their
+    // d pixel / d bearing exceeds double's range).
+    for (const cv::Vec3d& ray : {cv::Vec3d(1, 1, 1), cv::Vec3d(0, 0, 1), cv::Vec3d(0.375, -0.25, 1),
+                                 cv::Vec3d(0.375, -0.25, -1), cv::Vec3d(1, 0, 0)}) {
+      cv::Point2d unit, p;
+      const bool seen = camera.bearingToPixel(ray / cv::norm(ray), unit);
+      for (const int exponent : {-1022, -1060, -1071}) {
+        const cv::Vec3d b(std::ldexp(ray[0], exponent), std::ldexp(ray[1], exponent), std::ldexp(ray[2], exponent));
+        ASSERT_EQ(camera.bearingToPixel(b, p), seen) << b;
+        if (seen) {
+          EXPECT_LT(cv::norm(p - unit), 1e-9) << b << " -> " << p << ", unit ray " << unit;
         }
       }
     }
+    // Rays without a direction.
+    cv::Point2d p;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (const cv::Vec3d& b : {cv::Vec3d(0, 0, 0), cv::Vec3d(nan, 0, 1), cv::Vec3d(0.1, nan, 1e-300),
+                               cv::Vec3d(1e300, 0, nan)})
+      EXPECT_FALSE(camera.bearingToPixel(b, p)) << b;
   }
-  EXPECT_GT(compared, 200);
+  EXPECT_GT(compared, 10000);
 }
 
 TEST(CameraModels, PinholePrincipalPointAndClosedForm) {

@@ -64,16 +64,6 @@ class DiscCamera : public mdbrief::Camera {
                      : cv::Vec3d(std::sin(theta) * d.x / r, std::sin(theta) * d.y / r, std::cos(theta));
     return true;
   }
-  bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override {
-    const double n = cv::norm(bearing);
-    if (n == 0) return false;
-    const double theta = std::acos(bearing[2] / n), rxy = std::hypot(bearing[0], bearing[1]);
-    const double r = theta / (CV_PI / 2) * radius_;
-    pixel = rxy == 0 ? centre_ : centre_ + cv::Point2d(bearing[0] / rxy * r, bearing[1] / rxy * r);
-    return true;
-  }
-  // The detector never projects a ray.
-  bool bearingToPixelJacobian(const cv::Vec3d&, cv::Point2d&, cv::Matx23d&) const override { return false; }
   bool isValid(const cv::Point2d& pixel) const override {
     return pixel.x >= 0 && pixel.y >= 0 && pixel.x <= size_.width - 1 && pixel.y <= size_.height - 1 &&
            std::hypot(pixel.x - centre_.x, pixel.y - centre_.y) <= radius_;
@@ -85,6 +75,17 @@ class DiscCamera : public mdbrief::Camera {
   }
 
  private:
+  bool projectRay(const cv::Vec3d& bearing, cv::Point2d& pixel) const override {
+    const double n = cv::norm(bearing);
+    if (n == 0) return false;
+    const double theta = std::acos(bearing[2] / n), rxy = std::hypot(bearing[0], bearing[1]);
+    const double r = theta / (CV_PI / 2) * radius_;
+    pixel = rxy == 0 ? centre_ : centre_ + cv::Point2d(bearing[0] / rxy * r, bearing[1] / rxy * r);
+    return true;
+  }
+  // The detector never projects a ray.
+  bool projectRayJacobian(const cv::Vec3d&, cv::Point2d&, cv::Matx23d&) const override { return false; }
+
   cv::Size size_;
   cv::Point2d centre_;
   double radius_;

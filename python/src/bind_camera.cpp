@@ -43,25 +43,13 @@ py::array_t<double> pixelToBearing(const Camera& camera, const py::handle& pixel
   });
 }
 
-// The models square a ray's components, which overflows or underflows at the extremes of double
-// (Camera::bearingToPixel): such a ray is scaled to a largest component of 1, which keeps its
-// direction. Others are passed unchanged, so the pixels are the C++ library's bit for bit.
-bool scaledRay(const double* b, cv::Vec3d& ray) {
-  const double largest = std::max({std::abs(b[0]), std::abs(b[1]), std::abs(b[2])});
-  // NaN compares false, so the largest component alone does not show one.
-  if (!(largest > 0) || !std::isfinite(largest) || std::isnan(b[0]) || std::isnan(b[1]) || std::isnan(b[2]))
-    return false;
-  ray = cv::Vec3d(b[0], b[1], b[2]);
-  // Divided one by one: cv::Vec's /= multiplies by 1 / largest, infinite for a subnormal ray.
-  if (largest > 1e150 || largest < 1e-150) ray = cv::Vec3d(b[0] / largest, b[1] / largest, b[2] / largest);
-  return true;
-}
-
 py::array_t<double> bearingToPixel(const Camera& camera, const py::handle& bearings) {
   return mapPoints<3, 2>(bearings, "bearings", [&](const double* b, double* out) {
-    cv::Vec3d ray;
+    // The library takes rays of any length (Camera::bearingToPixel); one with an infinite
+    // component, which some models project to the principal point, is NaN here as documented.
+    if (!std::isfinite(b[0]) || !std::isfinite(b[1]) || !std::isfinite(b[2])) return false;
     cv::Point2d pixel;
-    if (!scaledRay(b, ray) || !camera.bearingToPixel(ray, pixel)) return false;
+    if (!camera.bearingToPixel({b[0], b[1], b[2]}, pixel)) return false;
     out[0] = pixel.x, out[1] = pixel.y;
     return true;
   });

@@ -34,7 +34,7 @@ bool DoubleSphereCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bea
   return true;
 }
 
-bool DoubleSphereCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
+bool DoubleSphereCamera::projectRay(const cv::Vec3d& b, cv::Point2d& pixel) const {
   const double d1 = cv::norm(b);
   if (!(d1 > 0.0) || !(b[2] > -w2_ * d1)) return false;
   const double zs = p_.xi * d1 + b[2];
@@ -46,9 +46,9 @@ bool DoubleSphereCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) 
   return std::isfinite(pixel.x) && std::isfinite(pixel.y);
 }
 
-bool DoubleSphereCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel,
+bool DoubleSphereCamera::projectRayJacobian(const cv::Vec3d& b, cv::Point2d& pixel,
                                                 cv::Matx23d& jacobian) const {
-  if (!bearingToPixel(b, pixel)) return false;
+  if (!projectRay(b, pixel)) return false;
   const double d1 = cv::norm(b);
   const double zs = p_.xi * d1 + b[2];
   const double d2 = std::sqrt(b[0] * b[0] + b[1] * b[1] + zs * zs);

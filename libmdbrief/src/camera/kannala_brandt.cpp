@@ -55,7 +55,7 @@ bool KannalaBrandtCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& be
   return true;
 }
 
-bool KannalaBrandtCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
+bool KannalaBrandtCamera::projectRay(const cv::Vec3d& b, cv::Point2d& pixel) const {
   const double r = std::hypot(b[0], b[1]);
   const double t = std::atan2(r, b[2]);
   if (!std::isfinite(t) || !(t < thetaMax_) || (r == 0.0 && !(b[2] > 0.0))) return false;
@@ -66,12 +66,12 @@ bool KannalaBrandtCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel)
   }
   const double s = thetaD(t) / r;
   pixel = {k.fx * b[0] * s + k.cx, k.fy * b[1] * s + k.cy};
-  return std::isfinite(pixel.x) && std::isfinite(pixel.y);  // b near DBL_MAX: fx * b[0] overflows
+  return std::isfinite(pixel.x) && std::isfinite(pixel.y);  // an infinite b[0] or b[1]: inf * 0
 }
 
-bool KannalaBrandtCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel,
+bool KannalaBrandtCamera::projectRayJacobian(const cv::Vec3d& b, cv::Point2d& pixel,
                                                  cv::Matx23d& jacobian) const {
-  if (!bearingToPixel(b, pixel)) return false;
+  if (!projectRay(b, pixel)) return false;
   const CameraIntrinsics& k = p_.intrinsics;
   const double r = std::hypot(b[0], b[1]);
   if (r == 0.0) {  // on the axis theta_d = r / z to first order

@@ -133,7 +133,7 @@ bool OcamCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) co
   return true;
 }
 
-bool OcamCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
+bool OcamCamera::projectRay(const cv::Vec3d& b, cv::Point2d& pixel) const {
   const double xo = b[1], yo = b[0], zo = -b[2];
   const double norm = std::hypot(xo, yo);
   if (!std::isfinite(norm) || !std::isfinite(zo)) return false;
@@ -150,8 +150,8 @@ bool OcamCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
   return true;
 }
 
-bool OcamCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
-  if (!bearingToPixel(b, pixel)) return false;
+bool OcamCamera::projectRayJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
+  if (!projectRay(b, pixel)) return false;
   const double xo = b[1], yo = b[0], zo = -b[2];
   const double norm = std::hypot(xo, yo);
   // d (x, y) / d (x_o, y_o, z_o), (x, y) = (x_o, y_o) rho / norm in the affine frame.

@@ -38,7 +38,7 @@ bool OmniCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) co
   return true;
 }
 
-bool OmniCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
+bool OmniCamera::projectRay(const cv::Vec3d& b, cv::Point2d& pixel) const {
   const double norm = cv::norm(b);
   if (!(norm > 0.0) || !std::isfinite(norm)) return false;
   const double z = b[2] / norm;
@@ -52,8 +52,8 @@ bool OmniCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
   return std::isfinite(pixel.x) && std::isfinite(pixel.y);
 }
 
-bool OmniCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
-  if (!bearingToPixel(b, pixel)) return false;
+bool OmniCamera::projectRayJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
+  if (!projectRay(b, pixel)) return false;
   const double norm = cv::norm(b);
   const cv::Vec3d n = b / norm;
   const double denom = n[2] + p_.xi;

@@ -15,15 +15,15 @@ bool PinholeCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing)
   return true;
 }
 
-bool PinholeCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
+bool PinholeCamera::projectRay(const cv::Vec3d& b, cv::Point2d& pixel) const {
   // Rays at or behind the image plane have no perspective image.
   if (!(b[2] > 0.0)) return false;
   pixel = denormalise(b[0] / b[2], b[1] / b[2]);
   return std::isfinite(pixel.x) && std::isfinite(pixel.y);
 }
 
-bool PinholeCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
-  if (!bearingToPixel(b, pixel)) return false;
+bool PinholeCamera::projectRayJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
+  if (!projectRay(b, pixel)) return false;
   jacobian = detail::scaleRows(p_.fx, p_.fy, detail::perspectiveJacobian(b));
   return true;
 }

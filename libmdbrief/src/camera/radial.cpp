@@ -31,7 +31,7 @@ bool RadialCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) 
   return true;
 }
 
-bool RadialCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
+bool RadialCamera::projectRay(const cv::Vec3d& b, cv::Point2d& pixel) const {
   if (!(b[2] > 0.0)) return false;
   const double x = b[0] / b[2], y = b[1] / b[2];
   const double disc = 1.0 - 4.0 * p_.xi * unitRadius2(x, y);
@@ -42,8 +42,8 @@ bool RadialCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const 
   return std::isfinite(pixel.x) && std::isfinite(pixel.y);
 }
 
-bool RadialCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
-  if (!bearingToPixel(b, pixel)) return false;
+bool RadialCamera::projectRayJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
+  if (!projectRay(b, pixel)) return false;
   const double x = b[0] / b[2], y = b[1] / b[2];
   const double q = std::sqrt(1.0 - 4.0 * p_.xi * unitRadius2(x, y));
   const double s = 2.0 / (1.0 + q);

@@ -31,7 +31,7 @@ bool RadTanCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) 
   return true;
 }
 
-bool RadTanCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
+bool RadTanCamera::projectRay(const cv::Vec3d& b, cv::Point2d& pixel) const {
   if (!(b[2] > 0.0)) return false;
   const double x = b[0] / b[2], y = b[1] / b[2];
   if (!(std::hypot(x, y) < distortion_->maxRadius())) return false;
@@ -40,8 +40,8 @@ bool RadTanCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const 
   return true;
 }
 
-bool RadTanCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
-  if (!bearingToPixel(b, pixel)) return false;
+bool RadTanCamera::projectRayJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
+  if (!projectRay(b, pixel)) return false;
   const cv::Matx22d d = distortion_->jacobian(b[0] / b[2], b[1] / b[2]);
   jacobian = detail::scaleRows(p_.intrinsics.fx, p_.intrinsics.fy, cv::Matx23d(d * detail::perspectiveJacobian(b)));
   return true;

@@ -35,7 +35,7 @@ bool UnifiedCamera::pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing)
   return true;
 }
 
-bool UnifiedCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const {
+bool UnifiedCamera::projectRay(const cv::Vec3d& b, cv::Point2d& pixel) const {
   const double d = std::sqrt(p_.beta * (b[0] * b[0] + b[1] * b[1]) + b[2] * b[2]);
   if (!(d > 0.0) || !(b[2] > -w_ * d)) return false;
   const double denom = p_.alpha * d + (1.0 - p_.alpha) * b[2];
@@ -45,8 +45,8 @@ bool UnifiedCamera::bearingToPixel(const cv::Vec3d& b, cv::Point2d& pixel) const
   return std::isfinite(pixel.x) && std::isfinite(pixel.y);
 }
 
-bool UnifiedCamera::bearingToPixelJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
-  if (!bearingToPixel(b, pixel)) return false;
+bool UnifiedCamera::projectRayJacobian(const cv::Vec3d& b, cv::Point2d& pixel, cv::Matx23d& jacobian) const {
+  if (!projectRay(b, pixel)) return false;
   const double d = std::sqrt(p_.beta * (b[0] * b[0] + b[1] * b[1]) + b[2] * b[2]);
   const double denom = p_.alpha * d + (1.0 - p_.alpha) * b[2];
   const cv::Vec3d dD(p_.beta * b[0] / d, p_.beta * b[1] / d, b[2] / d);

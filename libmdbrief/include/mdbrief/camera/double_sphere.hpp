@@ -25,11 +25,12 @@ class DoubleSphereCamera final : public CameraWithIntrinsics<DoubleSphereCamera,
 
   std::string modelName() const override { return "double_sphere"; }
   bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
-  bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
-  bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
   bool isValid(const cv::Point2d& pixel) const override;
 
  private:
+  bool projectRay(const cv::Vec3d& ray, cv::Point2d& pixel) const override;
+  bool projectRayJacobian(const cv::Vec3d& ray, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
+
   bool unprojectable(double r2) const;
 
   double w2_;

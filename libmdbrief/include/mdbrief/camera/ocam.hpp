@@ -42,8 +42,6 @@ class OcamCamera final : public Camera {
   std::string modelName() const override { return "ocam"; }
   cv::Size imageSize() const override { return {p_.width, p_.height}; }
   bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
-  bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
-  bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
   bool isValid(const cv::Point2d& pixel) const override;
   // |a0|, the paper's lambda for the fisheye model.
   double tangentPlaneScale() const override { return std::abs(p_.forward.front()); }
@@ -52,6 +50,9 @@ class OcamCamera final : public Camera {
   std::shared_ptr<Camera> resized(cv::Size newSize) const override;
 
  private:
+  bool projectRay(const cv::Vec3d& ray, cv::Point2d& pixel) const override;
+  bool projectRayJacobian(const cv::Vec3d& ray, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
+
   double elevation(double rho) const;  // atan2(f(rho), rho)
   double solveRho(double norm, double zo, double rhoGuess) const;
 

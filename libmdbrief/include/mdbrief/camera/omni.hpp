@@ -34,14 +34,15 @@ class OmniCamera final : public CameraWithIntrinsics<OmniCamera, OmniParams> {
 
   std::string modelName() const override { return "omni"; }
   bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
-  bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
-  bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
   bool isValid(const cv::Point2d& pixel) const override;
   // (fx + fy) / 2 / (1 + xi): the local scale at the image centre (Kalibr's omni focal lengths
   // are about twice a fisheye's for xi near 1).
   double tangentPlaneScale() const override { return 0.5 * (p_.intrinsics.fx + p_.intrinsics.fy) / (1.0 + p_.xi); }
 
  private:
+  bool projectRay(const cv::Vec3d& ray, cv::Point2d& pixel) const override;
+  bool projectRayJacobian(const cv::Vec3d& ray, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
+
   double w_;  // rays with z > -w_ (on the unit sphere) project one-to-one
   std::shared_ptr<const detail::RadTanDistortion> distortion_;
 };

@@ -30,13 +30,14 @@ class RadialCamera final : public CameraWithIntrinsics<RadialCamera, RadialParam
 
   std::string modelName() const override { return "radial"; }
   bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
-  bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
-  bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
   bool isValid(const cv::Point2d& pixel) const override;
   // Also rescales unitPx, so that m stays the same function of the ray.
   std::shared_ptr<Camera> resized(cv::Size newSize) const override;
 
  private:
+  bool projectRay(const cv::Vec3d& ray, cv::Point2d& pixel) const override;
+  bool projectRayJacobian(const cv::Vec3d& ray, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
+
   // |m|^2 of normalised coordinates (x, y).
   double unitRadius2(double x, double y) const;
   // True when the distorted normalised point has an inverse (inside the limit radius).

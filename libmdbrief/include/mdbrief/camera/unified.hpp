@@ -26,11 +26,12 @@ class UnifiedCamera final : public CameraWithIntrinsics<UnifiedCamera, UnifiedPa
   // "ucm" when beta == 1 (the two models are then identical), "eucm" otherwise.
   std::string modelName() const override { return modelNameOf(p_); }
   bool pixelToBearing(const cv::Point2d& pixel, cv::Vec3d& bearing) const override;
-  bool bearingToPixel(const cv::Vec3d& bearing, cv::Point2d& pixel) const override;
-  bool bearingToPixelJacobian(const cv::Vec3d& bearing, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
   bool isValid(const cv::Point2d& pixel) const override;
 
  private:
+  bool projectRay(const cv::Vec3d& ray, cv::Point2d& pixel) const override;
+  bool projectRayJacobian(const cv::Vec3d& ray, cv::Point2d& pixel, cv::Matx23d& jacobian) const override;
+
   bool unprojectable(double r2) const;
 
   static std::string modelNameOf(const UnifiedParams& params) { return params.beta == 1.0 ? "ucm" : "eucm"; }
