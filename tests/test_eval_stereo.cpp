@@ -47,8 +47,8 @@ TEST(StereoBenchmark, TheRefinedRowOfTheDefaultsLocatesTheRenderedRigCloser) {
   const StereoSummary &plain = rows[0], &refined = rows[1];
   EXPECT_EQ(plain.pipeline, "mdbrief tracking (defaults)");
   EXPECT_EQ(refined.pipeline, "mdbrief tracking (defaults) + refine");
-  // Measured: localisation RMS 0.485 -> 0.274 px, right 720 -> 673 per pair, precision 0.967
-  // -> 0.989, AUC@5 0.94 -> 0.98 (docs/RESULTS.md "Real stereo: poses against the known pose").
+  // Measured: localisation RMS 0.485 -> 0.280 px, right 720 -> 674 per pair, precision 0.967
+  // -> 0.988, AUC@5 0.94 -> 0.98 (docs/RESULTS.md "Real stereo: poses against the known pose").
   EXPECT_LT(refined.localisationRmsPx, 0.7 * plain.localisationRmsPx);
   EXPECT_LT(refined.localisationRmsPx, 0.36);
   EXPECT_LT(refined.residualP90Px, plain.residualP90Px);
