@@ -27,22 +27,31 @@ TEST(PoseAuc, IsTheAreaUnderTheRecallCurveOverTheLimit) {
   EXPECT_DOUBLE_EQ(poseAuc({6.0}, 5), 0.0);
 }
 
+// The tracking defaults alone at ratio 0.8, with their refined row unless `refine` is false.
+std::vector<StereoSummary> runDefaults(const StereoSet& set, const std::filesystem::path& out, bool refine = true) {
+  std::vector<TrackerPipeline> pipelines = standardTrackerPipelines();
+  pipelines.resize(1);
+  EXPECT_EQ(pipelines[0].name, "mdbrief tracking (defaults)");
+  StereoOptions o;
+  o.ratios = {0.8};
+  if (!refine) o.refined.clear();
+  return runStereo({set}, pipelines, o, out.string());
+}
+
+StereoSet renderedRig(const std::filesystem::path& doc) {
+  return renderedStereoRig(doc.string(), loadCamera(MDBRIEF_SOURCE_DIR "/configs/cameras/lafida_fisheye0.yaml"));
+}
+
 // The tracking defaults and their refined row ("+ refine": refineMatches, failures dropped) on
 // the rendered rig: refinement places b's points closer to the truth, keeps most matches and
 // loses no pose.
 TEST(StereoBenchmark, TheRefinedRowOfTheDefaultsLocatesTheRenderedRigCloser) {
   const auto doc = testing::opencvDocDataDir();
   if (!doc || !std::filesystem::exists(*doc / "messi5.jpg")) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc photos not installed");
-  const StereoSet rig =
-      renderedStereoRig(doc->string(), loadCamera(MDBRIEF_SOURCE_DIR "/configs/cameras/lafida_fisheye0.yaml"));
+  const StereoSet rig = renderedRig(*doc);
   ASSERT_EQ(rig.pairs.size(), 4u);
-  std::vector<TrackerPipeline> pipelines = standardTrackerPipelines();
-  pipelines.resize(1);
-  ASSERT_EQ(pipelines[0].name, "mdbrief tracking (defaults)");
-  StereoOptions o;
-  o.ratios = {0.8};
   const testing::TempDir out("eval_stereo");
-  const auto rows = runStereo({rig}, pipelines, o, out.path.string());
+  const auto rows = runDefaults(rig, out.path);
   ASSERT_EQ(rows.size(), 2u);
   const StereoSummary &plain = rows[0], &refined = rows[1];
   EXPECT_EQ(plain.pipeline, "mdbrief tracking (defaults)");
@@ -83,12 +92,8 @@ TEST(StereoBenchmark, OnEuRoCTheRefinedRowKeepsTheMorePreciseMatches) {
   EXPECT_GT(std::abs(sets[0].pose.translation[0]), 0.99 * cv::norm(sets[0].pose.translation));
   StereoSet euroc = sets[0];
   euroc.pairs.resize(4);
-  std::vector<TrackerPipeline> pipelines = standardTrackerPipelines();
-  pipelines.resize(1);
-  StereoOptions o;
-  o.ratios = {0.8};
   const testing::TempDir out("eval_stereo_euroc");
-  const auto rows = runStereo({euroc}, pipelines, o, out.path.string());
+  const auto rows = runDefaults(euroc, out.path);
   ASSERT_EQ(rows.size(), 2u);
   const StereoSummary &plain = rows[0], &refined = rows[1];
   // Measured on all 19 pairs: residual median / p90 0.161 / 0.647 -> 0.107 / 0.406 px, precision
@@ -103,16 +108,10 @@ TEST(StereoBenchmark, OnEuRoCTheRefinedRowKeepsTheMorePreciseMatches) {
 TEST(StereoBenchmark, WithoutRefinedPipelinesEachPipelineHasOneRow) {
   const auto doc = testing::opencvDocDataDir();
   if (!doc || !std::filesystem::exists(*doc / "messi5.jpg")) MDBRIEF_SKIP_WITHOUT_DATA("opencv-doc photos not installed");
-  StereoSet rig =
-      renderedStereoRig(doc->string(), loadCamera(MDBRIEF_SOURCE_DIR "/configs/cameras/lafida_fisheye0.yaml"));
+  StereoSet rig = renderedRig(*doc);
   rig.pairs.resize(1);
-  std::vector<TrackerPipeline> pipelines = standardTrackerPipelines();
-  pipelines.resize(1);
-  StereoOptions o;
-  o.ratios = {0.8};
-  o.refined.clear();
   const testing::TempDir out("eval_stereo_plain");
-  const auto rows = runStereo({rig}, pipelines, o, out.path.string());
+  const auto rows = runDefaults(rig, out.path, false);
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_EQ(rows[0].pipeline, "mdbrief tracking (defaults)");
 }
