@@ -57,16 +57,21 @@ struct MatchRefinementOptions {
   // A match whose refined point moves more than this from b's keypoint fails (Diverged), in
   // level pixels of b's keypoint. In (0, 10]. Default 2.
   double maxShift = 2.0;
-  // The smallest eigenvalue of the patch's structure tensor (normalised intensities, per sample)
-  // below which it does not fix both directions (Aperture: an edge or a flat patch). In
-  // [0, 10]. Default 0.002.
-  double minEigenvalue = 0.002;
+  // The smallest eigenvalue of the patch's structure tensor (normalised intensities, per sample,
+  // with what the normalisation takes out: a ramp's mean gradient) below which it does not fix
+  // both directions (Aperture: an edge or a flat patch). In [0, 10]. Default 0.0002: a floor for
+  // patches whose residual is too small to measure their spread; elsewhere maxSigmaPx decides,
+  // and it weighs the patch's structure against how well the patches agree (EuRoC's stereo pairs,
+  // ratio 0.7, maxSigmaPx 0.1: 416 right matches per pair at 0.002, 489 at 0.0002, the residual's
+  // median 0.105 / 0.107 px).
+  double minEigenvalue = 0.0002;
   // A match whose refined point is less certain than this fails (Uncertain): its standard
   // deviation (RefinedMatch::sigmaPx), input pixels. In (0, 100]; 100 keeps every alignment.
-  // Default 0.1: on EuRoC's stereo pairs the 7 % of refined right matches above it lie 0.31 px
-  // from their epipolar planes at the median (0.11 px below it); dropping them took the relative
-  // pose's AUC@5 from 0.42 to 0.71 (docs/RESULTS.md "Real stereo: poses against the known pose").
-  double maxSigmaPx = 0.1;
+  // Default 0.08: on EuRoC's stereo pairs (ratio 0.7), 0.08 / 0.09 / 0.1 keep 458 / 473 / 489
+  // right matches per pair, 0.103 / 0.105 / 0.107 px from their epipolar planes at the median,
+  // and the relative pose's AUC@5 is 0.80 / 0.77 / 0.66 (docs/RESULTS.md "Real stereo: poses
+  // against the known pose").
+  double maxSigmaPx = 0.08;
 };
 
 // The fields of MatchRefinementOptions (option_fields.hpp); Python's keywords, the CLI's flags.
