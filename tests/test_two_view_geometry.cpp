@@ -202,6 +202,40 @@ TEST(FitEssential, WorksOnAPlaneSeenBeyondNinetyDegrees) {
 // the true essential matrix explains the plane's matches as well and puts part of them behind a
 // camera. RANSAC's stop, by the epipolar count, once ended after a few samples had drawn only the
 // twin (about one seed in five kept two thirds of the matches); the pose's own count decides now.
+// Noise of 1.2 px against the 2 px threshold, EuRoC's baseline (11 cm, 2-8 m away): the refined
+// pose moves some borderline inliers past the threshold, and is kept (by its MSAC score) rather
+// than the minimal sample's pose it started from (which the inlier count kept on seed 1 of 30),
+// and it is the closer to the truth.
+TEST(FitEssential, KeepsTheRefinedPoseOfNoisyCorrespondences) {
+  TwoViews views;
+  views.r = rotationAbout({0.1, 1.0, -0.2}, 0.05);
+  views.t = {0.11, 0.0, 0.01};
+  const double pixelsPerRadian = 300.0, noisePx = 1.2;
+  TwoViewOptions unrefined;
+  unrefined.refine = false;
+  double refinedError = 0, sampleError = 0;
+  const auto error = [&](const RelativePose& p) {
+    return std::max(rotationAngle(p.rotation.t() * views.r), angle(p.translation, views.t));
+  };
+  for (unsigned seed = 1; seed <= 30; ++seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> noise(0.0, noisePx / pixelsPerRadian);
+    std::vector<cv::Vec3d> a, b;
+    for (const auto& x : generalScene(300, rng)) {
+      a.push_back(unit(x));
+      const cv::Vec3d truthB = unit(views.toB(x));
+      b.push_back(unit(rotationAbout(truthB.cross(randomBearing(rng)), noise(rng)) * truthB));
+    }
+    const std::vector<double> scale(a.size(), pixelsPerRadian);
+    const EssentialResult fit = fitEssential(a, b, {}, scale), sample = fitEssential(a, b, unrefined, scale);
+    ASSERT_TRUE(fit.ok() && sample.ok()) << fit.reason << sample.reason;
+    EXPECT_GT(angle(fit.pose.translation, sample.pose.translation), 1e-6) << "seed " << seed;
+    refinedError += error(fit.pose) / 30, sampleError += error(sample.pose) / 30;
+  }
+  // Measured, the mean pose error: 0.75 against 4.67 degrees.
+  EXPECT_LT(refinedError, 0.5 * sampleError);
+}
+
 TEST(FitEssential, FindsTheTruePoseOfAPlaneFacingAStereoPairOnEverySeed) {
   std::mt19937 rng(11);
   TwoViews views;

@@ -55,7 +55,8 @@ struct TwoViewOptions {
   // Default 1.
   std::uint32_t seed = 1;
   // fitEssential, fitHomography: refine the model on its inliers (non-linear least squares) and
-  // relabel. Default on.
+  // relabel; fitEssential keeps the refined pose unless its MSAC score (each inlier's squared
+  // residual over the threshold's, each outlier 1) is worse than RANSAC's. Default on.
   bool refine = true;
   // fitEssential, checkKnownPose: an inlier's triangulated point must lie in front of both
   // cameras. A match whose rays are parallel within the threshold (a point far away, or a pure
