@@ -94,9 +94,9 @@ bool normalise(std::vector<float>& v, float& deviation) {
 // patch on an intensity ramp counts the ramp as information: its steps fall short along the
 // ramp and creep towards the minimum (on the stereo benchmark, one match in twelve did not
 // settle in ten iterations per level), and its standard deviation comes out too small.
-void normalisedDerivative(std::vector<cv::Vec3d>& j, const std::vector<float>& unit) {
+void normalisedDerivative(std::vector<cv::Vec4d>& j, const std::vector<float>& unit) {
   const double n = static_cast<double>(j.size());
-  cv::Vec3d mean(0, 0, 0), along(0, 0, 0);
+  cv::Vec4d mean(0, 0, 0, 0), along(0, 0, 0, 0);
   for (size_t k = 0; k < j.size(); ++k) mean += j[k], along += j[k] * static_cast<double>(unit[k]);
   mean *= 1 / n, along *= 1 / n;  // unit's squares sum to n
   for (size_t k = 0; k < j.size(); ++k) j[k] -= mean + along * static_cast<double>(unit[k]);
@@ -104,10 +104,11 @@ void normalisedDerivative(std::vector<cv::Vec3d>& j, const std::vector<float>& u
 
 enum class LevelOutcome { Aligned, OutsideImage, Aperture, Diverged };
 
-// b's patch against a's: turned on the tangent plane about its centre, then shifted.
+// b's patch against a's: turned and scaled on the tangent plane about its centre, then shifted.
 struct Alignment {
-  cv::Point2d shift;  // b's point moved by, input pixels
-  double turn = 0;    // radians, the plane's x axis towards its y axis
+  cv::Point2d shift;    // b's point moved by, input pixels
+  double turn = 0;      // radians, the plane's x axis towards its y axis
+  double logScale = 0;  // b's patch scaled by exp(logScale) beyond the keypoints' size ratio
 };
 
 struct LevelResult {
@@ -121,18 +122,19 @@ cv::Matx22d rotation(double angle) {
   return {c, -s, s, c};
 }
 
-// A turn is kept where it exceeds this many of its standard deviations (from the residual). On
-// pairs that did not roll (the rendered plane of the tests, Oxford's ubc and bikes) nine patches
-// in ten stay below it, the rest turned by the model's errors rather than the residual's noise;
-// of the patches rolled 2 and 5 degrees (the guide's scene) 85 and 96 % exceed it.
-constexpr double kTurnSignificance = 8.0;
+// Turn and scale are kept where together they exceed this many standard deviations (their
+// Mahalanobis length, from the residual). Chosen for the turn alone: on pairs that did not roll
+// (the rendered plane of the tests, Oxford's ubc and bikes) nine patches in ten stayed below it,
+// the rest turned by the model's errors rather than the residual's noise; of the patches rolled 2
+// and 5 degrees (the guide's scene) 85 and 96 % exceeded it.
+constexpr double kShapeSignificance = 8.0;
 
 // Aligns b's patch on level lb with a's on level la, from `start`; a shift beyond `maxShift`
 // input pixels diverged. aToPlane: a's input pixels to plane units; planeToB: plane units to b's
-// input pixels (the size ratio included). Without estimateTurn, start's turn is held.
+// input pixels (the size ratio included). Without estimateShape, start's turn and scale are held.
 LevelResult alignOnLevel(const ImagePyramid& pa, int la, const cv::Point2d& pointA, const ImagePyramid& pb, int lb,
                          const cv::Point2d& pointB, const cv::Matx22d& aToPlane, const cv::Matx22d& planeToB,
-                         const Alignment& start, double maxShift, const MatchRefinementOptions& o, bool estimateTurn) {
+                         const Alignment& start, double maxShift, const MatchRefinementOptions& o, bool estimateShape) {
   LevelResult result;
   const LevelGrid ga = pa.grid(la), gb = pb.grid(lb);
   const cv::Mat& ia = pa.smoothedFloat(la);
@@ -174,18 +176,21 @@ LevelResult alignOnLevel(const ImagePyramid& pa, int la, const cv::Point2d& poin
   const cv::Matx22d m = fromPlane * toPlane;
   const cv::Matx22d carry = m.inv().t();
   const cv::Matx22d generator = toPlane.inv() * cv::Matx22d(0, -1, 1, 0) * toPlane;
-  std::vector<cv::Vec3d> jacobian(count);
-  cv::Matx33d h = cv::Matx33d::zeros();
-  double spread = 0;  // the squared level pixels a turn of a radian moves a sample by, summed
+  // The turn and the scale: columns 2 and 3. A scale's generator is the identity, in any frame.
+  std::vector<cv::Vec4d> jacobian(count);
+  cv::Matx44d h = cv::Matx44d::zeros();
+  // The squared level pixels a turn (a unit of log scale) of one moves the samples by, summed.
+  double turnSpread = 0, scaleSpread = 0;
   for (int v = -r, k = 0; v <= r; ++v)
     for (int u = -r; u <= r; ++u, ++k) {
-      const cv::Vec2d g(gx[k] / deviation, gy[k] / deviation);
-      const cv::Vec2d gShift = carry * g, motion = generator * cv::Vec2d(u, v);
-      jacobian[k] = {gShift[0], gShift[1], g.dot(motion)};
-      spread += motion.dot(motion);
+      const cv::Vec2d g(gx[k] / deviation, gy[k] / deviation), x(u, v);
+      const cv::Vec2d gShift = carry * g, motion = generator * x;
+      jacobian[k] = {gShift[0], gShift[1], g.dot(motion), g.dot(x)};
+      turnSpread += motion.dot(motion);
+      scaleSpread += x.dot(x);
     }
   normalisedDerivative(jacobian, templ);
-  for (const cv::Vec3d& j : jacobian) h += j * j.t();
+  for (const cv::Vec4d& j : jacobian) h += j * j.t();
   const double hxx = h(0, 0), hxy = h(0, 1), hyy = h(1, 1);
   const double trace = hxx + hyy, det = hxx * hyy - hxy * hxy;
   const double smallest = 0.5 * (trace - std::sqrt(std::max(0.0, trace * trace - 4 * det)));
@@ -193,36 +198,45 @@ LevelResult alignOnLevel(const ImagePyramid& pa, int la, const cv::Point2d& poin
     result.outcome = LevelOutcome::Aperture;
     return result;
   }
-  // What the patch tells of the turn once the shift is fitted (h's Schur complement), per sample
-  // and per squared level pixel of the samples' motion, is held to the shift's standard: a patch
-  // as round as a disc does not fix its turn.
+  // What the patch tells of the turn and the scale once the shift is fitted (h's Schur
+  // complement), per squared level pixel of the samples' motion, is held to the shift's standard:
+  // a patch as round as a disc does not fix its turn, nor a patch of parallel stripes its scale.
   const cv::Matx22d shiftInverse = cv::Matx22d(hyy, -hxy, -hxy, hxx) * (1 / det);
-  const cv::Vec2d coupling(h(0, 2), h(1, 2));
-  const cv::Vec2d pull = shiftInverse * coupling;
-  const double turnInformation = h(2, 2) - coupling.dot(pull);
-  const bool turnFixed = turnInformation > 0 && turnInformation / spread >= o.minEigenvalue;
-  // The patch's half side in b's level pixels: a turn's step settles when it moves the patch's
-  // edge as little as a shift's step must move its centre.
+  const cv::Matx22d coupling(h(0, 2), h(0, 3), h(1, 2), h(1, 3));
+  const cv::Matx22d pull = shiftInverse * coupling;
+  const cv::Matx22d shapeInformation = cv::Matx22d(h(2, 2), h(2, 3), h(3, 2), h(3, 3)) - coupling.t() * pull;
+  const double spreadX = 1 / std::sqrt(turnSpread), spreadY = 1 / std::sqrt(scaleSpread);
+  const cv::Matx22d perSpread(shapeInformation(0, 0) * spreadX * spreadX, shapeInformation(0, 1) * spreadX * spreadY,
+                              shapeInformation(1, 0) * spreadX * spreadY, shapeInformation(1, 1) * spreadY * spreadY);
+  const double shapeTrace = perSpread(0, 0) + perSpread(1, 1), shapeDet = cv::determinant(perSpread);
+  const double shapeSmallest = 0.5 * (shapeTrace - std::sqrt(std::max(0.0, shapeTrace * shapeTrace - 4 * shapeDet)));
+  const bool shapeFixed = shapeDet > 0 && shapeSmallest >= o.minEigenvalue;
+  const cv::Matx22d shapeInverse = shapeFixed ? shapeInformation.inv() : cv::Matx22d::zeros();
+  // The patch's half side in b's level pixels: a turn's or a scale's step settles when it moves
+  // the patch's edge as little as a shift's step must move its centre.
   const double edge = r * std::sqrt(std::abs(cv::determinant(m)));
   std::vector<float> sample(count);
-  // Gauss-Newton from `from`, the turn estimated or held; significance: the squared ratio of the
-  // turn (estimated) or of the step it would take (held) to its standard deviation.
-  const auto align = [&](const Alignment& from, bool turning, double& significance) {
+  // Gauss-Newton from `from`, the turn and scale estimated or held; significance: the squared
+  // Mahalanobis length, in the residual's noise, of the turn and log scale (estimated) or of the
+  // step they would take (held).
+  const auto align = [&](const Alignment& from, bool shaping, double& significance) {
     LevelResult out;
-    // h^-1 by blocks, or its shift block alone with the turn held.
-    cv::Matx33d inverse = cv::Matx33d::zeros();
-    const cv::Matx22d shiftBlock = turning ? shiftInverse + pull * pull.t() * (1 / turnInformation) : shiftInverse;
+    // h^-1 by blocks, or its shift block alone with the turn and scale held.
+    cv::Matx44d inverse = cv::Matx44d::zeros();
+    const cv::Matx22d shiftBlock = shaping ? shiftInverse + pull * shapeInverse * pull.t() : shiftInverse;
+    const cv::Matx22d cross = -pull * shapeInverse;
     for (int i = 0; i < 2; ++i)
-      for (int l = 0; l < 2; ++l) inverse(i, l) = shiftBlock(i, l);
-    if (turning) {
-      inverse(2, 2) = 1 / turnInformation;
-      for (int i = 0; i < 2; ++i) inverse(i, 2) = inverse(2, i) = -pull[i] / turnInformation;
-    }
+      for (int l = 0; l < 2; ++l) {
+        inverse(i, l) = shiftBlock(i, l);
+        if (!shaping) continue;
+        inverse(i, 2 + l) = inverse(2 + l, i) = cross(i, l);
+        inverse(2 + i, 2 + l) = shapeInverse(i, l);
+      }
     cv::Point2d shift(from.shift.x / gb.step.x, from.shift.y / gb.step.y);  // level pixels of b
-    double turn = from.turn, residual = 0;
-    cv::Vec3d b;
+    double turn = from.turn, logScale = from.logScale, residual = 0;
+    cv::Vec4d b;
     for (int iteration = 0; iteration < o.maxIterations; ++iteration) {
-      const cv::Matx22d warp = fromPlane * rotation(turn) * toPlane;
+      const cv::Matx22d warp = fromPlane * (std::exp(logScale) * rotation(turn)) * toPlane;
       for (int v = -r, k = 0; v <= r; ++v)
         for (int u = -r; u <= r; ++u, ++k) {
           const cv::Vec2d offset = warp * cv::Vec2d(u, v);
@@ -238,52 +252,55 @@ LevelResult alignOnLevel(const ImagePyramid& pa, int la, const cv::Point2d& poin
         out.outcome = LevelOutcome::Aperture;
         return out;
       }
-      b = cv::Vec3d(0, 0, 0);
+      b = cv::Vec4d(0, 0, 0, 0);
       residual = 0;
       for (int k = 0; k < count; ++k) {
         const double e = sample[k] - templ[k];
         b += jacobian[k] * e;
         residual += e * e;
       }
-      const cv::Vec3d delta = inverse * b;
-      // The warp composed with the increment's inverse: turned back, then shifted back along the
-      // plane's axes as the warp now turns them.
+      const cv::Vec4d delta = inverse * b;
+      // The warp composed with the increment's inverse: turned and scaled back, then shifted back
+      // along the plane's axes as the warp now turns and scales them.
       turn -= delta[2];
-      const cv::Vec2d back = fromPlane * rotation(turn) * intoPlane * cv::Vec2d(delta[0], delta[1]);
+      logScale -= delta[3];
+      const cv::Vec2d back =
+          fromPlane * (std::exp(logScale) * rotation(turn)) * intoPlane * cv::Vec2d(delta[0], delta[1]);
       shift -= cv::Point2d(back[0], back[1]);
       if (!(std::hypot(shift.x * gb.step.x, shift.y * gb.step.y) <= maxShift)) return out;  // diverged
-      if (std::hypot(back[0], back[1]) < 0.01 && std::abs(delta[2]) * edge < 0.01) {
+      if (std::hypot(back[0], back[1]) < 0.01 && std::max(std::abs(delta[2]), std::abs(delta[3])) * edge < 0.01) {
         out.outcome = LevelOutcome::Aligned;
         break;
       }
     }
     if (out.outcome != LevelOutcome::Aligned) return out;  // did not settle
-    out.alignment = {{shift.x * gb.step.x, shift.y * gb.step.y}, turn};
+    out.alignment = {{shift.x * gb.step.x, shift.y * gb.step.y}, turn, logScale};
     // The residual's variance per sample through the largest eigenvalue of the shift's covariance
-    // (with the turn estimated, its uncertainty included).
-    const double variance = residual / std::max(1, count - (turning ? 3 : 2));
+    // (with the turn and scale estimated, their uncertainty included).
+    const double variance = residual / std::max(1, count - (shaping ? 4 : 2));
     const double cxx = shiftBlock(0, 0), cxy = shiftBlock(0, 1), cyy = shiftBlock(1, 1);
     const double largest = 0.5 * (cxx + cyy + std::sqrt((cxx - cyy) * (cxx - cyy) + 4 * cxy * cxy));
     out.sigmaLevel = std::sqrt(variance * largest);
-    const double step = turning ? turn : (b[2] - pull.dot(cv::Vec2d(b[0], b[1]))) / turnInformation;
-    significance = variance > 0 ? step * step * turnInformation / variance : 0;
+    const cv::Vec2d step = shaping ? cv::Vec2d(turn, logScale)
+                                   : cv::Vec2d(shapeInverse * (cv::Vec2d(b[2], b[3]) - pull.t() * cv::Vec2d(b[0], b[1])));
+    significance = variance > 0 ? step.dot(shapeInformation * step) / variance : 0;
     return out;
   };
   double significance = 0;
-  if (!turnFixed || !estimateTurn) return align(start, false, significance);
-  // Estimating the turn costs the shift precision wherever the two move the same samples (the
-  // tests' rendered plane, which did not roll: median error 0.068 -> 0.072 px), so the turn is
-  // kept only where it stands out of its noise; otherwise the shift is fitted alone, the patch
-  // unturned, from where the turned fit put it. Where the turn does not settle, the shift alone
-  // stands if it sees no turn either.
-  const double threshold = kTurnSignificance * kTurnSignificance;
-  const LevelResult turned = align(start, true, significance);
-  if (turned.outcome == LevelOutcome::Aligned && significance > threshold) return turned;
-  const Alignment unturned{turned.outcome == LevelOutcome::Aligned ? turned.alignment.shift : start.shift, 0.0};
-  const LevelResult held = align(unturned, false, significance);
-  if (held.outcome == LevelOutcome::Aligned && (turned.outcome == LevelOutcome::Aligned || significance <= threshold))
+  if (!shapeFixed || !estimateShape) return align(start, false, significance);
+  // Estimating the turn and scale costs the shift precision wherever they move the same samples
+  // (the tests' rendered plane, which did not roll: median error 0.068 -> 0.072 px), so they are
+  // kept only where they stand out of their noise; otherwise the shift is fitted alone, the patch
+  // unturned at the keypoints' size ratio, from where the other fit put it. Where that one does
+  // not settle, the shift alone stands if it sees no turn or scale either.
+  const double threshold = kShapeSignificance * kShapeSignificance;
+  const LevelResult shaped = align(start, true, significance);
+  if (shaped.outcome == LevelOutcome::Aligned && significance > threshold) return shaped;
+  const Alignment plain{shaped.outcome == LevelOutcome::Aligned ? shaped.alignment.shift : start.shift, 0.0, 0.0};
+  const LevelResult held = align(plain, false, significance);
+  if (held.outcome == LevelOutcome::Aligned && (shaped.outcome == LevelOutcome::Aligned || significance <= threshold))
     return held;
-  return turned;
+  return shaped;
 }
 
 // The keypoints' orientations are too noisy to turn the patch by: on stereo pairs that did not
