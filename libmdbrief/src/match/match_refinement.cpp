@@ -129,6 +129,10 @@ cv::Matx22d rotation(double angle) {
 // and 5 degrees (the guide's scene) 85 and 96 % exceeded it.
 constexpr double kShapeSignificance = 8.0;
 
+// The keypoints' size ratio is off by a few tens of percent at most on right matches; a scale
+// that runs beyond a factor of two is the alignment leaving the point.
+const double kMaxLogScale = std::log(2.0);
+
 // Aligns b's patch on level lb with a's on level la, from `start`; a shift beyond `maxShift`
 // input pixels diverged. aToPlane: a's input pixels to plane units; planeToB: plane units to b's
 // input pixels (the size ratio included). Without estimateShape, start's turn and scale are held.
@@ -267,7 +271,9 @@ LevelResult alignOnLevel(const ImagePyramid& pa, int la, const cv::Point2d& poin
       const cv::Vec2d back =
           fromPlane * (std::exp(logScale) * rotation(turn)) * intoPlane * cv::Vec2d(delta[0], delta[1]);
       shift -= cv::Point2d(back[0], back[1]);
-      if (!(std::hypot(shift.x * gb.step.x, shift.y * gb.step.y) <= maxShift)) return out;  // diverged
+      // Diverged: too far, or a patch scaled by more than twice the keypoints' size ratio.
+      if (!(std::hypot(shift.x * gb.step.x, shift.y * gb.step.y) <= maxShift) || !(std::abs(logScale) <= kMaxLogScale))
+        return out;
       if (std::hypot(back[0], back[1]) < 0.01 && std::max(std::abs(delta[2]), std::abs(delta[3])) * edge < 0.01) {
         out.outcome = LevelOutcome::Aligned;
         break;

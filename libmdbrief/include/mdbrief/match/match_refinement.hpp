@@ -87,7 +87,7 @@ enum class RefinementFailure {
   None,
   OutsideImage,  // a patch leaves its level, or a keypoint has no ray (outside the lens' circle)
   Aperture,      // the patch on the keypoints' own level does not fix both directions
-  Diverged,      // the alignment moved further than maxShift or did not settle
+  Diverged,      // moved further than maxShift, scaled b's patch by over 2, or did not settle
   Uncertain,     // the refined point's standard deviation exceeds maxSigmaPx
 };
 // "", "patch outside the image", "aperture: the patch does not fix both directions", "diverged",
