@@ -102,6 +102,12 @@ void normalisedDerivative(std::vector<cv::Vec4d>& j, const std::vector<float>& u
   for (size_t k = 0; k < j.size(); ++k) j[k] -= mean + along * static_cast<double>(unit[k]);
 }
 
+// The smaller eigenvalue of a symmetric 2x2 matrix.
+double smallerEigenvalue(const cv::Matx22d& a) {
+  const double trace = a(0, 0) + a(1, 1), det = a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0);
+  return 0.5 * (trace - std::sqrt(std::max(0.0, trace * trace - 4 * det)));
+}
+
 enum class LevelOutcome { Aligned, OutsideImage, Aperture, Diverged };
 
 // b's patch against a's: turned and scaled on the tangent plane about its centre, then shifted.
@@ -183,7 +189,7 @@ LevelResult alignOnLevel(const ImagePyramid& pa, int la, const cv::Point2d& poin
   // The turn and the scale: columns 2 and 3. A scale's generator is the identity, in any frame.
   std::vector<cv::Vec4d> jacobian(count);
   cv::Matx44d h = cv::Matx44d::zeros();
-  // The squared level pixels a turn (a unit of log scale) of one moves the samples by, summed.
+  // The squared level pixels a turn of a radian, or a log scale of one, moves the samples by, summed.
   double turnSpread = 0, scaleSpread = 0;
   for (int v = -r, k = 0; v <= r; ++v)
     for (int u = -r; u <= r; ++u, ++k) {
@@ -195,10 +201,8 @@ LevelResult alignOnLevel(const ImagePyramid& pa, int la, const cv::Point2d& poin
     }
   normalisedDerivative(jacobian, templ);
   for (const cv::Vec4d& j : jacobian) h += j * j.t();
-  const double hxx = h(0, 0), hxy = h(0, 1), hyy = h(1, 1);
-  const double trace = hxx + hyy, det = hxx * hyy - hxy * hxy;
-  const double smallest = 0.5 * (trace - std::sqrt(std::max(0.0, trace * trace - 4 * det)));
-  if (!(smallest / count >= o.minEigenvalue) || !(det > 0)) {
+  const double hxx = h(0, 0), hxy = h(0, 1), hyy = h(1, 1), det = hxx * hyy - hxy * hxy;
+  if (!(smallerEigenvalue({hxx, hxy, hxy, hyy}) / count >= o.minEigenvalue) || !(det > 0)) {
     result.outcome = LevelOutcome::Aperture;
     return result;
   }
@@ -209,12 +213,10 @@ LevelResult alignOnLevel(const ImagePyramid& pa, int la, const cv::Point2d& poin
   const cv::Matx22d coupling(h(0, 2), h(0, 3), h(1, 2), h(1, 3));
   const cv::Matx22d pull = shiftInverse * coupling;
   const cv::Matx22d shapeInformation = cv::Matx22d(h(2, 2), h(2, 3), h(3, 2), h(3, 3)) - coupling.t() * pull;
-  const double spreadX = 1 / std::sqrt(turnSpread), spreadY = 1 / std::sqrt(scaleSpread);
-  const cv::Matx22d perSpread(shapeInformation(0, 0) * spreadX * spreadX, shapeInformation(0, 1) * spreadX * spreadY,
-                              shapeInformation(1, 0) * spreadX * spreadY, shapeInformation(1, 1) * spreadY * spreadY);
-  const double shapeTrace = perSpread(0, 0) + perSpread(1, 1), shapeDet = cv::determinant(perSpread);
-  const double shapeSmallest = 0.5 * (shapeTrace - std::sqrt(std::max(0.0, shapeTrace * shapeTrace - 4 * shapeDet)));
-  const bool shapeFixed = shapeDet > 0 && shapeSmallest >= o.minEigenvalue;
+  const cv::Matx22d perSpread = cv::Matx22d::diag({1 / std::sqrt(turnSpread), 1 / std::sqrt(scaleSpread)});
+  const cv::Matx22d shapePerSpread = perSpread * shapeInformation * perSpread;
+  const bool shapeFixed =
+      cv::determinant(shapePerSpread) > 0 && smallerEigenvalue(shapePerSpread) >= o.minEigenvalue;
   const cv::Matx22d shapeInverse = shapeFixed ? shapeInformation.inv() : cv::Matx22d::zeros();
   // The patch's half side in b's level pixels: a turn's or a scale's step settles when it moves
   // the patch's edge as little as a shift's step must move its centre.
