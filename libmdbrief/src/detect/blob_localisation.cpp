@@ -12,12 +12,9 @@ namespace {
 // Beyond a few pixels' walk the maximum is another blob's.
 constexpr int kMaxSteps = 3;
 constexpr int kMaxRadius = 24;  // ceil(3 max(kHalvedFromSigma, sqrt(kMaxSigma^2 - 1) / 2))
+static_assert(2 * kMaxRadius + 1 <= hessian_kernels::kMaxBlockTaps);
 constexpr int kMaxWidth = 5 + 2 * kMaxRadius;
-// Rows padded with zeros to whole vectors of 16 lanes (the widest level's), so that no column
-// is left to a scalar tail (each column's sum is the same at every width), and as wide as the
-// horizontal pass's 16 sums read: 16 + 2 radius columns.
-constexpr int kPadded = (2 * kMaxRadius + 16 + 15) & ~15;
-static_assert(kPadded >= kMaxWidth);
+constexpr int kMaxReadable = hessian_kernels::blockReadWidth(2 * kMaxRadius + 1);
 
 int reflect101(int i, int n) {
   if (n == 1) return 0;
@@ -50,18 +47,17 @@ Taps gaussianTaps(double sigma) {
   return t;
 }
 
-// The smoothed image at the 5x5 pixels around (cx, cy), row-major: down the 5 + 2 radius columns
-// around the block first, then along the 5 rows; each sum in the order of its taps, so every SIMD
-// level gives the same bits (hessian_kernels.hpp).
+// The smoothed image at the 5x5 pixels around (cx, cy), row-major (hessian_kernels.hpp's
+// gaussianBlock5: each sum in the order of its taps, so every SIMD level gives the same bits).
 void smoothedBlock(const hessian_kernels::HessianKernels& kernels, const cv::Mat& image, int cx, int cy, const Taps& taps,
                    float out[25]) {
-  const int radius = taps.radius, width = 5 + 2 * radius, padded = (2 * radius + 16 + 15) & ~15;
-  // The image's rows where the padded columns lie in them (only the first `width` columns count:
+  const int radius = taps.radius, width = 5 + 2 * radius, readable = hessian_kernels::blockReadWidth(2 * radius + 1);
+  // The image's rows where the kernel's reads lie in them (only the first `width` columns count:
   // the rest are read and their sums dropped), reflected copies otherwise.
   const uint8_t* rows[kMaxWidth];
-  uint8_t copies[kMaxWidth][kPadded];
+  uint8_t copies[kMaxWidth][kMaxReadable];
   const int left = cx - 2 - radius;
-  const bool inside = left >= 0 && left + padded <= image.cols;
+  const bool inside = left >= 0 && left + readable <= image.cols;
   for (int r = 0; r < width; ++r) {
     const uint8_t* pixels = image.ptr<uint8_t>(reflect101(cy - 2 - radius + r, image.rows));
     if (inside) {
@@ -69,16 +65,10 @@ void smoothedBlock(const hessian_kernels::HessianKernels& kernels, const cv::Mat
       continue;
     }
     for (int c = 0; c < width; ++c) copies[r][c] = pixels[reflect101(left + c, image.cols)];
-    std::fill(copies[r] + width, copies[r] + kPadded, uint8_t{0});
+    std::fill(copies[r] + width, copies[r] + readable, uint8_t{0});
     rows[r] = copies[r];
   }
-  float vertical[5][kPadded], horizontal[16];
-  for (int r = 0; r < 5; ++r) kernels.weightedRows(rows + r, 2 * radius + 1, taps.weight, padded, vertical[r]);
-  for (int r = 0; r < 5; ++r) {
-    // 16 sums of which the first 5 are the block's.
-    kernels.weightedRow(vertical[r], 2 * radius + 1, taps.weight, 16, horizontal);
-    std::copy(horizontal, horizontal + 5, out + 5 * r);
-  }
+  kernels.gaussianBlock5(rows, 2 * radius + 1, taps.weight, out);
 }
 
 // det(Hessian) at (u, v) of the 5x5 block, by central differences (hessian.cpp's response).

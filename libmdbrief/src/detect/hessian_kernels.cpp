@@ -76,44 +76,47 @@ int Candidates(const float* row, const float* maxAbove, const float* maxRow, con
   return count;
 }
 
-void WeightedRows(const uint8_t* const* rows, int taps, const float* weights, int width, float* HWY_RESTRICT out) {
-  const hn::ScalableTag<float> d;
+// Five rows' sums at a time, each from one conversion of the pixels it shares with the others:
+// independent sums, where one row after another would wait on each addition in turn.
+void GaussianBlock5(const uint8_t* const* rows, int taps, const float* weights, float* HWY_RESTRICT out) {
+  const hn::CappedTag<float, kBlockLanes> d;
   const hn::Rebind<uint8_t, decltype(d)> d8;
   const hn::Rebind<int32_t, decltype(d)> di;
-  const int n = static_cast<int>(hn::Lanes(d));
-  int c = 0;
-  for (; c + n <= width; c += n) {
-    auto sum = hn::Zero(d);
-    for (int t = 0; t < taps; ++t) {
-      const auto pixels = hn::ConvertTo(d, hn::PromoteTo(di, hn::LoadU(d8, rows[t] + c)));
-      sum = hn::Add(sum, hn::Mul(hn::Set(d, weights[t]), pixels));
+  const int n = static_cast<int>(hn::Lanes(d)), width = blockReadWidth(taps);
+  HWY_ALIGN float vertical[5][blockReadWidth(kMaxBlockTaps)];
+  // Sum i takes row q at tap q - i, so that each sum still adds its taps in their order.
+  const auto add = [&](auto sum, int t, auto pixels) {
+    return t >= 0 && t < taps ? hn::Add(sum, hn::Mul(hn::Set(d, weights[t]), pixels)) : sum;
+  };
+  for (int c = 0; c < width; c += n) {
+    auto s0 = hn::Zero(d), s1 = s0, s2 = s0, s3 = s0, s4 = s0;
+    for (int q = 0; q < taps + 4; ++q) {
+      const auto pixels = hn::ConvertTo(d, hn::PromoteTo(di, hn::LoadU(d8, rows[q] + c)));
+      s0 = add(s0, q, pixels), s1 = add(s1, q - 1, pixels), s2 = add(s2, q - 2, pixels);
+      s3 = add(s3, q - 3, pixels), s4 = add(s4, q - 4, pixels);
     }
-    hn::StoreU(sum, d, out + c);
+    hn::Store(s0, d, vertical[0] + c), hn::Store(s1, d, vertical[1] + c), hn::Store(s2, d, vertical[2] + c);
+    hn::Store(s3, d, vertical[3] + c), hn::Store(s4, d, vertical[4] + c);
   }
-  for (; c < width; ++c) {
-    float sum = 0.f;
-    for (int t = 0; t < taps; ++t) sum += weights[t] * static_cast<float>(rows[t][c]);
-    out[c] = sum;
-  }
-}
-
-void WeightedRow(const float* row, int taps, const float* weights, int width, float* HWY_RESTRICT out) {
-  const hn::ScalableTag<float> d;
-  const int n = static_cast<int>(hn::Lanes(d));
-  int c = 0;
-  for (; c + n <= width; c += n) {
-    auto sum = hn::Zero(d);
-    for (int t = 0; t < taps; ++t) sum = hn::Add(sum, hn::Mul(hn::Set(d, weights[t]), hn::LoadU(d, row + c + t)));
-    hn::StoreU(sum, d, out + c);
-  }
-  for (; c < width; ++c) {
-    float sum = 0.f;
-    for (int t = 0; t < taps; ++t) sum += weights[t] * row[c + t];
-    out[c] = sum;
+  for (int j = 0; j < 5; j += n) {
+    auto s0 = hn::Zero(d), s1 = s0, s2 = s0, s3 = s0, s4 = s0;
+    for (int t = 0; t < taps; ++t) {
+      const auto w = hn::Set(d, weights[t]);
+      s0 = hn::Add(s0, hn::Mul(w, hn::LoadU(d, vertical[0] + j + t)));
+      s1 = hn::Add(s1, hn::Mul(w, hn::LoadU(d, vertical[1] + j + t)));
+      s2 = hn::Add(s2, hn::Mul(w, hn::LoadU(d, vertical[2] + j + t)));
+      s3 = hn::Add(s3, hn::Mul(w, hn::LoadU(d, vertical[3] + j + t)));
+      s4 = hn::Add(s4, hn::Mul(w, hn::LoadU(d, vertical[4] + j + t)));
+    }
+    HWY_ALIGN float sums[5][kBlockLanes];
+    hn::Store(s0, d, sums[0]), hn::Store(s1, d, sums[1]), hn::Store(s2, d, sums[2]);
+    hn::Store(s3, d, sums[3]), hn::Store(s4, d, sums[4]);
+    for (int i = 0; i < 5; ++i)
+      for (int l = 0; l < n && j + l < 5; ++l) out[5 * i + j + l] = sums[i][l];
   }
 }
 
-HessianKernels Kernels() { return {ResponseRow, RowMax3, Candidates, WeightedRows, WeightedRow, HWY_TARGET}; }
+HessianKernels Kernels() { return {ResponseRow, RowMax3, Candidates, GaussianBlock5, HWY_TARGET}; }
 
 }  // namespace mdbrief::hessian_kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();

@@ -7,6 +7,12 @@
 
 namespace mdbrief::hessian_kernels {
 
+constexpr int kMaxBlockTaps = 49;
+// gaussianBlock5's vectors: 8 lanes at most, which cover the block's 5 columns along its rows
+// once (the columns pass reads as many more as the taps).
+constexpr int kBlockLanes = 8;
+constexpr int blockReadWidth(int taps) { return kBlockLanes + ((taps - 1 + kBlockLanes - 1) & ~(kBlockLanes - 1)); }
+
 struct HessianKernels {
   // Columns 1 .. cols - 2 of one row of the response: with a, b, c the rows above, at and below,
   // dxx = (b[x-1] + b[x+1]) - 2 b[x], dyy = (a[x] + c[x]) - 2 b[x],
@@ -19,11 +25,12 @@ struct HessianKernels {
   // maxRow and maxBelow are rowMax3 of the rows above, at and below. Returns how many.
   int (*candidates)(const float* row, const float* maxAbove, const float* maxRow, const float* maxBelow, int begin,
                     int end, float threshold, int32_t* xs);
-  // Gaussian passes for blob_localisation.cpp, each sum over t = 0 .. taps - 1 in that order from
-  // 0, for c in [0, width): over rows of 8-bit pixels, out[c] = sum of weights[t] rows[t][c];
-  // along a row, out[c] = sum of weights[t] row[c + t].
-  void (*weightedRows)(const uint8_t* const* rows, int taps, const float* weights, int width, float* out);
-  void (*weightedRow)(const float* row, int taps, const float* weights, int width, float* out);
+  // The Gaussian smoothing at a 5x5 block of pixels, for blob_localisation.cpp. Down the columns
+  // first, v[i][c] = sum over t of weights[t] rows[i + t][c] for the block's rows i < 5, then along
+  // its rows, out[5 i + j] = sum over t of weights[t] v[i][j + t]; each sum over t = 0 .. taps - 1
+  // in that order from 0. taps <= kMaxBlockTaps; rows[0 .. taps + 3] are readable for
+  // blockReadWidth(taps) bytes, of which the first taps + 4 are the block's columns.
+  void (*gaussianBlock5)(const uint8_t* const* rows, int taps, const float* weights, float* out);
   int64_t target = 0;  // the Highway target these kernels were compiled for (HWY_AVX2, ...)
 };
 
