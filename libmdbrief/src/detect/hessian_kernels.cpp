@@ -90,11 +90,20 @@ void GaussianBlock5(const uint8_t* const* rows, int taps, const float* weights, 
   };
   for (int c = 0; c < width; c += n) {
     auto s0 = hn::Zero(d), s1 = s0, s2 = s0, s3 = s0, s4 = s0;
-    for (int q = 0; q < taps + 4; ++q) {
-      const auto pixels = hn::ConvertTo(d, hn::PromoteTo(di, hn::LoadU(d8, rows[q] + c)));
-      s0 = add(s0, q, pixels), s1 = add(s1, q - 1, pixels), s2 = add(s2, q - 2, pixels);
-      s3 = add(s3, q - 3, pixels), s4 = add(s4, q - 4, pixels);
+    const auto pixels = [&](int q) { return hn::ConvertTo(d, hn::PromoteTo(di, hn::LoadU(d8, rows[q] + c))); };
+    const auto edgeRow = [&](int q) {
+      const auto p = pixels(q);
+      s0 = add(s0, q, p), s1 = add(s1, q - 1, p), s2 = add(s2, q - 2, p), s3 = add(s3, q - 3, p), s4 = add(s4, q - 4, p);
+    };
+    // The first and last four rows, which some sums skip; in between, every sum takes each row.
+    for (int q = 0; q < 4; ++q) edgeRow(q);
+    for (int q = 4; q < taps; ++q) {
+      const auto p = pixels(q);
+      s0 = hn::Add(s0, hn::Mul(hn::Set(d, weights[q]), p)), s1 = hn::Add(s1, hn::Mul(hn::Set(d, weights[q - 1]), p));
+      s2 = hn::Add(s2, hn::Mul(hn::Set(d, weights[q - 2]), p)), s3 = hn::Add(s3, hn::Mul(hn::Set(d, weights[q - 3]), p));
+      s4 = hn::Add(s4, hn::Mul(hn::Set(d, weights[q - 4]), p));
     }
+    for (int q = std::max(4, taps); q < taps + 4; ++q) edgeRow(q);
     hn::Store(s0, d, vertical[0] + c), hn::Store(s1, d, vertical[1] + c), hn::Store(s2, d, vertical[2] + c);
     hn::Store(s3, d, vertical[3] + c), hn::Store(s4, d, vertical[4] + c);
   }
