@@ -1,4 +1,4 @@
-// The pyramid's bilinear reduction (detect/resize_kernels.hpp): the same bits at every SIMD level
+// The pyramid's bilinear resizing (detect/resize_kernels.hpp): the same bits at every SIMD level
 // the CPU runs, and, against the OpenCV it was measured on, cv::resize(INTER_LINEAR)'s bits.
 #include <gtest/gtest.h>
 
@@ -81,6 +81,23 @@ std::vector<Case> allCases() {
     const int width = reduce(src.width), height = reduce(src.height);
     cases.push_back({src, {width, height}});
   }
+  // Enlargements: the pyramid's levels below the input (up to 4 times per side), and anywhere up
+  // to 8 times, from one pixel on.
+  for (const cv::Size input : {cv::Size(754, 480), cv::Size(752, 480), cv::Size(640, 480), cv::Size(37, 23)})
+    for (const double factor : {1.25, 1.2, 1.5, 2.0})
+      for (int below = 1; below <= 6 && std::pow(factor, below) <= 4.0; ++below) {
+        const double scale = std::pow(factor, below);
+        cases.push_back({input, {static_cast<int>(std::lround(input.width * scale)),
+                                 static_cast<int>(std::lround(input.height * scale))}});
+      }
+  for (int i = 0; i < 150; ++i) {
+    const cv::Size src(1 + static_cast<int>(rng() % 300), 1 + static_cast<int>(rng() % 100));
+    const auto enlarge = [&](int n) { return n + static_cast<int>(rng() % (7 * n + 1)); };
+    cases.push_back({src, {enlarge(src.width), enlarge(src.height)}});
+  }
+  // One axis enlarged, the other reduced.
+  cases.push_back({{100, 60}, {131, 45}});
+  cases.push_back({{100, 60}, {37, 75}});
   // Exactly half (OpenCV's INTER_AREA, the same rounded mean of four), the same size, one axis
   // kept, and one pixel.
   for (const Case& c : std::vector<Case>{{{754, 480}, {377, 240}}, {{34, 18}, {17, 9}}, {{100, 60}, {100, 60}},
@@ -90,15 +107,6 @@ std::vector<Case> allCases() {
   return cases;
 }
 
-TEST(ResizeKernels, ReproducesReductionsOnly) {
-  EXPECT_TRUE(rk::reproducesOpenCv(754, 480, 628, 400));
-  EXPECT_TRUE(rk::reproducesOpenCv(754, 480, 377, 240));
-  EXPECT_TRUE(rk::reproducesOpenCv(5, 5, 5, 5));
-  EXPECT_FALSE(rk::reproducesOpenCv(628, 400, 754, 480));
-  EXPECT_FALSE(rk::reproducesOpenCv(100, 100, 101, 50));
-  EXPECT_FALSE(rk::reproducesOpenCv(100, 100, 0, 50));
-}
-
 TEST(ResizeKernels, EveryLevelGivesThePortableBitsAndOpenCvs) {
   if (!kOpenCv46) std::printf("OpenCV %s: the comparison with cv::resize is skipped\n", CV_VERSION);
   const std::vector<SimdLevel> levels = mdbrief::supportedSimdLevels();
@@ -106,7 +114,6 @@ TEST(ResizeKernels, EveryLevelGivesThePortableBitsAndOpenCvs) {
   std::mt19937 rng(5);
   int compared = 0;
   for (const Case& c : allCases()) {
-    ASSERT_TRUE(rk::reproducesOpenCv(c.src.width, c.src.height, c.dst.width, c.dst.height));
     const cv::Mat src = content(c.src, compared % 3, rng);
     const std::string what = std::to_string(c.src.width) + "x" + std::to_string(c.src.height) + " -> " +
                              std::to_string(c.dst.width) + "x" + std::to_string(c.dst.height);
@@ -127,10 +134,10 @@ TEST(ResizeKernels, EveryLevelGivesThePortableBitsAndOpenCvs) {
     }
     ++compared;
   }
-  EXPECT_GT(compared, 350);
+  EXPECT_GT(compared, 500);
 }
 
-// The pyramid's levels, reduced by the kernel and enlarged by cv::resize, are cv::resize's chain.
+// The pyramid's levels, reduced and enlarged by the kernel, are cv::resize's chain.
 TEST(ResizeKernels, PyramidLevelsAreOpenCvsChain) {
   if (!kOpenCv46) GTEST_SKIP() << "the kernel reproduces OpenCV 4.6, this is " CV_VERSION;
   std::mt19937 rng(3);

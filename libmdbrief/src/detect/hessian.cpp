@@ -127,10 +127,17 @@ bool exceedsNeighbourhood(const cv::Mat& r, int cx, int cy, float value, float& 
 struct PixelMap {
   std::vector<int> column, row;
 };
+// std::lround's value (halves away from zero) for |v| < 2^31, inline: the library call cost as
+// much as the rest of the map, which every frame builds for every level twice.
+int roundHalfAway(double v) {
+  const int whole = static_cast<int>(v);  // towards zero
+  const double fraction = v - whole;        // exact
+  return whole + (fraction >= 0.5) - (fraction <= -0.5);
+}
 PixelMap pixelMap(const LevelGrid& from, const LevelGrid& to, int cols, int rows) {
   PixelMap m{std::vector<int>(cols), std::vector<int>(rows)};
-  for (int x = 0; x < cols; ++x) m.column[x] = static_cast<int>(std::lround(to.toLevel(from.toInput(cv::Point2d(x, 0))).x));
-  for (int y = 0; y < rows; ++y) m.row[y] = static_cast<int>(std::lround(to.toLevel(from.toInput(cv::Point2d(0, y))).y));
+  for (int x = 0; x < cols; ++x) m.column[x] = roundHalfAway(to.toLevel(from.toInput(cv::Point2d(x, 0))).x);
+  for (int y = 0; y < rows; ++y) m.row[y] = roundHalfAway(to.toLevel(from.toInput(cv::Point2d(0, y))).y);
   return m;
 }
 

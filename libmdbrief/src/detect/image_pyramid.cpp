@@ -64,16 +64,15 @@ ImagePyramid::ImagePyramid(const cv::Mat& image, const PyramidOptions& options, 
     // accumulate; reductions take their pixels from the previous level, as cv::ORB does, and
     // enlargements from the input. INTER_LINEAR as cv::ORB: OpenCV's 8-bit bilinear in fixed
     // point (integer, whatever SIMD path runs it); INTER_LINEAR_EXACT took twice as long.
-    // Reductions are resize_kernels' (the same bits; BM_Pyramid 0.38x cv::resize's time at
-    // avx2, 0.62x at sse4); enlargements, which it does not reproduce, stay cv::resize's, and so
-    // does the portable level, where OpenCV's own vectors take half the time of one lane.
+    // resize_kernels' (the same bits; BM_Pyramid 0.38x cv::resize's time at avx2, 0.62x at
+    // sse4), except at the portable level, where OpenCV's own vectors take half the time of one
+    // lane.
     const cv::Size size(static_cast<int>(std::lround(grey.cols / scale)),
                         static_cast<int>(std::lround(grey.rows / scale)));
     if (size.width < 1 || size.height < 1) break;  // nothing left to sample
     const cv::Mat& from = level < options.firstLevel ? grey : images_.back();
     cv::Mat level_image;
-    if (activeSimdLevel() != SimdLevel::Portable &&
-        resize_kernels::reproducesOpenCv(from.cols, from.rows, size.width, size.height)) {
+    if (activeSimdLevel() != SimdLevel::Portable) {
       level_image.create(size, CV_8UC1);
       resize_kernels::resizeLinear(from.data, from.step, from.cols, from.rows, level_image.data, level_image.step,
                                    size.width, size.height);

@@ -137,7 +137,8 @@ struct Tap {
 };
 Tap tap(int i, double scale) {
   float f = static_cast<float>((i + 0.5) * scale - 0.5);
-  const int first = static_cast<int>(f);  // floor: f >= 0 in a reduction (scale >= 1)
+  // floor (cvFloor): an enlargement's first position lies before the first pixel.
+  const int first = static_cast<int>(f) - (f < static_cast<float>(static_cast<int>(f)));
   f -= static_cast<float>(first);
   // v in [0, 1]. Adding and taking away 2^23 rounds v x 2048 to a whole number as the FPU
   // rounds, to nearest, ties to even (cvRound's): inline and without a branch, where
@@ -160,7 +161,9 @@ ColumnPlan columnPlan(int srcCols, int cols) {
   const double scale = scaleOf(srcCols, cols);
   for (int x = 0; x < cols; ++x) {
     Tap t = tap(x, scale);
-    // Past the last column, one pixel whole (OpenCV's clamping of the position).
+    // Before the first column or past the last, one pixel whole (OpenCV's clamping of the
+    // position; of an enlargement's first columns too).
+    if (t.first < 0) t = {0, kWeightOne, 0};
     if (t.first >= srcCols - 1) t = {srcCols - 1, kWeightOne, 0};
     p.first[x] = t.first, p.second[x] = std::min(t.first + 1, srcCols - 1), p.a0[x] = t.w0, p.a1[x] = t.w1;
     p.high0[x] = static_cast<int16_t>(t.w0 >> 4), p.low0[x] = static_cast<int16_t>(t.w0 & 15);
@@ -190,12 +193,6 @@ ColumnPlan columnPlan(int srcCols, int cols) {
 
 }  // namespace
 
-// At exactly half the size along both axes OpenCV takes INTER_AREA instead, whose value, the
-// mean of four pixels rounded half up, is this arithmetic's at weights of one half.
-bool reproducesOpenCv(int srcCols, int srcRows, int dstCols, int dstRows) {
-  return dstCols >= 1 && dstRows >= 1 && dstCols <= srcCols && dstRows <= srcRows;
-}
-
 void resizeLinear(const uint8_t* src, size_t srcStride, int srcCols, int srcRows, uint8_t* dst, size_t dstStride,
                   int dstCols, int dstRows) {
   const ResizeKernels k = activeResizeKernels();
@@ -218,7 +215,7 @@ void resizeLinear(const uint8_t* src, size_t srcStride, int srcCols, int srcRows
     // The row below the last is the last, its weight kept (OpenCV's clamping of rows, unlike
     // its columns'); a reduction's first row is in the image.
     const Tap t = tap(y, scale);
-    const int r0 = t.first, r1 = std::min(t.first + 1, srcRows - 1);
+    const int r0 = std::clamp(t.first, 0, srcRows - 1), r1 = std::clamp(t.first + 1, 0, srcRows - 1);
     const int16_t* upper = horizontal(r0, r1);
     const int16_t* lower = horizontal(r1, r0);
     k.rows(upper, lower, t.w0, t.w1, dstCols, dst + y * dstStride);

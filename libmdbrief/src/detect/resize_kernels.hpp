@@ -1,5 +1,5 @@
 #pragma once
-// The pyramid's bilinear reduction (image_pyramid.cpp), written once with Highway in
+// The pyramid's bilinear resizing (image_pyramid.cpp), written once with Highway in
 // resize_kernels.cpp and compiled for every SIMD level (simd_level.hpp): the bits of OpenCV
 // 4.6's cv::resize(INTER_LINEAR) on 8-bit grey images, whose fixed point this reproduces. The
 // arithmetic is integer, so every level gives the same values.
@@ -38,12 +38,10 @@ struct ResizeKernels {
 // The kernels of the active SIMD level.
 ResizeKernels activeResizeKernels();
 
-// Whether resizeLinear gives cv::resize's bits for these sizes: a reduction along both axes (or
-// the same size), not an enlargement.
-bool reproducesOpenCv(int srcCols, int srcRows, int dstCols, int dstRows);
-
-// cv::resize(src, dst, {dstCols, dstRows}, 0, 0, INTER_LINEAR) for sizes where
-// reproducesOpenCv holds; rows `stride` bytes apart.
+// cv::resize(src, dst, {dstCols, dstRows}, 0, 0, INTER_LINEAR), reductions and enlargements, for
+// sizes of at least one pixel; rows `stride` bytes apart. (At exactly half the size along both
+// axes OpenCV takes INTER_AREA instead, whose value, the mean of four pixels rounded half up, is
+// this arithmetic's at weights of one half.)
 void resizeLinear(const uint8_t* src, size_t srcStride, int srcCols, int srcRows, uint8_t* dst, size_t dstStride,
                   int dstCols, int dstRows);
 
