@@ -267,9 +267,14 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
   };
   // After the maxima, which choose each blob's scale by the determinant alone: the weight only
   // decides which blobs the budget keeps.
-  if (options_.hessianScaleExponent != 0.0)
+  // scale^e = (level scale)^e factor^(dlevel e): each level's power once, and one exponential a
+  // blob where pow took two logarithms' worth of a library call.
+  if (const double e = options_.hessianScaleExponent; e != 0.0) {
+    std::vector<double> levelWeight(grids.size());
+    for (size_t k = 0; k < grids.size(); ++k) levelWeight[k] = std::pow(grids[k].scale, e);
     for (detail::Blob& b : blobs)
-      b.response = static_cast<float>(b.response * std::pow(refinedScale(b), options_.hessianScaleExponent));
+      b.response = static_cast<float>(b.response * levelWeight[b.level] * std::exp(e * b.dlevel * logFactor));
+  }
   // The mask after the refinement, which moves a blob up to half a level pixel from its maximum
   // (several input pixels on coarse levels), and before the budget, which it must not eat.
   if (!mask.empty())
