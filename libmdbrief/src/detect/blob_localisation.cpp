@@ -56,10 +56,11 @@ void smoothedBlock(const hessian_kernels::HessianKernels& kernels, const cv::Mat
   // the rest are read and their sums dropped), reflected copies otherwise.
   const uint8_t* rows[kMaxWidth];
   uint8_t copies[kMaxWidth][kMaxReadable];
-  const int left = cx - 2 - radius;
+  const int left = cx - 2 - radius, top = cy - 2 - radius;
   const bool inside = left >= 0 && left + readable <= image.cols;
+  const bool rowsInside = top >= 0 && top + width <= image.rows;
   for (int r = 0; r < width; ++r) {
-    const uint8_t* pixels = image.ptr<uint8_t>(reflect101(cy - 2 - radius + r, image.rows));
+    const uint8_t* pixels = image.ptr<uint8_t>(rowsInside ? top + r : reflect101(top + r, image.rows));
     if (inside) {
       rows[r] = pixels + left;
       continue;

@@ -155,7 +155,7 @@ double scaleOf(int src, int dst) { return 1. / (static_cast<double>(dst) / src);
 
 ColumnPlan columnPlan(int srcCols, int cols) {
   ColumnPlan p;
-  p.cols = cols;
+  p.srcCols = srcCols, p.cols = cols;
   p.first.resize(cols), p.second.resize(cols), p.a0.resize(cols), p.a1.resize(cols);
   p.high0.resize(cols), p.low0.resize(cols), p.high1.resize(cols), p.low1.resize(cols);
   const double scale = scaleOf(srcCols, cols);
@@ -191,12 +191,24 @@ ColumnPlan columnPlan(int srcCols, int cols) {
   return p;
 }
 
+// The plans of the last sizes resized on this thread, newest last: a tracker's frames share
+// their sizes, and each level's plan cost about a third of its columns pass.
+constexpr size_t kCachedPlans = 32;  // PyramidOptions' most levels
+const ColumnPlan& cachedColumnPlan(int srcCols, int cols) {
+  thread_local std::vector<ColumnPlan> plans;
+  for (const ColumnPlan& p : plans)
+    if (p.srcCols == srcCols && p.cols == cols) return p;
+  if (plans.size() == kCachedPlans) plans.erase(plans.begin());
+  plans.push_back(columnPlan(srcCols, cols));
+  return plans.back();
+}
+
 }  // namespace
 
 void resizeLinear(const uint8_t* src, size_t srcStride, int srcCols, int srcRows, uint8_t* dst, size_t dstStride,
                   int dstCols, int dstRows) {
   const ResizeKernels k = activeResizeKernels();
-  const ColumnPlan plan = columnPlan(srcCols, dstCols);
+  const ColumnPlan& plan = cachedColumnPlan(srcCols, dstCols);
   // Two rows of the horizontal pass: consecutive output rows share source rows, each computed
   // once.
   std::vector<int16_t> ring(2 * static_cast<size_t>(dstCols));

@@ -21,7 +21,7 @@ constexpr int kWeightOne = 2048;
 // byte 0x80: zero, the pixel widened to 16 bits), secondIndex its second. run[b] counts the
 // blocks of consecutive columns from b on that fit their windows (0: b does not).
 struct ColumnPlan {
-  int cols = 0;
+  int srcCols = 0, cols = 0;
   std::vector<int32_t> first, second;
   std::vector<int16_t> a0, a1, high0, low0, high1, low1;
   std::vector<int32_t> window, run;
