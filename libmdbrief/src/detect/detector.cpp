@@ -266,9 +266,9 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
     return grids[b.level].scale * std::exp(b.dlevel * logFactor);
   };
   // After the maxima, which choose each blob's scale by the determinant alone: the weight only
-  // decides which blobs the budget keeps.
-  // scale^e = (level scale)^e factor^(dlevel e): each level's power once, and one exponential a
-  // blob where pow took two logarithms' worth of a library call.
+  // decides which blobs the budget keeps. scale^e = (level scale)^e factor^(dlevel e): each
+  // level's power once and one exponential a blob, where pow on every blob was a measurable share
+  // of the detection.
   if (const double e = options_.hessianScaleExponent; e != 0.0) {
     std::vector<double> levelWeight(grids.size());
     for (size_t k = 0; k < grids.size(); ++k) levelWeight[k] = std::pow(grids[k].scale, e);

@@ -224,8 +224,8 @@ void resizeLinear(const uint8_t* src, size_t srcStride, int srcCols, int srcRows
   };
   const double scale = scaleOf(srcRows, dstRows);
   for (int y = 0; y < dstRows; ++y) {
-    // The row below the last is the last, its weight kept (OpenCV's clamping of rows, unlike
-    // its columns'); a reduction's first row is in the image.
+    // A row above the first or below the last is that row, its weight kept (OpenCV's clamping
+    // of rows, unlike its columns').
     const Tap t = tap(y, scale);
     const int r0 = std::clamp(t.first, 0, srcRows - 1), r1 = std::clamp(t.first + 1, 0, srcRows - 1);
     const int16_t* upper = horizontal(r0, r1);
