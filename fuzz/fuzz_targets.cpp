@@ -1,9 +1,11 @@
 #include "fuzz_targets.hpp"
 
+#include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string_view>
 
@@ -30,12 +32,38 @@ namespace {
 namespace fs = std::filesystem;
 
 // The parsers read files: the input goes to a per-process file with the extension the parser
-// keys on.
+// keys on. The files are removed when the process exits, so fuzzing leaves nothing in the
+// temporary directory.
+class ScratchFiles {
+ public:
+  ~ScratchFiles() {
+    for (const fs::path& p : paths_) {
+      std::error_code ignored;
+      fs::remove(p, ignored);
+    }
+  }
+  std::string write(const uint8_t* data, size_t size, const std::string& extension) {
+    const fs::path p =
+        fs::temp_directory_path() / ("mdbrief_fuzz_" + std::to_string(::getpid()) + extension);
+    paths_.insert(p);
+    std::ofstream out(p, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+    out.close();
+    // A lost write would fuzz a stale file; stop rather than report coverage that is not there.
+    if (!out) {
+      std::fprintf(stderr, "fuzz: cannot write %s\n", p.c_str());
+      std::abort();
+    }
+    return p.string();
+  }
+
+ private:
+  std::set<fs::path> paths_;
+};
+
 std::string asFile(const uint8_t* data, size_t size, const std::string& extension) {
-  const fs::path p = fs::temp_directory_path() / ("mdbrief_fuzz_" + std::to_string(::getpid()) + extension);
-  std::ofstream(p, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data),
-                                                             static_cast<std::streamsize>(size));
-  return p.string();
+  static ScratchFiles files;
+  return files.write(data, size, extension);
 }
 
 template <class Parse>

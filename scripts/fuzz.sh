@@ -38,6 +38,10 @@ cmake --build "$BUILD_DIR" -j"$(nproc)" --target "${targets[@]/#/fuzz_}"
 DATA=${MDBRIEF_DATA:-../shared/data}
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
+# The targets' scratch files (fuzz/fuzz_targets.cpp) go under $WORK, so even a run that crashes
+# leaves nothing in the machine's temporary directory.
+mkdir "$WORK/tmp"
+export TMPDIR="$WORK/tmp"
 # allocator_may_return_null: a request no machine can serve (libhdf5 asks for 2^54 bytes on a
 # damaged file, fuzz/regressions/patch_set/crash-a71af91d...) fails as glibc's malloc fails it,
 # with NULL, which the caller checks; ASan's default is to abort instead.
