@@ -169,7 +169,8 @@ void BM_RefineMatches(benchmark::State& state) {
   const std::vector<cv::DMatch> matches = mdbrief::matchBruteForceMasked(da, ma, db, mb, match);
   mdbrief::MatchRefinementOptions refinement;
   refinement.finerLevels = static_cast<int>(state.range(0));
-  for (int level = 0; level < pa.levels(); ++level) pa.smoothedFloat(level), pb.smoothedFloat(level);
+  for (int level = 0; level < pa.levels(); ++level)
+    pa.smoothedFloat(level, refinement.smoothingSigma), pb.smoothedFloat(level, refinement.smoothingSigma);
   double refineSeconds = 0, matchSeconds = 0;
   size_t refined = 0;
   for (auto _ : state) {

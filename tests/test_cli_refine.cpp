@@ -155,6 +155,7 @@ TEST_F(CliRefine, MissingOrMismatchedImagesAreRefusedBeforeAnyWork) {
                            path("m.yml")}),
                       "used only with --refine");
   expectOneLineNaming(refine({"--refine-patch-radius", "1"}), "--refine-patch-radius must be in [2, 15], got 1");
+  expectOneLineNaming(refine({"--refine-smoothing-sigma", "0"}), "--refine-smoothing-sigma must be in (0, 8], got 0");
   // The files were described with the pinhole: refining without it, or with another lens, would
   // compare other patches.
   expectOneLineNaming(run({"match", path("features/a.yml"), path("features/b.yml"), "--refine", "--image-a",

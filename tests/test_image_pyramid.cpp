@@ -133,7 +133,7 @@ TEST(ImagePyramid, ColourInputIsConvertedToGrey) {
 
 TEST(ImagePyramid, SmoothedLevelIsTheGaussianOfTheLevelAndIsCached) {
   PyramidOptions options;
-  options.smoothingKernel = 5;
+  options.smoothingKernel = 11;  // 3 sigma wide, as the float levels are
   options.smoothingSigma = 1.5;
   const ImagePyramid pyramid(noiseImage({90, 70}), options);
   for (int level = 0; level < pyramid.levels(); ++level) {
@@ -141,8 +141,8 @@ TEST(ImagePyramid, SmoothedLevelIsTheGaussianOfTheLevelAndIsCached) {
     // both within the fixed-point weights' grey level (on noise, the harshest input).
     cv::Mat intensities, expected;
     pyramid.image(level).convertTo(intensities, CV_32F, 1.0 / 255.0);
-    cv::GaussianBlur(intensities, expected, cv::Size(5, 5), 1.5, 1.5, cv::BORDER_REFLECT_101);
-    const cv::Mat& smoothedFloat = pyramid.smoothedFloat(level);
+    cv::GaussianBlur(intensities, expected, cv::Size(11, 11), 1.5, 1.5, cv::BORDER_REFLECT_101);
+    const cv::Mat& smoothedFloat = pyramid.smoothedFloat(level, 1.5);
     ASSERT_EQ(smoothedFloat.type(), CV_32F);
     ASSERT_EQ(smoothedFloat.size(), expected.size());
     EXPECT_LT(cv::norm(smoothedFloat, expected, cv::NORM_INF), 1.0 / 255.0) << "level " << level;
@@ -150,12 +150,19 @@ TEST(ImagePyramid, SmoothedLevelIsTheGaussianOfTheLevelAndIsCached) {
     cv::Mat rounded, bytesAsFloat;
     expected.convertTo(rounded, CV_8U, 255.0);
     EXPECT_LE(cv::norm(smoothed, rounded, cv::NORM_INF), 1) << "level " << level;
-    // The two forms are one smoothing: the bytes are the floats rounded.
+    // At the options' own Gaussian the two forms are one smoothing: the bytes are the floats rounded.
     smoothed.convertTo(bytesAsFloat, CV_32F, 1.0 / 255.0);
     EXPECT_LE(cv::norm(bytesAsFloat, smoothedFloat, cv::NORM_INF), (0.5 + 1e-3) / 255.0) << "level " << level;
     EXPECT_EQ(&pyramid.smoothed(level), &smoothed);
     EXPECT_EQ(pyramid.smoothed(level).data, smoothed.data);
-    EXPECT_EQ(pyramid.smoothedFloat(level).data, smoothedFloat.data);
+    EXPECT_EQ(pyramid.smoothedFloat(level, 1.5).data, smoothedFloat.data);
+    // Another sigma is another level (7 taps for sigma 1), and the first stays where it was.
+    cv::Mat lighter;
+    cv::GaussianBlur(intensities, lighter, cv::Size(7, 7), 1.0, 1.0, cv::BORDER_REFLECT_101);
+    const cv::Mat& smoothedLighter = pyramid.smoothedFloat(level, 1.0);
+    EXPECT_NE(smoothedLighter.data, smoothedFloat.data);
+    EXPECT_LT(cv::norm(smoothedLighter, lighter, cv::NORM_INF), 1.0 / 255.0) << "level " << level;
+    EXPECT_EQ(pyramid.smoothedFloat(level, 1.5).data, smoothedFloat.data);
   }
   // Smoothing actually happened: the noise's spread drops.
   cv::Scalar mean, rawStd, smoothStd;
@@ -163,6 +170,21 @@ TEST(ImagePyramid, SmoothedLevelIsTheGaussianOfTheLevelAndIsCached) {
   cv::meanStdDev(pyramid.smoothed(0), mean, smoothStd);
   EXPECT_LT(smoothStd[0], 0.5 * rawStd[0]);
   EXPECT_THROW(pyramid.smoothed(pyramid.levels()), std::out_of_range);
+  EXPECT_THROW(pyramid.smoothedFloat(pyramid.levels(), 1.0), std::out_of_range);
+  for (const double bad : {0.0, -1.0, 8.01, std::nan("")}) EXPECT_THROW(pyramid.smoothedFloat(0, bad), std::invalid_argument) << bad;
+}
+
+// Several threads asking for the same float levels get one image each, the same for all.
+TEST(ImagePyramid, FloatLevelsAreMadeOnceUnderConcurrentCalls) {
+  const ImagePyramid pyramid(noiseImage({200, 150}), PyramidOptions{});
+  std::vector<std::vector<const uchar*>> seen(8);
+  std::vector<std::thread> threads;
+  for (size_t t = 0; t < seen.size(); ++t)
+    threads.emplace_back([&, t] {
+      for (int level = 0; level < pyramid.levels(); ++level) seen[t].push_back(pyramid.smoothedFloat(level, 1.0).data);
+    });
+  for (std::thread& t : threads) t.join();
+  for (size_t t = 1; t < seen.size(); ++t) EXPECT_EQ(seen[t], seen[0]) << "thread " << t;
 }
 
 // The fixed-point weights sum to one exactly and are symmetric: a flat image stays flat and a
@@ -177,7 +199,7 @@ TEST(ImagePyramid, SmoothingKeepsFlatImagesFlatAndRampsStraight) {
     const std::string what = std::to_string(taps) + " taps, sigma " + std::to_string(sigma);
     const ImagePyramid flat(cv::Mat(40, 50, CV_8U, cv::Scalar(137)), options);
     EXPECT_EQ(cv::countNonZero(flat.smoothed(0) != 137), 0) << what;
-    EXPECT_LT(cv::norm(flat.smoothedFloat(0), cv::Mat(40, 50, CV_32F, cv::Scalar(137.0 / 255.0)), cv::NORM_INF), 1e-6)
+    EXPECT_LT(cv::norm(flat.smoothedFloat(0, sigma), cv::Mat(40, 50, CV_32F, cv::Scalar(137.0 / 255.0)), cv::NORM_INF), 1e-6)
         << what;
 
     cv::Mat ramp(40, 100, CV_8U);
@@ -185,9 +207,10 @@ TEST(ImagePyramid, SmoothingKeepsFlatImagesFlatAndRampsStraight) {
     const ImagePyramid ramped(ramp, options);
     const cv::Rect inner(taps / 2, 0, ramp.cols - 2 * (taps / 2), ramp.rows);
     EXPECT_EQ(cv::countNonZero(ramped.smoothed(0)(inner) != ramp(inner)), 0) << what;
-    // At the borders the reflection folds the ramp: smoothing lifts the lowest column there.
-    if (taps > 1) {
-      EXPECT_GT(ramped.smoothedFloat(0).at<float>(0, 0), ramp.at<uchar>(0, 0) / 255.f + 1e-4f) << what;
+    // At the borders the reflection folds the ramp: smoothing lifts the lowest column there (sigma
+    // 0.3 weighs its neighbours at 1/256, too little to tell).
+    if (sigma >= 0.5) {
+      EXPECT_GT(ramped.smoothedFloat(0, sigma).at<float>(0, 0), ramp.at<uchar>(0, 0) / 255.f + 1e-4f) << what;
     }
   }
 }
@@ -202,7 +225,8 @@ TEST(ImagePyramid, SmoothedBordersAreTheReflectedLevelSmoothed) {
     options.levels = 1;
     options.smoothingKernel = taps;
     options.smoothingSigma = sigma;
-    const int r = taps / 2;
+    // Padded as wide as the wider of the two smoothings: the bytes' kernel and the floats' 3 sigma.
+    const int r = std::max(taps / 2, static_cast<int>(std::ceil(3.0 * sigma)));
     for (const cv::Size size : {cv::Size(1, 1), cv::Size(3, 2), cv::Size(4, 5), cv::Size(13, 7), cv::Size(30, 14),
                                 cv::Size(37, 29), cv::Size(80, 61)}) {
       const cv::Mat level = noiseImage(size);
@@ -213,7 +237,8 @@ TEST(ImagePyramid, SmoothedBordersAreTheReflectedLevelSmoothed) {
       const std::string what = std::to_string(taps) + " taps, " + std::to_string(size.width) + "x" +
                                std::to_string(size.height);
       EXPECT_EQ(cv::norm(direct.smoothed(0), reflected.smoothed(0)(middle), cv::NORM_INF), 0.0) << what;
-      EXPECT_EQ(cv::norm(direct.smoothedFloat(0), reflected.smoothedFloat(0)(middle), cv::NORM_INF), 0.0) << what;
+      EXPECT_EQ(cv::norm(direct.smoothedFloat(0, sigma), reflected.smoothedFloat(0, sigma)(middle), cv::NORM_INF), 0.0)
+          << what;
     }
   }
 }

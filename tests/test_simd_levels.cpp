@@ -115,8 +115,8 @@ TEST(SimdLevel, EnvironmentNamesTheLevel) {
   unsetenv("MDBRIEF_SIMD_LEVEL");
 }
 
-// The pyramid's smoothing (both forms) and the Hessian detector on it, for the narrowest,
-// default and widest kernels.
+// The pyramid's smoothing (the descriptors' bytes, and the floats at the same sigma 3 sigma wide)
+// and the Hessian detector on it, for the narrowest, default and widest kernels.
 TEST(SimdLevel, SmoothingAndBlobsAreIdenticalAtEveryLevel) {
   const cv::Mat image = texturedImage(403, 301);  // odd widths: every vector loop has a tail
   for (const auto& [taps, sigma] : {std::pair{1, 0.5}, {7, 2.0}, {31, 8.0}}) {
@@ -128,7 +128,7 @@ TEST(SimdLevel, SmoothingAndBlobsAreIdenticalAtEveryLevel) {
       LevelCap cap(level);
       const mdbrief::ImagePyramid pyramid(image, options);
       for (int k = 0; k < pyramid.levels(); ++k) {
-        const cv::Mat& floats = pyramid.smoothedFloat(k);
+        const cv::Mat& floats = pyramid.smoothedFloat(k, sigma);
         const cv::Mat& bytes = pyramid.smoothed(k);
         if (level == SimdLevel::Portable) {
           refFloats.push_back(floats), refBytes.push_back(bytes);

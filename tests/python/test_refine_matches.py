@@ -96,12 +96,15 @@ def test_the_structured_matches_of_match_give_the_same_result(pair):
 
 def test_options_are_keywords_of_the_option_table(pair):
     keywords = [f["keyword"] for f in mdbrief.option_fields("refine_matches")]
-    assert keywords == ["patch_radius", "finer_levels", "max_iterations", "max_shift", "min_eigenvalue", "max_sigma_px"]
+    assert keywords == ["patch_radius", "smoothing_sigma", "finer_levels", "max_iterations", "max_shift",
+                        "min_eigenvalue", "max_sigma_px"]
     for keyword in keywords:
         assert f"{keyword}=" in mdbrief.refine_matches.__doc__
     args = (pair["features"], pair["a"], pair["ka"], pair["b"], pair["kb"], pair["matches"])
     with pytest.raises(ValueError, match=r"^patch_radius must be in \[2, 15\], got 1$"):
         mdbrief.refine_matches(*args, patch_radius=1)
+    with pytest.raises(ValueError, match=r"^smoothing_sigma must be in \(0, 8\], got 9$"):
+        mdbrief.refine_matches(*args, smoothing_sigma=9)
     with pytest.raises(TypeError, match="unexpected keyword argument 'radius'"):
         mdbrief.refine_matches(*args, radius=3)
     # A shift allowance below the true shift: every right match diverges.

@@ -135,6 +135,8 @@ void GaussianRowSmoother::next(uint8_t* bytes, float* floats) {
   ++y_;
 }
 
+int threeSigmaTaps(double sigma) { return 2 * static_cast<int>(std::ceil(3.0 * sigma)) + 1; }
+
 Smoothing gaussianSmoothing(const cv::Mat& level8u, int taps, double sigma, bool withFloats) {
   GaussianRowSmoother smoother(level8u, taps, sigma);
   Smoothing out{cv::Mat(level8u.rows, level8u.cols, CV_8U),

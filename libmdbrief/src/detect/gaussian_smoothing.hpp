@@ -18,6 +18,8 @@ struct Smoothing {
 
 // Widest kernel, in taps: the Hessian detector's largest sigma (8) truncated at 3 sigma.
 constexpr int kMaxSmoothingTaps = 49;
+// The taps of a Gaussian of `sigma` truncated at 3 sigma: 2 ceil(3 sigma) + 1.
+int threeSigmaTaps(double sigma);
 
 // The level smoothed by a `taps`-wide (odd, <= kMaxSmoothingTaps) Gaussian of `sigma`,
 // separably: rows exactly with weights in 1/256, then columns with weights in 1/65536 rounded

@@ -12,7 +12,7 @@
 
 namespace mdbrief::detail {
 
-int hessianTaps(double sigma) { return 2 * static_cast<int>(std::ceil(3.0 * sigma)) + 1; }
+int hessianTaps(double sigma) { return threeSigmaTaps(sigma); }
 
 namespace {
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <list>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -18,9 +19,17 @@ namespace mdbrief {
 
 struct ImagePyramid::SmoothedLevels {
   explicit SmoothedLevels(size_t levels)
-      : bytes(levels), floats(levels), pairs(levels), byteOnce(levels), floatOnce(levels), pairOnce(levels) {}
-  std::vector<cv::Mat> bytes, floats, pairs;
-  std::vector<std::once_flag> byteOnce, floatOnce, pairOnce;
+      : bytes(levels), pairs(levels), byteOnce(levels), pairOnce(levels), floatMutex(levels), floats(levels) {}
+  std::vector<cv::Mat> bytes, pairs;
+  std::vector<std::once_flag> byteOnce, pairOnce;
+  // The float levels by sigma, a list per level so that a returned level never moves: a caller
+  // asks for one or two sigmas. A lock per level: threads wanting other levels do not wait.
+  struct FloatLevel {
+    double sigma;
+    cv::Mat image;
+  };
+  std::vector<std::mutex> floatMutex;
+  std::vector<std::list<FloatLevel>> floats;
 };
 
 cv::Mat toGrey(const cv::Mat& image) {
@@ -91,20 +100,24 @@ LevelGrid ImagePyramid::grid(int level) const {
                                       static_cast<double>(inputSize_.height) / image.rows)};
 }
 
-const cv::Mat& ImagePyramid::smoothedFloat(int level) const {
-  cv::Mat& target = smoothed_->floats.at(level);
-  std::call_once(smoothed_->floatOnce[level], [&] {
-    detail::Smoothing s = smooth(level, true);
-    target = s.floats;
-    // The same pass rounded the bytes: the descriptors need not smooth again.
-    std::call_once(smoothed_->byteOnce[level], [&] { smoothed_->bytes[level] = s.bytes; });
-  });
-  return target;
+const cv::Mat& ImagePyramid::smoothedFloat(int level, double sigma) const {
+  if (!(sigma > 0 && sigma <= kMaxFloatSigma))
+    throw std::invalid_argument("ImagePyramid::smoothedFloat: sigma must be in (0, 8] level pixels, not " +
+                                std::to_string(sigma));
+  const cv::Mat& image = images_.at(level);
+  const std::lock_guard<std::mutex> lock(smoothed_->floatMutex[level]);
+  std::list<SmoothedLevels::FloatLevel>& made = smoothed_->floats[level];
+  for (const SmoothedLevels::FloatLevel& f : made)
+    if (f.sigma == sigma) return f.image;
+  made.push_back({sigma, detail::gaussianSmoothing(image, detail::threeSigmaTaps(sigma), sigma, true).floats});
+  return made.back().image;
 }
 
 const cv::Mat& ImagePyramid::smoothed(int level) const {
   cv::Mat& target = smoothed_->bytes.at(level);
-  std::call_once(smoothed_->byteOnce[level], [&] { target = smooth(level, false).bytes; });
+  std::call_once(smoothed_->byteOnce[level], [&] {
+    target = detail::gaussianSmoothing(images_[level], options_.smoothingKernel, options_.smoothingSigma, false).bytes;
+  });
   return target;
 }
 
@@ -122,10 +135,6 @@ const cv::Mat& ImagePyramid::smoothedPairs(int level) const {
 
 void ImagePyramid::adoptSmoothed(int level, const cv::Mat& bytes) const {
   std::call_once(smoothed_->byteOnce.at(level), [&] { smoothed_->bytes[level] = bytes; });
-}
-
-detail::Smoothing ImagePyramid::smooth(int level, bool withFloats) const {
-  return detail::gaussianSmoothing(images_.at(level), options_.smoothingKernel, options_.smoothingSigma, withFloats);
 }
 
 void ImagePyramid::prepareSmoothed(int maxLevel) const {

@@ -20,6 +20,9 @@ const OptionTable<MatchRefinementOptions>& matchRefinementOptionFields() {
       integerField<O>("patchRadius", "", "patch_radius", "--refine-patch-radius",
                       "half the refinement patch's side, level pixels", R::closed(2, 15),
                       [](auto& o) -> auto& { return o.patchRadius; }),
+      realField<O>("smoothingSigma", "", "smoothing_sigma", "--refine-smoothing-sigma",
+                   "the Gaussian the levels are smoothed by before alignment, level pixels",
+                   R::openLow(0, ImagePyramid::kMaxFloatSigma), [](auto& o) -> auto& { return o.smoothingSigma; }),
       integerField<O>("finerLevels", "", "finer_levels", "--refine-finer-levels",
                       "levels finer than the keypoints' to refine on", R::closed(0, 16),
                       [](auto& o) -> auto& { return o.finerLevels; }),
@@ -147,8 +150,8 @@ LevelResult alignOnLevel(const ImagePyramid& pa, int la, const cv::Point2d& poin
                          const Alignment& start, double maxShift, const MatchRefinementOptions& o, bool estimateShape) {
   LevelResult result;
   const LevelGrid ga = pa.grid(la), gb = pb.grid(lb);
-  const cv::Mat& ia = pa.smoothedFloat(la);
-  const cv::Mat& ib = pb.smoothedFloat(lb);
+  const cv::Mat& ia = pa.smoothedFloat(la, o.smoothingSigma);
+  const cv::Mat& ib = pb.smoothedFloat(lb, o.smoothingSigma);
   const int r = o.patchRadius, side = 2 * r + 1, count = side * side;
   const cv::Point2d ca = ga.toLevel(pointA), cb = gb.toLevel(pointB);
   if (!inside(ia, ca, r + 1)) {  // the template's gradients read one pixel beyond the patch

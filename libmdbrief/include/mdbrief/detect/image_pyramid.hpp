@@ -12,9 +12,6 @@
 
 namespace mdbrief {
 class Detector;
-namespace detail {
-struct Smoothing;
-}  // namespace detail
 
 struct PyramidOptions {
   int levels = 8;               // number of levels (cv::ORB default)
@@ -64,15 +61,20 @@ class ImagePyramid {
   LevelGrid grid(int level) const;
   const PyramidOptions& options() const { return options_; }
   const cv::Mat& image(int level) const { return images_.at(level); }
-  // The level smoothed by the options' Gaussian, as CV_32F intensities in [0, 1], and the same
-  // rounded to 8 bits (what the descriptors sample); both from one smoothing in integer
-  // arithmetic, identical on every CPU. Each is computed once, on first use: safe
-  // to call from several threads; a detector that needs neither never pays for them, and the
-  // Hessian detector's response and the descriptors share one blur. prepareSmoothed() makes the
-  // 8-bit levels 0..maxLevel (all if negative) in parallel ahead of parallel sampling.
-  const cv::Mat& smoothedFloat(int level) const;
+  // The level smoothed by the options' Gaussian, rounded to 8 bits: what the descriptors sample,
+  // and the Hessian detector's response smooths alike (the two share one blur). Made once, on
+  // first use: safe to call from several threads, and a detector that does not need it never pays
+  // for it. prepareSmoothed() makes the levels 0..maxLevel (all if negative) in parallel ahead of
+  // parallel sampling.
   const cv::Mat& smoothed(int level) const;
   void prepareSmoothed(int maxLevel) const;
+  // The level smoothed by a Gaussian of `sigma` level pixels, 3 sigma wide, as CV_32F intensities
+  // in [0, 1]: the integer smoothing of smoothed(), so identical on every CPU. What sub-pixel
+  // alignment reads (match_refinement.hpp), which wants less smoothing than the descriptors.
+  // Made once per level and sigma, on first use; safe to call from several threads. Throws
+  // std::invalid_argument unless sigma is in (0, kMaxFloatSigma].
+  static constexpr double kMaxFloatSigma = 8.0;
+  const cv::Mat& smoothedFloat(int level, double sigma) const;
   // The 8-bit smoothed level as the descriptors' bilinear sampling reads it (CV_8UC2, the level's
   // size): pixel (x, y) holds smoothed (x, y) and (x, y + 1), the last row itself twice, so that
   // a sample's four pixels are four consecutive bytes. Made once, on first use, as smoothed().
@@ -82,8 +84,6 @@ class ImagePyramid {
   // The smoothed forms of every level, made on first use (image_pyramid.cpp); shared by copies
   // of the pyramid, whose levels are the same images.
   struct SmoothedLevels;
-  // One pass of the smoothing over a level: the bytes, and the floats if asked for.
-  detail::Smoothing smooth(int level, bool withFloats) const;
   // The Hessian detector smooths each level by the options' Gaussian on its way to the response:
   // it hands the bytes over instead of the level being smoothed twice.
   friend class Detector;

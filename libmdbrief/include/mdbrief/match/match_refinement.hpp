@@ -1,6 +1,6 @@
 #pragma once
 // Sub-pixel refinement of matches: for a matched pair of keypoints, the position in image b that
-// best aligns b's patch with a's, by Lucas-Kanade on the pyramid's smoothed levels. A keypoint
+// best aligns b's patch with a's, by Lucas-Kanade on the pyramid's levels lightly smoothed. A keypoint
 // sits where its detector's response peaks, a level pixel's fraction away from where the same
 // surface point lies in the other image; on coarse levels that is pixels of the input. Aligning
 // the patches moves b's point onto a's, to a tenth of a level pixel and less.
@@ -49,6 +49,16 @@ struct MatchRefinementOptions {
   // Half the patch side in level pixels: (2 r + 1)^2 samples, one per level pixel. In [2, 15].
   // Default 5: an 11 x 11 patch, the size Lucas-Kanade trackers use at one level.
   int patchRadius = 5;
+  // The Gaussian the levels are smoothed by before the patches are aligned, level pixels (3 sigma
+  // wide; ImagePyramid::smoothedFloat). In (0, 8]. Default 1.0: the descriptors' smoothing
+  // (sigma 2) takes the fine texture that fixes a point. Against 2, on the stereo benchmark
+  // (docs/RESULTS.md "Real stereo: poses against the known pose"): EuRoC's residual 0.101 / 0.373
+  // -> 0.086 / 0.302 px (median / p90) with as many right matches (473 -> 474 per pair), pose
+  // AUC@5 0.84 -> 0.89; the rendered rig's localisation RMS 0.231 -> 0.163 px; MYNT 0.192 / 0.337
+  // -> 0.191 / 0.328 px, its one pair's AUC@5 0.971 -> 0.957. Sigma 0.5 / 0.7 are more precise
+  // again (rig 0.142 / 0.148 px), but fewer alignments are certain enough (EuRoC 416 / 446 right
+  // matches per pair); 1.4 keeps 479 at 0.091 / 0.328 px.
+  double smoothingSigma = 1.0;
   // Finer levels than the keypoints' own to refine on, each from the last one's result (fewer
   // where the pyramid ends, or where a patch stops fixing both directions). In [0, 16]. Default
   // 10: down to the finest level from every level of the default pyramid. Two levels left the
@@ -70,11 +80,11 @@ struct MatchRefinementOptions {
   double minEigenvalue = 0.0002;
   // A match whose refined point is less certain than this fails (Uncertain): its standard
   // deviation (RefinedMatch::sigmaPx), input pixels. In (0, 100]; 100 keeps every alignment.
-  // Default 0.08: on EuRoC's stereo pairs (ratio 0.7), 0.07 / 0.08 / 0.09 / 0.1 keep 456 / 473 /
-  // 486 / 498 right matches per pair, 0.099 / 0.101 / 0.102 / 0.104 px from their epipolar planes
-  // at the median, and the relative pose's AUC@5 is 0.85 / 0.84 / 0.83 / 0.81; on the MYNT pair
-  // 0.970 / 0.971 / 0.968 / 0.966 (SIFT: 0.967; docs/RESULTS.md "Real stereo: poses against the
-  // known pose").
+  // Default 0.08: on EuRoC's stereo pairs (each at its best ratio), 0.07 / 0.08 / 0.09 / 0.1 keep
+  // 444 / 474 / 495 / 494 right matches per pair, 0.084 / 0.086 / 0.086 / 0.087 px from their
+  // epipolar planes at the median (ratio 0.8), and the relative pose's AUC@5 is 0.89 / 0.89 /
+  // 0.86 / 0.87; on the MYNT pair 529 / 535 / 538 / 539 right matches (SIFT: 530)
+  // (docs/RESULTS.md "Real stereo: poses against the known pose").
   double maxSigmaPx = 0.08;
 };
 
