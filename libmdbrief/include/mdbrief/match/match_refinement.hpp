@@ -14,19 +14,20 @@
 // still fixes both directions.
 //
 // It estimates b's shift, and the turn and scale of b's patch against a's on the plane, about the
-// patch centre. Views rolled about the viewing direction turn the patches, and a shift alone
-// aligns turned patches off the point (the guide's scene rolled 2 / 5 / 12 degrees: a shift alone
-// took the median error from 0.08 / 0.09 / 0.09 px to 0.14 / 0.28 / 0.56 px, with the turn to
-// 0.06 px at every roll). The scale starts at the keypoints' size ratio, which is noisy: on a
-// rendered pair whose b sizes were made 15 % wrong, holding it left 0.10 px where estimating it
-// gives 0.063 px, as with the true sizes; on EuRoC's stereo pairs it kept 17 more right matches
-// per pair. The turn starts at zero, or at the keypoints' orientation difference where that
-// exceeds the orientations' own noise (10 degrees): the orientations alone are too noisy to turn
-// the patch by. Turn and scale cost the shift precision where there is none to find, so they are
-// kept only where they stand out of their noise (8 standard deviations), and on a patch that
-// fixes them (not a disc, not stripes); elsewhere the shift is fitted alone. They are estimated
-// on the keypoints' own level, whose patch spans the most of the image, and held on the finer
-// ones (the same figures on the stereo benchmark, 13 % less time).
+// patch centre. Views rolled about the viewing direction turn the patches, and a shift alone aligns
+// turned patches off the point (the guide's scene rolled 2 / 5 / 12 degrees, at sigma 2: a shift
+// alone took the median error from 0.08 / 0.09 / 0.09 px to 0.14 / 0.28 / 0.56 px, with the turn to
+// 0.05 px at every roll; 0.06-0.07 px at the default sigma 1, smoothingSigma). The scale starts at
+// the keypoints' size ratio, which is noisy: on a rendered pair whose b sizes were made 15 % wrong,
+// holding it left 0.10 px where estimating it gave 0.063 px (sigma 2), as with the true sizes; on
+// EuRoC's stereo pairs it kept 17 more right matches per pair. The turn starts at zero, or at the
+// keypoints' orientation difference where that exceeds the orientations' own noise (10 degrees):
+// the orientations alone are too noisy to turn the patch by. Turn and scale cost the shift
+// precision where there is none to find, so they are kept only where they stand out of their noise
+// (8 standard deviations), and on a patch that fixes them (not a disc, not stripes); elsewhere the
+// shift is fitted alone. They are estimated on the keypoints' own level, whose patch spans the most
+// of the image, and held on the finer ones (the same figures on the stereo benchmark, 13 % less
+// time).
 //
 // A tracker that estimates a pose keeps the matches refinement accepts and drops the rest: the
 // failures (edges, patches that do not align, points less certain than maxSigmaPx) are where the
