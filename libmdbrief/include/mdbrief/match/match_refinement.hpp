@@ -51,12 +51,13 @@ struct MatchRefinementOptions {
   // Default 5: an 11 x 11 patch, the size Lucas-Kanade trackers use at one level.
   int patchRadius = 5;
   // The Gaussian the levels are smoothed by before the patches are aligned, level pixels (3 sigma
-  // wide; ImagePyramid::smoothedFloat). In (0, 8]. Default 1.0: the descriptors' smoothing
-  // (sigma 2) takes the fine texture that fixes a point. Against 2, on the stereo benchmark
+  // wide; ImagePyramid::smoothedFloat). In (0, 8]. Default 1.0: the descriptors' smoothing (sigma
+  // 2) takes the fine texture that fixes a point. Against 2, on the stereo benchmark
   // (docs/RESULTS.md "Real stereo: poses against the known pose"): EuRoC's residual 0.101 / 0.373
-  // -> 0.086 / 0.302 px (median / p90) with as many right matches (473 -> 474 per pair), pose
-  // AUC@5 0.84 -> 0.89; the rendered rig's localisation RMS 0.231 -> 0.163 px; MYNT 0.192 / 0.337
-  // -> 0.191 / 0.328 px, its one pair's AUC@5 0.971 -> 0.957. Sigma 0.5 / 0.7 are more precise
+  // -> 0.086 / 0.302 px (median / p90) with as many right matches (473 -> 474 per pair), pose AUC@5
+  // 0.84 -> 0.89; the rendered rig's localisation RMS 0.231 -> 0.163 px; MYNT 0.192 / 0.337 ->
+  // 0.191 / 0.328 px, its one pair's AUC@5 0.971 -> 0.957; poster-dev against its ground truth (45
+  // pairs, the same matches) 0.257 / 0.571 -> 0.191 / 0.429 px. Sigma 0.5 / 0.7 are more precise
   // again (rig 0.142 / 0.148 px), but fewer alignments are certain enough (EuRoC 416 / 446 right
   // matches per pair); 1.4 keeps 479 at 0.091 / 0.328 px.
   double smoothingSigma = 1.0;
