@@ -29,7 +29,7 @@ def main():
     parser.add_argument("--sigmas", type=float, nargs="+", default=[1.0, 2.0],
                         help="MatchRefinementOptions::smoothingSigma values to compare")
     args = parser.parse_args()
-    root = pathlib.Path(os.environ.get("MDBRIEF_DATA", pathlib.Path(__file__).resolve().parents[2] / "shared/data"))
+    root = pathlib.Path(os.environ.get("MDBRIEF_DATA") or pathlib.Path(__file__).resolve().parents[2] / "shared/data")
     folder = root / "fisheye/poster-dev"
     if not (folder / "ground_truth.json").is_file():
         print(f"refinement_poster_dev.py: skipped, no {folder}/ground_truth.json")

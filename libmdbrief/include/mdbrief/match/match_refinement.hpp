@@ -15,19 +15,18 @@
 //
 // It estimates b's shift, and the turn and scale of b's patch against a's on the plane, about the
 // patch centre. Views rolled about the viewing direction turn the patches, and a shift alone aligns
-// turned patches off the point (the guide's scene rolled 2 / 5 / 12 degrees, at sigma 2: a shift
-// alone took the median error from 0.08 / 0.09 / 0.09 px to 0.14 / 0.28 / 0.56 px, with the turn to
-// 0.05 px at every roll; 0.06-0.07 px at the default sigma 1, smoothingSigma). The scale starts at
-// the keypoints' size ratio, which is noisy: on a rendered pair whose b sizes were made 15 % wrong,
-// holding it left 0.10 px where estimating it gave 0.063 px (sigma 2), as with the true sizes; on
-// EuRoC's stereo pairs it kept 17 more right matches per pair. The turn starts at zero, or at the
-// keypoints' orientation difference where that exceeds the orientations' own noise (10 degrees):
-// the orientations alone are too noisy to turn the patch by. Turn and scale cost the shift
-// precision where there is none to find, so they are kept only where they stand out of their noise
-// (8 standard deviations), and on a patch that fixes them (not a disc, not stripes); elsewhere the
-// shift is fitted alone. They are estimated on the keypoints' own level, whose patch spans the most
-// of the image, and held on the finer ones (the same figures on the stereo benchmark, 13 % less
-// time).
+// turned patches off the point (the guide's scene rolled 2 / 5 / 12 degrees: a shift alone took the
+// median error from 0.08 / 0.09 / 0.09 px to 0.14 / 0.28 / 0.56 px, with the turn to 0.05-0.06 px
+// at every roll). The scale starts at the keypoints' size ratio, which is noisy: on a rendered pair
+// whose b sizes were made 15 % wrong, holding it left 0.10 px where estimating it gave 0.063 px
+// (sigma 2), as with the true sizes; on EuRoC's stereo pairs it kept 17 more right matches per
+// pair. The turn starts at zero, or at the keypoints' orientation difference where that exceeds the
+// orientations' own noise (10 degrees): the orientations alone are too noisy to turn the patch by.
+// Turn and scale cost the shift precision where there is none to find, so they are kept only where
+// they stand out of their noise (8 standard deviations), and on a patch that fixes them (not a
+// disc, not stripes); elsewhere the shift is fitted alone. They are estimated on the keypoints' own
+// level, whose patch spans the most of the image, and held on the finer ones (the same figures on
+// the stereo benchmark, 13 % less time).
 //
 // A tracker that estimates a pose keeps the matches refinement accepts and drops the rest: the
 // failures (edges, patches that do not align, points less certain than maxSigmaPx) are where the
@@ -48,11 +47,15 @@ namespace mdbrief {
 
 struct MatchRefinementOptions {
   // Half the patch side in level pixels: (2 r + 1)^2 samples, one per level pixel. In [2, 15].
-  // Default 5: an 11 x 11 patch, the size Lucas-Kanade trackers use at one level.
-  int patchRadius = 5;
+  // Default 6, a 13 x 13 patch. Against 5 (at smoothingSigma 1): EuRoC 474 -> 504 right matches
+  // per pair, residual 0.086 / 0.302 -> 0.084 / 0.287 px, AUC@5 0.885 -> 0.892; MYNT 0.191 /
+  // 0.328 -> 0.191 / 0.318 px; poster-dev against its truth 0.190 / 0.423 -> 0.173 / 0.403 px;
+  // the rendered rig's RMS 0.163 -> 0.168 px; 14.0 -> 17.5-18.7 us per match (bench
+  // BM_RefineMatches). 7: poster-dev 0.163 px, rig 0.175 px, 22 us.
+  int patchRadius = 6;
   // The Gaussian the levels are smoothed by before the patches are aligned, level pixels (3 sigma
   // wide; ImagePyramid::smoothedFloat). In (0, 8]. Default 1.0: the descriptors' smoothing (sigma
-  // 2) takes the fine texture that fixes a point. Against 2, on the stereo benchmark
+  // 2) takes the fine texture that fixes a point. Against 2 (11 x 11 patches), stereo benchmark
   // (docs/RESULTS.md "Real stereo: poses against the known pose"): EuRoC's residual 0.101 / 0.373
   // -> 0.086 / 0.302 px (median / p90) with as many right matches (473 -> 474 per pair), pose AUC@5
   // 0.84 -> 0.89; the rendered rig's localisation RMS 0.231 -> 0.163 px; MYNT 0.192 / 0.337 ->
@@ -80,13 +83,13 @@ struct MatchRefinementOptions {
   // ratio 0.7, maxSigmaPx 0.1, before the scale was estimated: 416 right matches per pair at
   // 0.002, 489 at 0.0002, the residual's median 0.105 / 0.107 px).
   double minEigenvalue = 0.0002;
-  // A match whose refined point is less certain than this fails (Uncertain): its standard
-  // deviation (RefinedMatch::sigmaPx), input pixels. In (0, 100]; 100 keeps every alignment.
-  // Default 0.08: on EuRoC's stereo pairs (each at its best ratio), 0.07 / 0.08 / 0.09 / 0.1 keep
+  // A match whose refined point is less certain than this fails (Uncertain): its standard deviation
+  // (RefinedMatch::sigmaPx), input pixels. In (0, 100]; 100 keeps every alignment. Default 0.08: on
+  // EuRoC's stereo pairs (11 x 11 patches, each at its best ratio), 0.07 / 0.08 / 0.09 / 0.1 keep
   // 444 / 474 / 495 / 494 right matches per pair, 0.084 / 0.086 / 0.086 / 0.087 px from their
-  // epipolar planes at the median (ratio 0.8), and the relative pose's AUC@5 is 0.89 / 0.89 /
-  // 0.86 / 0.87; on the MYNT pair 529 / 535 / 538 / 539 right matches (SIFT: 530)
-  // (docs/RESULTS.md "Real stereo: poses against the known pose").
+  // epipolar planes at the median (ratio 0.8), and the relative pose's AUC@5 is 0.89 / 0.89 / 0.86
+  // / 0.87; on the MYNT pair 529 / 535 / 538 / 539 right matches (SIFT: 530) (docs/RESULTS.md "Real
+  // stereo: poses against the known pose").
   double maxSigmaPx = 0.08;
 };
 
