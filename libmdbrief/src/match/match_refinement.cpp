@@ -65,8 +65,9 @@ const char* toString(RefinementFailure failure) {
 namespace {
 
 // Bilinear sample of a CV_32F level at (x, y), which the caller keeps inside [0, cols - 1] x
-// [0, rows - 1].
-float bilinear(const cv::Mat& image, double x, double y) {
+// [0, rows - 1]. Inlined on purpose: GCC kept it a call per sample, a third of the refinement's
+// time (perf), and inlined the refinement is 5 % faster with the same bits.
+inline __attribute__((always_inline)) float bilinear(const cv::Mat& image, double x, double y) {
   const int x0 = std::min(static_cast<int>(x), image.cols - 2), y0 = std::min(static_cast<int>(y), image.rows - 2);
   const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
   const float* r0 = image.ptr<float>(y0);

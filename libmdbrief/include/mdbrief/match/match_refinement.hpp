@@ -50,8 +50,8 @@ struct MatchRefinementOptions {
   // Default 6, a 13 x 13 patch. Against 5 (at smoothingSigma 1): EuRoC 474 -> 504 right matches
   // per pair, residual 0.086 / 0.302 -> 0.084 / 0.287 px, AUC@5 0.885 -> 0.892; MYNT 0.191 /
   // 0.328 -> 0.191 / 0.318 px; poster-dev against its truth 0.190 / 0.423 -> 0.173 / 0.403 px;
-  // the rendered rig's RMS 0.163 -> 0.168 px; 14.0 -> 17.5-18.7 us per match (bench
-  // BM_RefineMatches). 7: poster-dev 0.163 px, rig 0.175 px, 22 us.
+  // the rendered rig's RMS 0.163 -> 0.168 px; 14.3-15.0 -> 18.1-19.1 us per match (bench
+  // BM_RefineMatches, Zen 5). 7: poster-dev 0.163 px, rig 0.175 px, 22 us.
   int patchRadius = 6;
   // The Gaussian the levels are smoothed by before the patches are aligned, level pixels (3 sigma
   // wide; ImagePyramid::smoothedFloat). In (0, 8]. Default 1.0: the descriptors' smoothing (sigma
