@@ -75,6 +75,7 @@ double quantile(std::vector<double> v, double q) {
 struct StereoPairResult {
   int keypointsA = 0, keypointsB = 0, matches = 0, right = 0, refined = 0;
   std::vector<double> rightResidualsPx;
+  double rightSignedResidualSumPx = 0;
   std::vector<float> rightSizes;  // b's keypoint size, per right match
   std::vector<int> rightLevels;   // b's keypoint octave, per right match
   bool fitOk = false;
@@ -154,10 +155,13 @@ std::vector<StereoPairResult> scorePair(const Features& fa, const Features& fb, 
       }
     r.matches = static_cast<int>(a.size());
     const TwoViewResult known = checkKnownPose(a, b, truth, label, scale);
+    const cv::Matx33d essential = essentialMatrix(RelativePose{truth.rotation, truth.translation / cv::norm(truth.translation)});
     for (size_t k = 0; k < a.size(); ++k)
       if (known.inliers[k]) {
         ++r.right;
         r.rightResidualsPx.push_back(known.residuals[k] * scale[k]);
+        const double side = (essential.t() * a[k]).dot(b[k]);
+        r.rightSignedResidualSumPx += side < 0 ? -r.rightResidualsPx.back() : r.rightResidualsPx.back();
         r.rightSizes.push_back(fb.keypoints[kept[k].trainIdx].size);
         r.rightLevels.push_back(fb.keypoints[kept[k].trainIdx].octave);
       }
@@ -267,7 +271,8 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
   CsvTable pairsCsv({"set", "image_a", "image_b", "pipeline", "ratio", "keypoints_a", "keypoints_b", "matches",
                      "refined", "right", "residual_median_px", "fit_ok", "fit_inliers", "pose_error_deg"});
   CsvTable summaryCsv({"set", "pipeline", "ratio", "shown", "pairs", "keypoints", "matches_per_pair",
-                       "right_per_pair", "precision", "residual_median_px", "residual_p90_px", "fits_ok", "auc5",
+                       "right_per_pair", "precision", "residual_median_px", "residual_p90_px",
+                       "residual_signed_mean_px", "fits_ok", "auc5",
                        "auc10", "auc20", "median_pose_error_deg", "median_rotation_error_deg",
                        "localisation_rms_px"});
   std::vector<StereoSummary> rows;
@@ -292,8 +297,9 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
     std::printf("\nstereo %s (%zu pairs, %d keypoints per image; counts and pose at each pipeline's best ratio, the "
                 "residual of right matches at ratio %.2f)\n",
                 set.name.c_str(), set.pairs.size(), o.budget, o.residualRatio);
-    std::printf("  %-36s %5s %8s %7s %7s %7s %7s %7s %6s %9s %9s%s\n", "pipeline", "ratio", "right", "precis", "AUC@5",
-                "AUC@10", "AUC@20", "fits", "R-med", "res-med", "res-p90", rendered ? "  loc-RMS   per level of b (right matches)" : "");
+    std::printf("  %-36s %5s %8s %7s %7s %7s %7s %7s %6s %9s %9s %9s%s\n", "pipeline", "ratio", "right", "precis", "AUC@5",
+                "AUC@10", "AUC@20", "fits", "R-med", "res-med", "res-p90", "res-side",
+                rendered ? "  loc-RMS   per level of b (right matches)" : "");
     for (const auto& row : scored) {
       const TrackerPipeline& p = row.first;
       const bool refine = row.second;
@@ -322,7 +328,7 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
         std::vector<double> residuals, errors, rotationErrors;
         std::vector<std::pair<float, double>> bySize;
         std::vector<std::vector<double>> byLevel;
-        double squares = 0;
+        double squares = 0, signedSum = 0;
         int located = 0;
         std::vector<double> levelSquares;
         for (size_t i = 0; i < set.pairs.size(); ++i) {
@@ -332,6 +338,7 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
           right += t.right;
           ok += t.fitOk;
           residuals.insert(residuals.end(), t.rightResidualsPx.begin(), t.rightResidualsPx.end());
+          signedSum += t.rightSignedResidualSumPx;
           for (size_t k = 0; k < t.rightResidualsPx.size(); ++k) {
             bySize.emplace_back(t.rightSizes[k], t.rightResidualsPx[k]);
             const int level = t.rightLevels[k];
@@ -372,6 +379,7 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
         s.precision = matches ? static_cast<double>(right) / static_cast<double>(matches) : 0;
         s.residualMedianPx = quantile(residuals, 0.5);
         s.residualP90Px = quantile(residuals, 0.9);
+        s.residualSignedMeanPx = residuals.empty() ? 0.0 : signedSum / static_cast<double>(residuals.size());
         std::sort(bySize.begin(), bySize.end());
         for (int q = 0; q < 4; ++q) {
           std::vector<double> band;
@@ -397,9 +405,10 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
       const auto atResidualRatio = std::find_if(perRatio.begin(), perRatio.end(),
                                                 [&](const auto& x) { return std::abs(x.ratio - o.residualRatio) < 1e-9; });
       const StereoSummary& residual = atResidualRatio != perRatio.end() ? *atResidualRatio : *best;
-      std::printf("  %-36s %5.2f %8.1f %7.3f %7.3f %7.3f %7.3f %6.0f%% %5.2f° %7.3fpx %7.3fpx", name.c_str(), best->ratio,
-                  best->rightPerPair, best->precision, best->auc5, best->auc10, best->auc20, 100 * best->fitsOk,
-                  best->medianRotationErrorDeg, residual.residualMedianPx, residual.residualP90Px);
+      std::printf("  %-36s %5.2f %8.1f %7.3f %7.3f %7.3f %7.3f %6.0f%% %5.2f° %7.3fpx %7.3fpx %+7.3fpx", name.c_str(),
+                  best->ratio, best->rightPerPair, best->precision, best->auc5, best->auc10, best->auc20,
+                  100 * best->fitsOk, best->medianRotationErrorDeg, residual.residualMedianPx, residual.residualP90Px,
+                  residual.residualSignedMeanPx);
       if (rendered) {
         std::printf(" %7.3fpx  ", residual.localisationRmsPx);
         for (size_t level = 0; level < residual.localisationRmsPerLevel.size(); ++level)
@@ -427,6 +436,7 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
             .add(s.precision)
             .add(s.residualMedianPx)
             .add(s.residualP90Px)
+            .add(s.residualSignedMeanPx)
             .add(s.fitsOk)
             .add(s.auc5)
             .add(s.auc10)

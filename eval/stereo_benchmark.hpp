@@ -64,6 +64,10 @@ struct StereoSummary {
   int pairs = 0;
   double keypoints = 0, matchesPerPair = 0, rightPerPair = 0, precision = 0;
   double residualMedianPx = 0, residualP90Px = 0;  // over the right matches at this ratio
+  // Their mean signed distance from the epipolar plane (the side of b's normal, E^T a): near 0
+  // when the known pose is right, whatever the matches' precision; a pose off by a small turn
+  // moves every match to one side.
+  double residualSignedMeanPx = 0;
   double fitsOk = 0;                               // share of pairs whose fit succeeded
   double auc5 = 0, auc10 = 0, auc20 = 0;           // pose error max(rotation, translation direction)
   double medianPoseErrorDeg = 0;                   // +inf when half the fits failed
