@@ -3,6 +3,7 @@
 //   752x480: the shared fisheye sample (fisheye/calib-adapter/kalibr/image.png), or else
 //            opencv-doc's graf1.png resized to 752x480;
 //   graf:    opencv-doc's graf1.png (800x640).
+// And the halving that blob localisation reads, against cv::pyrDown, whose bits it gives.
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "detect/resize_kernels.hpp"
 #include "mdbrief/detect/detector.hpp"
 #include "toolkit/data_folders.hpp"
 #include "toolkit/image_file.hpp"
@@ -81,8 +83,34 @@ void BM_CvOrbDetect(benchmark::State& state) {
   state.SetLabel(nameOf(static_cast<int>(state.range(0))));
 }
 
+void Halve(benchmark::State& state, bool opencv) {
+  const cv::Mat& image = imageFor(static_cast<int>(state.range(0)));
+  if (image.empty()) {
+    state.SkipWithError("image not found");
+    return;
+  }
+  cv::Mat half((image.rows + 1) / 2, (image.cols + 1) / 2, CV_8UC1);
+  // One thread, as the halving runs in the detector (and as `mdbrief bench` times OpenCV).
+  const int threads = cv::getNumThreads();
+  cv::setNumThreads(1);
+  for (auto _ : state) {
+    if (opencv)
+      cv::pyrDown(image, half);
+    else
+      mdbrief::resize_kernels::halveImage(image.data, image.step, image.cols, image.rows, half.data, half.step);
+    benchmark::DoNotOptimize(half.data);
+  }
+  cv::setNumThreads(threads);
+  state.SetLabel(nameOf(static_cast<int>(state.range(0))));
+}
+
+void BM_HalveImage(benchmark::State& state) { Halve(state, false); }
+void BM_CvPyrDown(benchmark::State& state) { Halve(state, true); }
+
 }  // namespace
 
+BENCHMARK(BM_HalveImage)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_CvPyrDown)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ModOrbDetectFast)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ModOrbDetectAgast)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CvOrbDetect)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);

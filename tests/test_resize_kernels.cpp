@@ -137,6 +137,40 @@ TEST(ResizeKernels, EveryLevelGivesThePortableBitsAndOpenCvs) {
   EXPECT_GT(compared, 500);
 }
 
+// The halving that blob localisation reads (cv::pyrDown's integer arithmetic, which no OpenCV
+// release has changed): every size from one pixel on, borders of both parities, a source that is
+// part of a wider image, at every level.
+TEST(ResizeKernels, HalvingIsPyrDownAtEveryLevel) {
+  std::vector<cv::Size> sizes;
+  for (int w = 1; w <= 72; ++w) sizes.push_back({w, 1 + (w * 7) % 23});
+  for (int h = 1; h <= 12; ++h) sizes.push_back({h % 2 ? 129 : 130, h});
+  for (const cv::Size s : {cv::Size(754, 480), cv::Size(752, 480), cv::Size(800, 640), cv::Size(1, 300)})
+    sizes.push_back(s);
+  std::mt19937 rng(17);
+  for (int i = 0; i < 40; ++i)
+    sizes.push_back({1 + static_cast<int>(rng() % 1300), 1 + static_cast<int>(rng() % 90)});
+  int compared = 0;
+  for (const cv::Size size : sizes) {
+    // Inside a wider image: the kernel follows the stride and reads no pixel beyond the source.
+    cv::Mat wide(size.height, size.width + 9, CV_8UC1);
+    cv::randu(wide, 0, 256);
+    cv::Mat src = wide.colRange(3, 3 + size.width);
+    content(size, compared % 3, rng).copyTo(src);
+    wide.colRange(0, 3).setTo(255), wide.colRange(3 + size.width, wide.cols).setTo(255);
+    cv::Mat expected;
+    cv::pyrDown(src, expected);
+    const std::string what = std::to_string(size.width) + "x" + std::to_string(size.height);
+    for (const SimdLevel level : mdbrief::supportedSimdLevels()) {
+      const LevelCap cap(level);
+      cv::Mat half(expected.size(), CV_8UC1, cv::Scalar(7));
+      rk::halveImage(src.data, src.step, src.cols, src.rows, half.data, half.step);
+      ASSERT_EQ(cv::norm(half, expected, cv::NORM_INF), 0) << what << " at " << mdbrief::toString(level);
+    }
+    ++compared;
+  }
+  EXPECT_GT(compared, 120);
+}
+
 // The pyramid's levels, reduced and enlarged by the kernel, are cv::resize's chain.
 TEST(ResizeKernels, PyramidLevelsAreOpenCvsChain) {
   if (!kOpenCv46) GTEST_SKIP() << "the kernel reproduces OpenCV 4.6, this is " CV_VERSION;

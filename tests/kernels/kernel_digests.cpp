@@ -373,10 +373,32 @@ uint64_t resizeDigest(const std::vector<uint8_t>& img) {
   return d.h;
 }
 
+uint64_t halveDigest(const std::vector<uint8_t>& img) {
+  Digest d;
+  // The texture whole (odd sizes: both borders reflect differently) and its even-sized part, then
+  // halved again down to one pixel; and a few pixels' strips.
+  std::vector<uint8_t> level = img;
+  int cols = kCols, rows = kRows;
+  while (cols > 1 || rows > 1) {
+    const int c = (cols + 1) / 2, r = (rows + 1) / 2;
+    std::vector<uint8_t> out(c * r);
+    resize_kernels::halveImage(level.data(), cols, cols, rows, out.data(), c);
+    d.add(out);
+    level = out, cols = c, rows = r;
+  }
+  for (const auto& [c, r] : {std::pair{kCols - 1, kRows - 1}, {2, kRows}, {kCols, 3}}) {
+    std::vector<uint8_t> out(((c + 1) / 2) * ((r + 1) / 2));
+    resize_kernels::halveImage(img.data(), kCols, c, r, out.data(), (c + 1) / 2);
+    d.add(out);
+  }
+  return d.h;
+}
+
 // Recorded on x86-64 (every level gives them).
 constexpr uint64_t kSmoothing = 0x035e1da41e92902cull, kHessian = 0x10772065b791216aull,
                    kDescriptor = 0x8ee3f96fc7f86082ull, kMatcher = 0xff9176c19ebb9f4aull,
-                   kMaskWeights = 0x4bc4bc6c1deb2075ull, kResize = 0xd1e90b4367e98a08ull;
+                   kMaskWeights = 0x4bc4bc6c1deb2075ull, kResize = 0xd1e90b4367e98a08ull,
+                   kHalve = 0x6387cd288cd79549ull;
 
 }  // namespace
 
@@ -396,7 +418,8 @@ int main(int argc, char** argv) {
         {"affine exact", {affineMismatches(), 0}},
         {"matcher", {matcherDigest(), kMatcher}},
         {"mask weights", {maskWeightDigest(), kMaskWeights}},
-        {"resize", {resizeDigest(img), kResize}}};
+        {"resize", {resizeDigest(img), kResize}},
+        {"halve", {halveDigest(img), kHalve}}};
     for (const auto& [name, digests] : checks) {
       const bool ok = digests.first == digests.second;
       ok ? ++passed : ++failed;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "detect/border_reflect.hpp"
 #include "detect/hessian_kernels.hpp"
 
 namespace mdbrief::detail {
@@ -15,12 +16,6 @@ constexpr int kMaxRadius = 24;  // ceil(3 max(kHalvedFromSigma, sqrt(kMaxSigma^2
 static_assert(2 * kMaxRadius + 1 <= hessian_kernels::kMaxBlockTaps);
 constexpr int kMaxWidth = 5 + 2 * kMaxRadius;
 constexpr int kMaxReadable = hessian_kernels::blockReadWidth(2 * kMaxRadius + 1);
-
-int reflect101(int i, int n) {
-  if (n == 1) return 0;
-  while (i < 0 || i >= n) i = i < 0 ? -i : 2 * n - 2 - i;
-  return i;
-}
 
 // A Gaussian's taps, 3 sigma on either side, summing to 1. exp(-i^2 / (2 sigma^2)) by the
 // recurrence g(i) = g(i - 1) q^(2i - 1), q = exp(-1 / (2 sigma^2)): one exponential instead of one
@@ -43,7 +38,8 @@ Taps gaussianTaps(double sigma) {
     half[i] = g;
     total += 2 * g;
   }
-  for (int i = -t.radius; i <= t.radius; ++i) t.weight[i + t.radius] = static_cast<float>(half[std::abs(i)] / total);
+  for (int i = 0; i <= t.radius; ++i)
+    t.weight[t.radius - i] = t.weight[t.radius + i] = static_cast<float>(half[i] / total);
   return t;
 }
 

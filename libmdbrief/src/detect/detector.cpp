@@ -18,6 +18,7 @@
 #include "detect/hessian.hpp"
 #include "detect/orientation.hpp"
 #include "detect/quadtree.hpp"
+#include "detect/resize_kernels.hpp"
 #include "mdbrief/internal/base/size_text.hpp"
 
 namespace mdbrief {
@@ -41,11 +42,12 @@ std::vector<cv::KeyPoint> fastOrAgastCorners(const cv::Mat& image, const cv::Rec
   return corners;
 }
 
-// The output order of detect(): response (descending), then y, x, octave.
-bool strongerKeypoint(const cv::KeyPoint& a, const cv::KeyPoint& b) {
+// The output order of detect(): response (descending), then y, x, octave. An object, which the
+// sorts inline: a function's address cost them a call per comparison.
+constexpr auto strongerKeypoint = [](const cv::KeyPoint& a, const cv::KeyPoint& b) {
   if (a.response != b.response) return a.response > b.response;
   return std::tie(a.pt.y, a.pt.x, a.octave) < std::tie(b.pt.y, b.pt.x, b.octave);
-}
+};
 
 // cv::Feature2D's mask semantics: the mask (empty = everything) allows the pixel nearest the
 // keypoint's own position (input pixels), the position detect() returns.
@@ -297,7 +299,8 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
       kept.push_back(blobs[c.id]);
     blobs = std::move(kept);
   } else if (static_cast<int>(blobs.size()) > budget) {
-    std::nth_element(blobs.begin(), blobs.begin() + budget, blobs.end(), detail::strongerBlob);
+    std::nth_element(blobs.begin(), blobs.begin() + budget, blobs.end(),
+                     [](const detail::Blob& a, const detail::Blob& b) { return detail::strongerBlob(a, b); });
     blobs.resize(budget);
   }
 
@@ -315,7 +318,10 @@ std::vector<cv::KeyPoint> Detector::detectBlobs(const ImagePyramid& pyramid, con
   cv::Mat half;
   for (const detail::Blob& b : blobs)
     if (relocalised(b) && options_.hessianSigma * refinedScale(b) > detail::kHalvedFromSigma) {
-      cv::pyrDown(pyramid.image(input), half);
+      // cv::pyrDown's bits, in a third of its time (resize_kernels.hpp).
+      const cv::Mat& image = pyramid.image(input);
+      half.create((image.rows + 1) / 2, (image.cols + 1) / 2, CV_8UC1);
+      resize_kernels::halveImage(image.data, image.step, image.cols, image.rows, half.data, half.step);
       break;
     }
   tbb::parallel_for(size_t(0), blobs.size(), [&](size_t i) {

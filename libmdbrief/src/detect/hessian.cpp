@@ -101,11 +101,6 @@ HessianLevel hessianLevel(const cv::Mat& level8u, double sigma, bool findCandida
   return out;
 }
 
-bool strongerBlob(const Blob& a, const Blob& b) {
-  if (a.response != b.response) return a.response > b.response;
-  return std::tie(a.level, a.y, a.x) < std::tie(b.level, b.y, b.x);
-}
-
 namespace {
 
 // Whether `value` exceeds every response of `r` in the 3x3 neighbourhood of pixel (cx, cy) (NaN

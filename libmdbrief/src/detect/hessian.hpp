@@ -6,6 +6,7 @@
 // sub-level scale by fitting parabolas to the response.
 #include <functional>
 #include <optional>
+#include <tuple>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -65,8 +66,12 @@ struct Blob {
   float response = 0.f;
 };
 
-// Strict order: stronger first, then level, y, x (output independent of the scan order).
-bool strongerBlob(const Blob& a, const Blob& b);
+// Strict order: stronger first, then level, y, x (output independent of the scan order). Inline:
+// the budget's selection calls it for every comparison.
+inline bool strongerBlob(const Blob& a, const Blob& b) {
+  if (a.response != b.response) return a.response > b.response;
+  return std::tie(a.level, a.y, a.x) < std::tie(b.level, b.y, b.x);
+}
 
 // Of the candidates of levels[k], 0 < k < levels - 1, those that also exceed the 3x3
 // neighbourhoods around their position on levels k - 1 and k + 1 (grids[k]: where level k's

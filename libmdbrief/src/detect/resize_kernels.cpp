@@ -19,6 +19,7 @@
 #include <cmath>
 
 #include "mdbrief/internal/base/simd_dispatch.hpp"
+#include "detect/border_reflect.hpp"
 #include "detect/resize_kernels.hpp"
 
 HWY_BEFORE_NAMESPACE();
@@ -117,7 +118,67 @@ void Rows(const int16_t* upper, const int16_t* lower, int16_t b0, int16_t b1, in
   }
 }
 
-ResizeKernels Kernels() { return {Columns, Rows, HWY_TARGET}; }
+uint16_t HalveColumn(const uint8_t* src, int i) {
+  const uint8_t* p = src + 2 * i;
+  return static_cast<uint16_t>(p[-2] + 4 * p[-1] + 6 * p[0] + 4 * p[1] + p[2]);
+}
+
+uint8_t HalveRow(const uint16_t* const* r, int x) {
+  return static_cast<uint8_t>((r[0][x] + 4 * r[1][x] + 6 * r[2][x] + 4 * r[3][x] + r[4][x] + 128) >> 8);
+}
+
+#if HWY_TARGET == HWY_SCALAR
+void HalveColumns(const uint8_t* src, int from, int to, uint16_t* HWY_RESTRICT out) {
+  for (int i = from; i < to; ++i) out[i] = HalveColumn(src, i);
+}
+#else
+// Two source pixels as one 16-bit lane (little-endian: the even pixel low): three loads give
+// the five pixels of every output lane without a shuffle.
+void HalveColumns(const uint8_t* src, int from, int to, uint16_t* HWY_RESTRICT out) {
+  const hn::ScalableTag<uint16_t> d;
+  const hn::Repartition<uint8_t, decltype(d)> d8;
+  const int n = static_cast<int>(hn::Lanes(d));
+  if (to - from < n) {
+    for (int i = from; i < to; ++i) out[i] = HalveColumn(src, i);
+    return;
+  }
+  const auto low = hn::Set(d, uint16_t{0xFF});
+  const auto four = hn::Set(d, uint16_t{4}), six = hn::Set(d, uint16_t{6});
+  for (int i = from;; i += n) {
+    i = std::min(i, to - n);  // the last vector overlaps the one before
+    const auto before = hn::BitCast(d, hn::LoadU(d8, src + 2 * i - 2));
+    const auto at = hn::BitCast(d, hn::LoadU(d8, src + 2 * i));
+    const auto after = hn::BitCast(d, hn::LoadU(d8, src + 2 * i + 2));
+    const auto outer = hn::Add(hn::And(before, low), hn::And(after, low));
+    const auto odd = hn::Add(hn::ShiftRight<8>(before), hn::ShiftRight<8>(at));
+    hn::StoreU(hn::Add(hn::Add(outer, hn::Mul(odd, four)), hn::Mul(hn::And(at, low), six)), d, out + i);
+    if (i + n >= to) break;
+  }
+}
+#endif
+
+void HalveRows(const uint16_t* const* r, int cols, uint8_t* HWY_RESTRICT out) {
+  const hn::ScalableTag<uint16_t> d;
+  const hn::RebindToSigned<decltype(d)> di;
+  const hn::Rebind<uint8_t, decltype(d)> d8;
+  const int n = static_cast<int>(hn::Lanes(d));
+  if (n == 1 || cols < n) {
+    for (int x = 0; x < cols; ++x) out[x] = HalveRow(r, x);
+    return;
+  }
+  const auto four = hn::Set(d, uint16_t{4}), six = hn::Set(d, uint16_t{6}), half = hn::Set(d, uint16_t{128});
+  for (int x = 0;; x += n) {
+    x = std::min(x, cols - n);
+    const auto outer = hn::Add(hn::LoadU(d, r[0] + x), hn::LoadU(d, r[4] + x));
+    const auto inner = hn::Add(hn::LoadU(d, r[1] + x), hn::LoadU(d, r[3] + x));
+    const auto sum = hn::Add(hn::Add(outer, half), hn::Add(hn::Mul(inner, four), hn::Mul(hn::LoadU(d, r[2] + x), six)));
+    // At most 255 after the shift: positive as a signed lane, which DemoteTo narrows.
+    hn::StoreU(hn::DemoteTo(d8, hn::BitCast(di, hn::ShiftRight<8>(sum))), d8, out + x);
+    if (x + n >= cols) break;
+  }
+}
+
+ResizeKernels Kernels() { return {Columns, Rows, HalveColumns, HalveRows, HWY_TARGET}; }
 
 }  // namespace mdbrief::resize_kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
@@ -231,6 +292,41 @@ void resizeLinear(const uint8_t* src, size_t srcStride, int srcCols, int srcRows
     const int16_t* upper = horizontal(r0, r1);
     const int16_t* lower = horizontal(r1, r0);
     k.rows(upper, lower, t.w0, t.w1, dstCols, dst + y * dstStride);
+  }
+}
+
+void halveImage(const uint8_t* src, size_t srcStride, int srcCols, int srcRows, uint8_t* dst, size_t dstStride) {
+  const ResizeKernels k = activeResizeKernels();
+  const int cols = (srcCols + 1) / 2, rows = (srcRows + 1) / 2;
+  // The columns whose five pixels, and the kernel's reads up to 2 i + 3, lie in the row; the
+  // others reflected.
+  const int inner = std::max(1, (srcCols - 2) / 2);
+  const auto horizontal = [&](const uint8_t* row, uint16_t* out) {
+    const auto pixel = [&](int c) { return row[detail::reflect101(c, srcCols)]; };
+    const auto reflected = [&](int i) {
+      out[i] = static_cast<uint16_t>(pixel(2 * i - 2) + 4 * pixel(2 * i - 1) + 6 * pixel(2 * i) +
+                                     4 * pixel(2 * i + 1) + pixel(2 * i + 2));
+    };
+    reflected(0);
+    if (inner > 1) k.halveColumns(row, 1, inner, out);
+    for (int i = std::max(inner, 1); i < cols; ++i) reflected(i);
+  };
+  // Five horizontal rows, source row s in slot s mod 5: the rows an output row reads lie within
+  // five consecutive ones, so in distinct slots, and the next output row keeps three of them.
+  std::vector<uint16_t> ring(5 * static_cast<size_t>(cols));
+  int held[5] = {-1, -1, -1, -1, -1};
+  for (int y = 0; y < rows; ++y) {
+    const uint16_t* r[5];
+    for (int j = 0; j < 5; ++j) {
+      const int s = detail::reflect101(2 * y - 2 + j, srcRows), slot = s % 5;
+      uint16_t* row = ring.data() + slot * static_cast<size_t>(cols);
+      if (held[slot] != s) {
+        horizontal(src + s * srcStride, row);
+        held[slot] = s;
+      }
+      r[j] = row;
+    }
+    k.halveRows(r, cols, dst + y * dstStride);
   }
 }
 

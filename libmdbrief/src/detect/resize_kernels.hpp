@@ -32,7 +32,14 @@ struct ResizeKernels {
   // out[x] = (src[first] a0 + src[second] a1) / 16, rounded down (at most 255 x 2049 / 16).
   void (*columns)(const uint8_t* src, const ColumnPlan& plan, int16_t* out);
   // out[x] = ((upper[x] b0) / 2^16 + (lower[x] b1) / 2^16 + 2) / 4, each division rounded down.
-  void (*rows)(const int16_t* upper, const int16_t* lower, int16_t b0, int16_t b1, int cols, uint8_t* out);  int64_t target = 0;  // the Highway target these kernels were compiled for (HWY_AVX2, ...)
+  void (*rows)(const int16_t* upper, const int16_t* lower, int16_t b0, int16_t b1, int cols, uint8_t* out);
+  // halveImage's horizontal pass, out[i] = p[2i - 2] + 4 p[2i - 1] + 6 p[2i] + 4 p[2i + 1] + p[2i + 2]
+  // for i in [from, to), p the source row, whose pixels 2 from - 2 to 2 to + 1 it reads.
+  void (*halveColumns)(const uint8_t* src, int from, int to, uint16_t* out);
+  // halveImage's vertical pass, out[x] = (r0 + 4 r1 + 6 r2 + 4 r3 + r4 + 128) / 256 (rounded down)
+  // of the horizontal rows r: at most 16 x 4080 + 128, 16 bits.
+  void (*halveRows)(const uint16_t* const* rows, int cols, uint8_t* out);
+  int64_t target = 0;  // the Highway target these kernels were compiled for (HWY_AVX2, ...)
 };
 
 // The kernels of the active SIMD level.
@@ -44,5 +51,10 @@ ResizeKernels activeResizeKernels();
 // this arithmetic's at weights of one half.)
 void resizeLinear(const uint8_t* src, size_t srcStride, int srcCols, int srcRows, uint8_t* dst, size_t dstStride,
                   int dstCols, int dstRows);
+
+// cv::pyrDown(src, dst) on 8-bit grey images, its bits: the 5 x 5 binomial kernel (1 4 6 4 1)^2 /
+// 256 rounded half up at every second pixel, borders reflected (BORDER_REFLECT_101), into
+// (srcCols + 1) / 2 x (srcRows + 1) / 2 pixels. Sizes of at least one pixel.
+void halveImage(const uint8_t* src, size_t srcStride, int srcCols, int srcRows, uint8_t* dst, size_t dstStride);
 
 }  // namespace mdbrief::resize_kernels
