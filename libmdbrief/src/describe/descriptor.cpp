@@ -77,13 +77,14 @@ void DescriptorExtractor::compute(const ImagePyramid& pyramid, std::vector<cv::K
   // Each keypoint's level and footprint from its size; octave is not read.
   std::vector<Support> supports(n);
   const std::vector<double> scales = pyramidScales(pyramid);
-  std::vector<int> usedLevels;
+  std::vector<char> used(scales.size(), 0);
   for (int i = 0; i < n; ++i) {
     supports[i] = supportOf(keypoints[i].size, options_.supportScale, scales);
-    if (supports[i].level >= 0) usedLevels.push_back(supports[i].level);
+    if (supports[i].level >= 0) used[supports[i].level] = 1;
   }
-  std::sort(usedLevels.begin(), usedLevels.end());
-  usedLevels.erase(std::unique(usedLevels.begin(), usedLevels.end()), usedLevels.end());
+  std::vector<int> usedLevels;
+  for (size_t k = 0; k < used.size(); ++k)
+    if (used[k]) usedLevels.push_back(static_cast<int>(k));
   // The levels the keypoints use, each once, in parallel ahead of parallel sampling; not the
   // others (the Hessian detector leaves its finest level unsmoothed).
   tbb::parallel_for(size_t{0}, usedLevels.size(), [&](size_t i) { pyramid.smoothedPairs(usedLevels[i]); });

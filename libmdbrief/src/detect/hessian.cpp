@@ -129,11 +129,28 @@ int roundHalfAway(double v) {
   const double fraction = v - whole;        // exact
   return whole + (fraction >= 0.5) - (fraction <= -0.5);
 }
+// The map of one axis: pixel i of a level whose pixels are fromStep input pixels to the nearest
+// of one whose pixels are toStep.
+struct AxisMap {
+  double fromStep, toStep;
+  std::vector<int> nearest;
+};
+const std::vector<int>& axisMap(double fromStep, double toStep, int n) {
+  // The last maps made on this thread: a tracker's frames share their levels' sizes, and building
+  // the maps, two divisions a pixel, cost a level's whole search a few per cent.
+  constexpr size_t kCached = 64;  // four per level of PyramidOptions' most
+  thread_local std::vector<AxisMap> maps;
+  for (const AxisMap& m : maps)
+    if (m.fromStep == fromStep && m.toStep == toStep && static_cast<int>(m.nearest.size()) == n) return m.nearest;
+  if (maps.size() == kCached) maps.erase(maps.begin());
+  const LevelGrid from{1.0, {fromStep, fromStep}}, to{1.0, {toStep, toStep}};
+  AxisMap m{fromStep, toStep, std::vector<int>(n)};
+  for (int i = 0; i < n; ++i) m.nearest[i] = roundHalfAway(to.toLevel(from.toInput(cv::Point2d(i, i))).x);
+  maps.push_back(std::move(m));
+  return maps.back().nearest;
+}
 PixelMap pixelMap(const LevelGrid& from, const LevelGrid& to, int cols, int rows) {
-  PixelMap m{std::vector<int>(cols), std::vector<int>(rows)};
-  for (int x = 0; x < cols; ++x) m.column[x] = roundHalfAway(to.toLevel(from.toInput(cv::Point2d(x, 0))).x);
-  for (int y = 0; y < rows; ++y) m.row[y] = roundHalfAway(to.toLevel(from.toInput(cv::Point2d(0, y))).y);
-  return m;
+  return {axisMap(from.step.x, to.step.x, cols), axisMap(from.step.y, to.step.y, rows)};
 }
 
 // Vertex of the parabola through (-1, a), (0, b), (1, c), clamped to [-0.5, 0.5].
