@@ -75,7 +75,7 @@ HessianLevel hessianLevel(const cv::Mat& level8u, double sigma, bool findCandida
   };
   const int edge = std::max(margin, 1);
   const bool search = findCandidates && cols > 2 * edge && rows > 2 * edge;
-  std::vector<int32_t> xs(search ? cols : 0);
+  std::vector<int32_t> xs(search ? cols + 8 : 0);  // the kernel's room (hessian_kernels.hpp)
   // The maxima of three along the response rows y - 1 .. y + 1, in a ring of three.
   std::vector<float> maxRing(search ? 3 * static_cast<size_t>(cols) : 0);
   const auto maxRow = [&](int y) { return &maxRing[static_cast<size_t>(y % 3) * cols]; };

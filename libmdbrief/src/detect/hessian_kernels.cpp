@@ -48,26 +48,46 @@ void RowMax3(const float* row, int cols, float* HWY_RESTRICT out) {
   for (; x + 1 < cols; ++x) out[x] = std::max(std::max(row[x - 1], row[x]), row[x + 1]);
 }
 
+// Row b: the lanes whose bits are set in b, in increasing order (then zeros).
+struct CompactionTable {
+  uint8_t lanes[256][8];
+};
+constexpr CompactionTable MakeCompactionTable() {
+  CompactionTable t{};
+  for (int b = 0; b < 256; ++b)
+    for (int l = 0, k = 0; l < 8; ++l)
+      if ((b >> l) & 1) t.lanes[b][k++] = static_cast<uint8_t>(l);
+  return t;
+}
+constexpr CompactionTable kCompaction = MakeCompactionTable();
+
 // Each row's maxima of three are computed once and serve three rows of candidates: a third of
 // the comparisons of the 3x3 neighbourhood read pixel by pixel.
 int Candidates(const float* row, const float* maxAbove, const float* maxRow, const float* maxBelow, int begin,
                int end, float threshold, int32_t* HWY_RESTRICT xs) {
   const hn::ScalableTag<float> d;
-  const int n = static_cast<int>(hn::Lanes(d));
+  // Eight lanes of the mask at a time (four at 128 bits), as the table's indices widened.
+  const hn::CappedTag<int32_t, 8> di;
+  const hn::Rebind<uint8_t, decltype(di)> d8;
+  const int n = static_cast<int>(hn::Lanes(d)), ni = static_cast<int>(hn::Lanes(di));
   const auto t = hn::Set(d, threshold);
   int count = 0, x = begin;
   for (; x + n <= end; x += n) {
     const auto v = hn::LoadU(d, row + x);
     const auto around = hn::Max(hn::Max(hn::LoadU(d, maxAbove + x), hn::LoadU(d, maxRow + x)), hn::LoadU(d, maxBelow + x));
     const auto keep = hn::And(hn::Gt(v, t), hn::Ge(v, around));
-    if (hn::AllFalse(d, keep)) continue;
-    // The few set lanes one by one: Highway's CompressStore copies its table to the stack on
-    // every call (GCC 12), which took most of this loop's time.
+    // The set lanes' columns stored whole from a table and the count advanced by how many, for
+    // every vector: no branch, where one vector in eight or so holds a candidate and no
+    // predictor knows which (Highway's CompressStore copies its own table to the stack on every
+    // call with GCC 12).
     uint8_t bytes[8] = {};
     hn::StoreMaskBits(d, keep, bytes);
-    uint64_t bits = 0;
-    for (int b = 0; 8 * b < n; ++b) bits |= uint64_t{bytes[b]} << (8 * b);
-    for (; bits; bits &= bits - 1) xs[count++] = x + __builtin_ctzll(bits);
+    for (int b = 0; b * ni < n; ++b) {
+      const unsigned bits = ni == 8 ? bytes[b] : (bytes[b * ni / 8] >> (b * ni % 8)) & ((1u << ni) - 1);
+      hn::StoreU(hn::Add(hn::PromoteTo(di, hn::LoadU(d8, kCompaction.lanes[bits])), hn::Set(di, x + b * ni)), di,
+                 xs + count);
+      count += __builtin_popcount(bits);
+    }
   }
   for (; x < end; ++x) {
     const float v = row[x];

@@ -21,7 +21,8 @@ struct HessianKernels {
   // out[x] = max(row[x - 1], row[x], row[x + 1]) for the columns 1 .. cols - 2.
   void (*rowMax3)(const float* row, int cols, float* out);
   // The columns x in [begin, end) where row[x] > threshold and row[x] is at least each of its
-  // eight neighbours, in increasing order, into xs (room for end - begin entries); maxAbove,
+  // eight neighbours, in increasing order, into xs (room for end - begin + 8 entries: whole
+  // vectors are stored there, of which the count returned are the candidates); maxAbove,
   // maxRow and maxBelow are rowMax3 of the rows above, at and below. Returns how many.
   int (*candidates)(const float* row, const float* maxAbove, const float* maxRow, const float* maxBelow, int begin,
                     int end, float threshold, int32_t* xs);
