@@ -106,7 +106,8 @@ namespace {
 // Whether `value` exceeds every response of `r` in the 3x3 neighbourhood of pixel (cx, cy) (NaN
 // responses aside), and their largest in `largest` (-inf when that pixel is outside the level or
 // on its border). Without a branch per response: where a candidate fails is unpredictable.
-bool exceedsNeighbourhood(const cv::Mat& r, int cx, int cy, float value, float& largest) {
+__attribute__((always_inline)) inline bool exceedsNeighbourhood(const cv::Mat& r, int cx, int cy, float value,
+                                                                float& largest) {
   largest = -INFINITY;
   if (cx < 1 || cy < 1 || cx >= r.cols - 1 || cy >= r.rows - 1) return value > largest;
   for (int v = -1; v <= 1; ++v) {
@@ -203,30 +204,54 @@ std::vector<Blob> levelMaxima(const std::vector<HessianLevel>& levels, const std
     if (x < 1 || y < 1 || x >= image.cols - 1 || y >= image.rows - 1) return;
     for (int v = -1; v <= 1; ++v) __builtin_prefetch(image.ptr<float>(y + v) + x);
   };
+  // Two passes. The first keeps, without a branch per candidate (whether one passes is
+  // unpredictable, and a mispredicted branch cost more than the checks), those that pass on their
+  // own level and on the neighbouring levels whose responses are whole; the second asks the
+  // camera's margin and the finer level computed pixel by pixel of those alone.
   const auto prefetch = [&](size_t i) __attribute__((always_inline)) {
     const int x = candidates[i].x, y = candidates[i].y;
     prefetchAround(r, x, y);
-    if (finerPoints)
-      finerPoints->prefetch(finerPixel.column[x], finerPixel.row[y]);
-    else
-      prefetchAround(finerResponse, finerPixel.column[x], finerPixel.row[y]);
+    if (!finerPoints) prefetchAround(finerResponse, finerPixel.column[x], finerPixel.row[y]);
     prefetchAround(coarserResponse, coarserPixel.column[x], coarserPixel.row[y]);
   };
+  struct Kept {
+    uint32_t index;
+    float finer, coarser;
+  };
+  std::vector<Kept> kept(candidates.size());  // each candidate writes slot `count`, then counts if kept
+  size_t count = 0;
   for (size_t i = 0; i < std::min(kAhead, candidates.size()); ++i) prefetch(i);
   for (size_t i = 0; i < candidates.size(); ++i) {
     if (i + kAhead < candidates.size()) prefetch(i + kAhead);
     const int x = candidates[i].x, y = candidates[i].y;
     const float* above = r.ptr<float>(y - 1);
     const float* row = r.ptr<float>(y);
-    const float* below = r.ptr<float>(y + 1);
     const float value = row[x];
     // Plateaus: keep the first pixel in scan order only.
-    if ((row[x - 1] == value) | (above[x - 1] == value) | (above[x] == value) | (above[x + 1] == value)) continue;
-    // Same point on the neighbouring levels, the finer one last when it is computed pixel by pixel.
-    float finer, coarser;
-    if (!exceedsNeighbourhood(coarserResponse, coarserPixel.column[x], coarserPixel.row[y], value, coarser)) continue;
-    if (!finerPoints && !exceedsNeighbourhood(finerResponse, finerPixel.column[x], finerPixel.row[y], value, finer))
-      continue;
+    const bool plateau = (row[x - 1] == value) | (above[x - 1] == value) | (above[x] == value) | (above[x + 1] == value);
+    Kept& slot = kept[count];
+    slot.index = static_cast<uint32_t>(i);
+    slot.finer = -INFINITY;
+    const bool coarserBelow =
+        exceedsNeighbourhood(coarserResponse, coarserPixel.column[x], coarserPixel.row[y], value, slot.coarser);
+    const bool finerBelow = finerPoints != nullptr ||
+                            exceedsNeighbourhood(finerResponse, finerPixel.column[x], finerPixel.row[y], value, slot.finer);
+    count += !plateau & coarserBelow & finerBelow;
+  }
+  const auto prefetchPoints = [&](size_t j) __attribute__((always_inline)) {
+    const int x = candidates[kept[j].index].x, y = candidates[kept[j].index].y;
+    finerPoints->prefetch(finerPixel.column[x], finerPixel.row[y]);
+  };
+  if (finerPoints)
+    for (size_t j = 0; j < std::min(kAhead, count); ++j) prefetchPoints(j);
+  for (size_t j = 0; j < count; ++j) {
+    if (finerPoints && j + kAhead < count) prefetchPoints(j + kAhead);
+    const int x = candidates[kept[j].index].x, y = candidates[kept[j].index].y;
+    const float* above = r.ptr<float>(y - 1);
+    const float* row = r.ptr<float>(y);
+    const float* below = r.ptr<float>(y + 1);
+    const float value = row[x];
+    float finer = kept[j].finer;
     if (!allowed(k, x, y)) continue;
     if (finerPoints && !finerPoints->exceedsNeighbourhood(finerPixel.column[x], finerPixel.row[y], value, finer))
       continue;
@@ -236,7 +261,7 @@ std::vector<Blob> levelMaxima(const std::vector<HessianLevel>& levels, const std
     b.y = y;
     b.response = value;
     subPixelOffset(above + x, row + x, below + x, b.dx, b.dy);
-    b.dlevel = parabolaOffset(finer, value, coarser);
+    b.dlevel = parabolaOffset(finer, value, kept[j].coarser);
     blobs.push_back(b);
   }
   return blobs;
