@@ -231,9 +231,9 @@ std::vector<Blob> levelMaxima(const std::vector<HessianLevel>& levels, const std
     const bool plateau = (row[x - 1] == value) | (above[x - 1] == value) | (above[x] == value) | (above[x + 1] == value);
     Kept& slot = kept[count];
     slot.index = static_cast<uint32_t>(i);
-    slot.finer = -INFINITY;
     const bool coarserBelow =
         exceedsNeighbourhood(coarserResponse, coarserPixel.column[x], coarserPixel.row[y], value, slot.coarser);
+    // With the finer level pixel by pixel, its check and its maximum come in the second pass.
     const bool finerBelow = finerPoints != nullptr ||
                             exceedsNeighbourhood(finerResponse, finerPixel.column[x], finerPixel.row[y], value, slot.finer);
     count += !plateau & coarserBelow & finerBelow;

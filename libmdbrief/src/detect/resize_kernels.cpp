@@ -309,7 +309,7 @@ void halveImage(const uint8_t* src, size_t srcStride, int srcCols, int srcRows, 
     };
     reflected(0);
     if (inner > 1) k.halveColumns(row, 1, inner, out);
-    for (int i = std::max(inner, 1); i < cols; ++i) reflected(i);
+    for (int i = inner; i < cols; ++i) reflected(i);
   };
   // Five horizontal rows, source row s in slot s mod 5: the rows an output row reads lie within
   // five consecutive ones, so in distinct slots, and the next output row keeps three of them.
