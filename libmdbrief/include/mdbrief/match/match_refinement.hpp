@@ -9,7 +9,9 @@
 // keypoint (camera/tangent_plane.hpp: the lens' distortion removed), mapped into each image by the
 // camera's local Jacobian, b's scaled by the keypoints' size ratio: fisheye patches far apart in
 // the image compare as a perspective camera would see them. Intensities are compared after each
-// patch is normalised to zero mean and unit variance (a stereo pair's gain and offset differ).
+// patch is normalised to zero mean and unit variance (a stereo pair's gain and offset differ),
+// each sample by cubic convolution: a bilinear sample blurs by its fraction between pixels, in
+// which the samples of a turned or scaled patch all differ.
 // The alignment runs on the keypoints' own levels, then on finer ones while the patch there
 // still fixes both directions.
 //
