@@ -111,8 +111,8 @@ inline __attribute__((always_inline)) float weighedSample(const Level& image, in
 // of a patch turned or scaled against a's fall at every fraction between pixels, and a bilinear
 // sample blurs by its fraction, so b's samples differ from a's by more than the motion. A texture
 // turned 3 degrees: error p90 0.024 -> 0.014 px (tests/test_match_refinement.cpp); the stereo
-// benchmark: EuRoC's residual 0.084 / 0.287 -> 0.081 / 0.280 px, the rendered rig's RMS 0.166 ->
-// 0.159 px; 16 -> 21 us per match (BM_RefineMatches, avx2).
+// benchmark: EuRoC's residual 0.084 / 0.287 -> 0.081 / 0.280 px, the rendered rig's RMS 0.168 ->
+// 0.164 px; 16.2 -> 20.4 us per match (BM_RefineMatches, avx2).
 // `interior`: the caller knows that x, y >= 1 and x < cols - 2, y < rows - 2, so that the four
 // by four samples are all in the level.
 template <bool interior>
