@@ -56,8 +56,13 @@ struct MatchRefinementOptions {
   // BM_RefineMatches, Zen 5). 7: poster-dev 0.163 px, rig 0.175 px, 22 us.
   int patchRadius = 6;
   // The Gaussian the levels are smoothed by before the patches are aligned, level pixels (3 sigma
-  // wide; ImagePyramid::smoothedFloat). In (0, 8]. Default 1.0: the descriptors' smoothing (sigma
-  // 2) takes the fine texture that fixes a point. Against 2 (11 x 11 patches), stereo benchmark
+  // wide; ImagePyramid::smoothedFloat). In (0, 8]. Default 0.9: the descriptors' smoothing (sigma
+  // 2) takes the fine texture that fixes a point. With cubic samples, against 1.0 (ratio 0.8):
+  // EuRoC 0.081 / 0.280 -> 0.081 / 0.274 px at as many right matches (507 per pair), AUC@5 0.89
+  // either way; the rig's RMS 0.164 -> 0.158 px; MYNT 0.188 / 0.315 either way; poster-dev
+  // (scripts/refinement_poster_dev.py) 0.175 / 0.422 -> 0.171 / 0.413 px. 0.85 more precise again
+  // (rig 0.156 px), but fewer right matches (MYNT 541, AUC@5 0.957). Earlier, with bilinear
+  // samples, 1.0 against 2 (11 x 11 patches), stereo benchmark
   // (docs/RESULTS.md "Real stereo: poses against the known pose"): EuRoC's residual 0.101 / 0.373
   // -> 0.086 / 0.302 px (median / p90) with as many right matches (473 -> 474 per pair), pose AUC@5
   // 0.84 -> 0.89; the rendered rig's localisation RMS 0.231 -> 0.163 px; MYNT 0.192 / 0.337 ->
@@ -65,7 +70,7 @@ struct MatchRefinementOptions {
   // pairs, the same matches) 0.257 / 0.571 -> 0.191 / 0.429 px. Sigma 0.5 / 0.7 are more precise
   // again (rig 0.142 / 0.148 px), but fewer alignments are certain enough (EuRoC 416 / 446 right
   // matches per pair); 1.4 keeps 479 at 0.091 / 0.328 px.
-  double smoothingSigma = 1.0;
+  double smoothingSigma = 0.9;
   // Finer levels than the keypoints' own to refine on, each from the last one's result (fewer
   // where the pyramid ends, or where a patch stops fixing both directions). In [0, 16]. Default
   // 10: down to the finest level from every level of the default pyramid. Two levels left the
