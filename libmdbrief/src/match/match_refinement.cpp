@@ -133,8 +133,7 @@ inline __attribute__((always_inline)) float cubic(const Level& image, double x, 
   return (products[0] + products[1]) + (products[2] + products[3]);
 }
 
-template <class Image>
-bool inside(const Image& image, const cv::Point2d& p, double margin) {
+bool inside(const Level& image, const cv::Point2d& p, double margin) {
   return p.x >= margin && p.y >= margin && p.x <= image.cols - 1 - margin && p.y <= image.rows - 1 - margin;
 }
 
