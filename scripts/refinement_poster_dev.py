@@ -6,7 +6,7 @@ and the distance of b's point from the truth over the matches every sigma refine
 after at each sigma. The truth maps a pixel of frame i through its ray, the poster's plane (G_i^-1)
 and G_j into frame j (the data's README; its own residuals are 0.05-0.23 px median per frame).
 
-Usage: PYTHONPATH=build/python /usr/bin/python3 scripts/refinement_poster_dev.py [--sigmas 0.9 2]
+Usage: PYTHONPATH=build/python /usr/bin/python3 scripts/refinement_poster_dev.py [--sigmas 0.6 2]
 The data is MDBRIEF_DATA or ../shared/data; without it the script says so and exits 0.
 """
 import argparse
@@ -26,7 +26,7 @@ RIGHT_PX = 3.0
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sigmas", type=float, nargs="+", default=[0.9, 2.0],
+    parser.add_argument("--sigmas", type=float, nargs="+", default=[0.6, 2.0],
                         help="MatchRefinementOptions::smoothingSigma values to compare")
     args = parser.parse_args()
     root = pathlib.Path(os.environ.get("MDBRIEF_DATA") or pathlib.Path(__file__).resolve().parents[2] / "shared/data")

@@ -12,23 +12,32 @@
 // patch is normalised to zero mean and unit variance (a stereo pair's gain and offset differ),
 // each sample by cubic convolution: a bilinear sample blurs by its fraction between pixels, in
 // which the samples of a turned or scaled patch all differ.
-// The alignment runs on the keypoints' own levels, then on finer ones while the patch there
-// still fixes both directions.
+// The alignment runs on the keypoints' own levels, then on the finest level (where the patch there
+// still fixes both directions).
 //
-// It estimates b's shift, and the turn and scale of b's patch against a's on the plane, about the
-// patch centre. Views rolled about the viewing direction turn the patches, and a shift alone aligns
-// turned patches off the point (the guide's scene rolled 2 / 5 / 12 degrees: a shift alone took the
+// It estimates b's shift, and the shape of b's patch against a's on the plane, about the patch
+// centre: its turn and scale, and the stretch and shear that a surface slanted against both views
+// adds, each view foreshortening it at its own angle. Without the stretch and shear (the build
+// before, 13 x 13 patches at sigma 0.9), a texture stretched by 1.15 along one axis was aligned
+// 0.134 px off at the median, 0.0075 px with them (tests/test_match_refinement.cpp); the stereo
+// benchmark at ratio 0.8 (docs/RESULTS.md "Real stereo: poses against the known pose"), with 15 x
+// 15 patches at sigma 0.6: EuRoC's residual 0.081 / 0.274 -> 0.072 / 0.229 px (median / p90), 521
+// -> 540 right matches per pair; MYNT's 0.188 / 0.315 -> 0.185 / 0.303 px; the rendered rig's
+// localisation RMS 0.158 -> 0.092 px; poster-dev against its ground truth 0.171 / 0.413 -> 0.110 /
+// 0.271 px (scripts/refinement_poster_dev.py).
+// Views rolled about the viewing direction turn the patches, and a shift alone aligns turned
+// patches off the point (the guide's scene rolled 2 / 5 / 12 degrees: a shift alone took the
 // median error from 0.08 / 0.09 / 0.09 px to 0.14 / 0.28 / 0.56 px, with the turn to 0.05-0.06 px
 // at every roll). The scale starts at the keypoints' size ratio, which is noisy: on a rendered pair
 // whose b sizes were made 15 % wrong, holding it left 0.10 px where estimating it gave 0.063 px
 // (sigma 2), as with the true sizes; on EuRoC's stereo pairs it kept 17 more right matches per
 // pair. The turn starts at zero, or at the keypoints' orientation difference where that exceeds the
 // orientations' own noise (10 degrees): the orientations alone are too noisy to turn the patch by.
-// Turn and scale cost the shift precision where there is none to find, so they are kept only where
-// they stand out of their noise (8 standard deviations), and on a patch that fixes them (not a
-// disc, not stripes); elsewhere the shift is fitted alone. They are estimated on the keypoints' own
-// level, whose patch spans the most of the image, and held on the finer ones (the same figures on
-// the stereo benchmark, 13 % less time).
+// A shape costs the shift precision where there is none to find, so it is kept only where it
+// stands out of its noise (8 standard deviations), and on a patch that fixes it (not a disc, not
+// stripes): all four, else turn and scale, else the shift is fitted alone. The shape is estimated
+// on the keypoints' own level, whose patch spans the most of the image, and held on the finest (the
+// same figures on the stereo benchmark, 13 % less time).
 //
 // A tracker that estimates a pose keeps the matches refinement accepts and drops the rest: the
 // failures (edges, patches that do not align, points less certain than maxSigmaPx) are where the
@@ -49,33 +58,30 @@ namespace mdbrief {
 
 struct MatchRefinementOptions {
   // Half the patch side in level pixels: (2 r + 1)^2 samples, one per level pixel. In [2, 15].
-  // Default 6, a 13 x 13 patch. Against 5 (at smoothingSigma 1): EuRoC 474 -> 504 right matches
-  // per pair, residual 0.086 / 0.302 -> 0.084 / 0.287 px, AUC@5 0.885 -> 0.892; MYNT 0.191 /
-  // 0.328 -> 0.191 / 0.318 px; poster-dev against its truth 0.190 / 0.423 -> 0.173 / 0.403 px;
-  // the rendered rig's RMS 0.163 -> 0.168 px; 14.3-15.0 -> 18.1-19.1 us per match (bench
-  // BM_RefineMatches, Zen 5). 7: poster-dev 0.163 px, rig 0.175 px, 22 us.
-  int patchRadius = 6;
+  // Default 7, a 15 x 15 patch: with the stretch and shear estimated, a wider patch no longer
+  // spans more than its model holds. Stereo benchmark at ratio 0.8 (right matches per pair,
+  // residual median / p90), at sigma 0.6: 6: EuRoC 509, 0.075 / 0.250 px; MYNT 0.186 / 0.311 px;
+  // the rendered rig's RMS 0.097 px. 7: EuRoC 540, 0.072 / 0.229 px; MYNT 0.185 / 0.303 px; rig
+  // 0.092 px. 8 (sigma 0.7): EuRoC 558, 0.071 / 0.216 px, but MYNT 0.188 / 0.305 px, rig 0.092 px.
+  // Time grows with the samples (BM_RefineMatches: docs/RESULTS.md "Real stereo: poses against
+  // the known pose").
+  int patchRadius = 7;
   // The Gaussian the levels are smoothed by before the patches are aligned, level pixels (3 sigma
-  // wide; ImagePyramid::smoothedFloat). In (0, 8]. Default 0.9: the descriptors' smoothing (sigma
-  // 2) takes the fine texture that fixes a point. With cubic samples, against 1.0 (ratio 0.8):
-  // EuRoC 0.081 / 0.280 -> 0.081 / 0.274 px at as many right matches (507 per pair), AUC@5 0.89
-  // either way; the rig's RMS 0.164 -> 0.158 px; MYNT 0.188 / 0.315 either way; poster-dev
-  // (scripts/refinement_poster_dev.py) 0.175 / 0.422 -> 0.171 / 0.413 px. 0.85 more precise again
-  // (rig 0.156 px), but fewer right matches (MYNT 541, AUC@5 0.957). Earlier, with bilinear
-  // samples, 1.0 against 2 (11 x 11 patches), stereo benchmark
-  // (docs/RESULTS.md "Real stereo: poses against the known pose"): EuRoC's residual 0.101 / 0.373
-  // -> 0.086 / 0.302 px (median / p90) with as many right matches (473 -> 474 per pair), pose AUC@5
-  // 0.84 -> 0.89; the rendered rig's localisation RMS 0.231 -> 0.163 px; MYNT 0.192 / 0.337 ->
-  // 0.191 / 0.328 px, its one pair's AUC@5 0.971 -> 0.957; poster-dev against its ground truth (45
-  // pairs, the same matches) 0.257 / 0.571 -> 0.191 / 0.429 px. Sigma 0.5 / 0.7 are more precise
-  // again (rig 0.142 / 0.148 px), but fewer alignments are certain enough (EuRoC 416 / 446 right
-  // matches per pair); 1.4 keeps 479 at 0.091 / 0.328 px.
-  double smoothingSigma = 0.9;
-  // Finer levels than the keypoints' own to refine on, each from the last one's result (fewer
-  // where the pyramid ends, or where a patch stops fixing both directions). In [0, 16]. Default
-  // 10: down to the finest level from every level of the default pyramid. Two levels left the
-  // rendered rig's coarse keypoints at 0.74 / 0.81 px RMS (levels 5 / 6); down to the finest,
-  // 0.64 / 0.65 px, and every level below twice SIFT's 0.36 px.
+  // wide; ImagePyramid::smoothedFloat). In (0, 8]. Default 0.6: the descriptors' smoothing (sigma
+  // 2) takes the fine texture that fixes a point (the tests' rendered plane: 0.016 px at the
+  // median against 0.035 px). Stereo benchmark as above, 15 x 15 patches: 0.5: EuRoC 536, 0.072 /
+  // 0.226 px; MYNT 0.186 / 0.302 px; rig 0.092 px, with fewer right matches at the best ratio
+  // (EuRoC 521 against 525). 0.6: as above. 0.7: EuRoC 542, 0.072 / 0.232 px; MYNT 0.185 / 0.304
+  // px; rig 0.094 px. 0.8: EuRoC 542, 0.073 / 0.240 px; MYNT 0.187 / 0.306 px; rig 0.097 px.
+  // Poster-dev against its ground truth (scripts/refinement_poster_dev.py): 0.110 / 0.274, 0.112
+  // / 0.281, 0.114 / 0.287, 0.117 / 0.294 px.
+  double smoothingSigma = 0.6;
+  // How many levels below the keypoints' own the second alignment runs on, from the first one's
+  // result: the finest level where the pyramid ends first. In [0, 16]; 0, the keypoints' levels
+  // alone. Default 10: the finest level from every level of the default pyramid. Two levels left
+  // the rendered rig's coarse keypoints at 0.74 / 0.81 px RMS (levels 5 / 6, with the turn and
+  // scale alone); down to the finest, 0.64 / 0.65 px. Aligning on every level between changed no
+  // figure by more than 0.001 px, at 1.4 times the time.
   int finerLevels = 10;
   // Gauss-Newton iterations per level at most. In [1, 100]. Default 10.
   int maxIterations = 10;
