@@ -82,6 +82,9 @@ struct StereoPairResult {
   int fitInliers = 0;
   double poseErrorDeg = kInf, rotationErrorDeg = kInf;
   std::vector<std::pair<int, double>> localisation;  // rendered pairs: (b's level, error px) per right match
+  // With StereoOptions::writeMatches, at the residual's ratio: per right match a's and b's
+  // bearings, b's pixels per radian and the signed residual, px.
+  std::vector<cv::Vec<double, 8>> rightRows;
 };
 
 struct Keypoints {
@@ -164,6 +167,9 @@ std::vector<StereoPairResult> scorePair(const Features& fa, const Features& fb, 
         r.rightSignedResidualSumPx += side < 0 ? -r.rightResidualsPx.back() : r.rightResidualsPx.back();
         r.rightSizes.push_back(fb.keypoints[kept[k].trainIdx].size);
         r.rightLevels.push_back(fb.keypoints[kept[k].trainIdx].octave);
+        if (o.writeMatches && std::abs(ratio - o.residualRatio) < 1e-9)
+          r.rightRows.push_back({a[k][0], a[k][1], a[k][2], b[k][0], b[k][1], b[k][2], scale[k],
+                                 side < 0 ? -r.rightResidualsPx.back() : r.rightResidualsPx.back()});
       }
     const EssentialResult fit = fitEssential(a, b, o.fit, scale);
     r.fitOk = fit.ok();
@@ -275,6 +281,12 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
                        "residual_signed_mean_px", "fits_ok", "auc5",
                        "auc10", "auc20", "median_pose_error_deg", "median_rotation_error_deg",
                        "localisation_rms_px"});
+  CsvTable matchesCsv({"set", "image_a", "image_b", "pipeline", "ratio", "a_x", "a_y", "a_z", "b_x", "b_y", "b_z",
+                       "b_px_per_radian", "residual_px"});
+  CsvTable posesCsv({"set", "image_a", "image_b", "r00", "r01", "r02", "r10", "r11", "r12", "r20", "r21", "r22",
+                     "t_x", "t_y", "t_z"});
+  // Ten significant digits: a bearing's %.6g would round it by 0.0005 px.
+  const auto precise = [](double v) { return cv::format("%.10g", v); };
   std::vector<StereoSummary> rows;
   // Each pipeline, and after a library pipeline that o.refined names its refined row.
   std::vector<std::pair<TrackerPipeline, bool>> scored;
@@ -293,6 +305,16 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
       left[i] = pair.leftImage.empty() ? readGrey(pair.left) : pair.leftImage;
       right[i] = pair.rightImage.empty() ? readGrey(pair.right) : pair.rightImage;
     }
+    if (o.writeMatches)
+      for (const StereoPair& pair : set.pairs) {
+        const RelativePose pose = pair.pose.value_or(set.pose);
+        CsvTable& row = posesCsv.row()
+                            .add(set.name)
+                            .add(fs::path(pair.left).filename().string())
+                            .add(fs::path(pair.right).filename().string());
+        for (int c = 0; c < 9; ++c) row.add(precise(pose.rotation.val[c]));
+        for (int c = 0; c < 3; ++c) row.add(precise(pose.translation[c]));
+      }
     const bool rendered = !set.pairs.empty() && set.pairs.front().truthInB;
     std::printf("\nstereo %s (%zu pairs, %d keypoints per image; counts and pose at each pipeline's best ratio, the "
                 "residual of right matches at ratio %.2f)\n",
@@ -371,6 +393,15 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
               .add(t.fitOk ? 1 : 0)
               .add(t.fitInliers)
               .add(t.poseErrorDeg);
+          for (const auto& m : t.rightRows) {
+            CsvTable& row = matchesCsv.row()
+                                .add(set.name)
+                                .add(fs::path(set.pairs[i].left).filename().string())
+                                .add(fs::path(set.pairs[i].right).filename().string())
+                                .add(name)
+                                .add(s.ratio);
+            for (int c = 0; c < 8; ++c) row.add(precise(m[c]));
+          }
         }
         const double n = std::max<double>(1, s.pairs);
         s.keypoints /= n;
@@ -450,6 +481,10 @@ std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const s
   }
   pairsCsv.write((fs::path(outDir) / "stereo_pairs.csv").string());
   summaryCsv.write((fs::path(outDir) / "stereo_summary.csv").string());
+  if (o.writeMatches) {
+    matchesCsv.write((fs::path(outDir) / "stereo_matches.csv").string());
+    posesCsv.write((fs::path(outDir) / "stereo_poses.csv").string());
+  }
   return rows;
 }
 

@@ -55,6 +55,10 @@ struct StereoOptions {
   // as a tracker uses them: a row "NAME + refine" after the pipeline's own.
   std::vector<std::string> refined{"mdbrief tracking (defaults)"};
   MatchRefinementOptions refinement;
+  // Also write stereo_matches.csv, every right match at residualRatio (both bearings, b's pixels
+  // per radian, its signed residual), and stereo_poses.csv, each pair's known pose: what a check
+  // of the pose itself needs (scripts/stereo_pose_check.py).
+  bool writeMatches = false;
 };
 
 // The figures of one set, pipeline and ratio.
@@ -93,7 +97,7 @@ struct StereoSummary {
 double poseAuc(std::vector<double> errorsDeg, double limit);
 
 // Runs every pipeline on every pair of every set; writes stereo_pairs.csv and stereo_summary.csv
-// into outDir and prints each pipeline at the ratio of its best AUC at 5 degrees (its own ratio
+// (and with writeMatches stereo_matches.csv and stereo_poses.csv) into outDir and prints each pipeline at the ratio of its best AUC at 5 degrees (its own ratio
 // for a library preset). Returns every row of the summary.
 std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const std::vector<TrackerPipeline>& pipelines,
                                      const StereoOptions& options, const std::string& outDir);

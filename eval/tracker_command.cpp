@@ -142,8 +142,12 @@ void addTrackerCommand(CLI::App& app) {
   cmd->add_option("--stereo-budget", a->stereo.budget, "Keypoints per image of the stereo pairs")
       ->check(CLI::Range(10, 100000))
       ->capture_default_str();
+  cmd->add_flag("--stereo-matches", a->stereo.writeMatches,
+                "Also write stereo_matches.csv (every right match at ratio 0.8: bearings, b's pixels per radian, "
+                "signed residual) and stereo_poses.csv (each pair's known pose), for scripts/stereo_pose_check.py");
   cmd->add_option("--out", a->options.outDir,
-                  "Output folder for tracker_pairs.csv, tracker_summary.csv, stereo_pairs.csv and stereo_summary.csv")
+                  "Output folder for tracker_pairs.csv, tracker_summary.csv, stereo_pairs.csv and stereo_summary.csv "
+                  "(and stereo_matches.csv, stereo_poses.csv)")
       ->required();
   cmd->callback([a] {
     requireDistinctLabels(a->paths.fisheyeCameras, "--fisheye-camera");
@@ -190,7 +194,8 @@ void addTrackerCommand(CLI::App& app) {
     for (const auto& value : a->paths.fisheyeCameras) inputs.push_back(parseCameraReference(value).path);
     for (const auto& spec : a->library) inputs.push_back(spec.substr(spec.find('=') + 1));
     checkOutputsApart(inputs, {a->options.outDir + "/tracker_pairs.csv", a->options.outDir + "/tracker_summary.csv",
-                               a->options.outDir + "/stereo_pairs.csv", a->options.outDir + "/stereo_summary.csv"});
+                               a->options.outDir + "/stereo_pairs.csv", a->options.outDir + "/stereo_summary.csv",
+                               a->options.outDir + "/stereo_matches.csv", a->options.outDir + "/stereo_poses.csv"});
     std::vector<MethodSpec> methods;
     for (const auto& p : pipelines)
       if (p.kind == TrackerPipeline::Kind::Library) methods.push_back({p.name, MethodFamily::Library, p.options.descriptor});

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <limits>
 #include <string>
@@ -30,12 +31,14 @@ TEST(PoseAuc, IsTheAreaUnderTheRecallCurveOverTheLimit) {
 }
 
 // The tracking defaults alone at ratio 0.8, with their refined row unless `refine` is false.
-std::vector<StereoSummary> runDefaults(const StereoSet& set, const std::filesystem::path& out, bool refine = true) {
+std::vector<StereoSummary> runDefaults(const StereoSet& set, const std::filesystem::path& out, bool refine = true,
+                                       bool writeMatches = false) {
   std::vector<TrackerPipeline> pipelines = standardTrackerPipelines();
   pipelines.resize(1);
   EXPECT_EQ(pipelines[0].name, "mdbrief tracking (defaults)");
   StereoOptions o;
   o.ratios = {0.8};
+  o.writeMatches = writeMatches;
   if (!refine) o.refined.clear();
   return runStereo({set}, pipelines, o, out.string());
 }
@@ -53,16 +56,15 @@ TEST(StereoBenchmark, TheRefinedRowOfTheDefaultsLocatesTheRenderedRigCloser) {
   const StereoSet rig = renderedRig(*doc);
   ASSERT_EQ(rig.pairs.size(), 4u);
   const testing::TempDir out("eval_stereo");
-  const auto rows = runDefaults(rig, out.path);
+  const auto rows = runDefaults(rig, out.path, true, true);
   ASSERT_EQ(rows.size(), 2u);
   const StereoSummary &plain = rows[0], &refined = rows[1];
   EXPECT_EQ(plain.pipeline, "mdbrief tracking (defaults)");
   EXPECT_EQ(refined.pipeline, "mdbrief tracking (defaults) + refine");
-  // Measured: localisation RMS 0.485 -> 0.244 px, right 720 -> 660 per pair, precision 0.967
-  // -> 0.991, AUC@5 0.94 -> 0.975 (docs/RESULTS.md "Real stereo: poses against the known pose").
-  // With the raw gradient as the alignment's Jacobian (before the normalised patch's), 0.280 px.
+  // Measured: localisation RMS 0.485 -> 0.092 px (docs/RESULTS.md "Real stereo: poses against the
+  // known pose"). With the turn and scale of the patches alone, 0.158 px.
   EXPECT_LT(refined.localisationRmsPx, 0.6 * plain.localisationRmsPx);
-  EXPECT_LT(refined.localisationRmsPx, 0.27);
+  EXPECT_LT(refined.localisationRmsPx, 0.13);
   EXPECT_LT(refined.residualP90Px, plain.residualP90Px);
   EXPECT_LE(refined.matchesPerPair, plain.matchesPerPair);
   EXPECT_GT(refined.rightPerPair, 0.85 * plain.rightPerPair);
@@ -78,6 +80,19 @@ TEST(StereoBenchmark, TheRefinedRowOfTheDefaultsLocatesTheRenderedRigCloser) {
   std::string header;
   ASSERT_TRUE(std::getline(summary, header));
   EXPECT_NE(header.find("median_rotation_error_deg"), std::string::npos) << header;
+  // --stereo-matches: a line per right match of both rows, and a pose per pair.
+  std::ifstream matches(out.path / "stereo_matches.csv"), poses(out.path / "stereo_poses.csv");
+  ASSERT_TRUE(std::getline(matches, header));
+  EXPECT_EQ(header, "set,image_a,image_b,pipeline,ratio,a_x,a_y,a_z,b_x,b_y,b_z,b_px_per_radian,residual_px");
+  int lines = 0, refinedLines = 0;
+  for (std::string line; std::getline(matches, line); ++lines)
+    refinedLines += line.find(",mdbrief tracking (defaults) + refine,") != std::string::npos;
+  EXPECT_EQ(lines, static_cast<int>(std::lround((plain.rightPerPair + refined.rightPerPair) * rig.pairs.size())));
+  EXPECT_EQ(refinedLines, static_cast<int>(std::lround(refined.rightPerPair * rig.pairs.size())));
+  ASSERT_TRUE(std::getline(poses, header));
+  int poseLines = 0;
+  for (std::string line; std::getline(poses, line);) ++poseLines;
+  EXPECT_EQ(poseLines, static_cast<int>(rig.pairs.size()));
 }
 
 // A known pose turned by 1 mrad about the baseline turns every epipolar plane by that much: the
@@ -127,9 +142,8 @@ TEST(StereoBenchmark, OnEuRoCTheRefinedRowKeepsTheMorePreciseMatches) {
   const auto rows = runDefaults(euroc, out.path);
   ASSERT_EQ(rows.size(), 2u);
   const StereoSummary &plain = rows[0], &refined = rows[1];
-  // Measured on all 19 pairs: residual median / p90 0.161 / 0.647 -> 0.103 / 0.362 px, precision
-  // 0.972 -> 0.994, right 543 -> 456 per pair; on these four, p90 0.629 -> 0.351 px (0.403 px
-  // with the raw gradient as the alignment's Jacobian).
+  // Measured on all 19 pairs (ratio 0.8): residual median / p90 0.161 / 0.647 -> 0.072 / 0.229 px,
+  // precision 0.943 -> 0.994, right 587 -> 540 per pair.
   EXPECT_LT(refined.residualMedianPx, 0.8 * plain.residualMedianPx);
   EXPECT_LT(refined.residualP90Px, 0.6 * plain.residualP90Px);
   EXPECT_GE(refined.precision, plain.precision);
