@@ -164,12 +164,12 @@ std::vector<StereoPairResult> scorePair(const Features& fa, const Features& fb, 
         ++r.right;
         r.rightResidualsPx.push_back(known.residuals[k] * scale[k]);
         const double side = (essential.t() * a[k]).dot(b[k]);
-        r.rightSignedResidualSumPx += side < 0 ? -r.rightResidualsPx.back() : r.rightResidualsPx.back();
+        const double signedPx = side < 0 ? -r.rightResidualsPx.back() : r.rightResidualsPx.back();
+        r.rightSignedResidualSumPx += signedPx;
         r.rightSizes.push_back(fb.keypoints[kept[k].trainIdx].size);
         r.rightLevels.push_back(fb.keypoints[kept[k].trainIdx].octave);
         if (o.writeMatches && std::abs(ratio - o.residualRatio) < 1e-9)
-          r.rightRows.push_back({a[k][0], a[k][1], a[k][2], b[k][0], b[k][1], b[k][2], scale[k],
-                                 side < 0 ? -r.rightResidualsPx.back() : r.rightResidualsPx.back()});
+          r.rightRows.push_back({a[k][0], a[k][1], a[k][2], b[k][0], b[k][1], b[k][2], scale[k], signedPx});
       }
     const EssentialResult fit = fitEssential(a, b, o.fit, scale);
     r.fitOk = fit.ok();

@@ -97,8 +97,9 @@ struct StereoSummary {
 double poseAuc(std::vector<double> errorsDeg, double limit);
 
 // Runs every pipeline on every pair of every set; writes stereo_pairs.csv and stereo_summary.csv
-// (and with writeMatches stereo_matches.csv and stereo_poses.csv) into outDir and prints each pipeline at the ratio of its best AUC at 5 degrees (its own ratio
-// for a library preset). Returns every row of the summary.
+// (and with writeMatches stereo_matches.csv and stereo_poses.csv) into outDir and prints each
+// pipeline at the ratio of its best AUC at 5 degrees (its own ratio for a library preset).
+// Returns every row of the summary.
 std::vector<StereoSummary> runStereo(const std::vector<StereoSet>& sets, const std::vector<TrackerPipeline>& pipelines,
                                      const StereoOptions& options, const std::string& outDir);
 
