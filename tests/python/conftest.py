@@ -6,6 +6,8 @@ and under MDBRIEF_NO_SKIPS=1 (set by CI, .ci/run) every skip is a failure: a mac
 photos, or a run outside ctest, must not pass by skipping."""
 import os
 import pathlib
+import subprocess
+import sys
 
 import cv2
 import pytest
@@ -13,6 +15,14 @@ import pytest
 SOURCE = pathlib.Path(os.environ.get("MDBRIEF_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
 OPENCV_DOC = pathlib.Path(os.environ.get("MDBRIEF_OPENCV_DOC") or "/usr/share/doc/opencv-doc/examples/data")
 SKIPS_FAIL = os.environ.get("MDBRIEF_NO_SKIPS") == "1"
+# The shared data (../shared/data beside the checkout, or MDBRIEF_DATA).
+DATA = os.environ.get("MDBRIEF_DATA", str(SOURCE.parent / "shared/data"))
+
+
+def run_data_script(name, data, *args):
+    """scripts/<name> run with MDBRIEF_DATA set to `data`."""
+    return subprocess.run([sys.executable, str(SOURCE / "scripts" / name), *args], capture_output=True, text=True,
+                          timeout=300, env=dict(os.environ, MDBRIEF_DATA=str(data)))
 
 
 @pytest.hookimpl(hookwrapper=True)

@@ -1,26 +1,10 @@
 """scripts/refinement_oxford.py: refinement against the Oxford sequences' homographies."""
 import os
 import re
-import subprocess
-import sys
 
 import pytest
 
-from conftest import SOURCE
-
-SCRIPT = SOURCE / "scripts/refinement_oxford.py"
-DATA = os.environ.get("MDBRIEF_DATA", str(SOURCE.parent / "shared/data"))
-
-
-def run(data):
-    return subprocess.run([sys.executable, str(SCRIPT)], capture_output=True, text=True, timeout=300,
-                          env=dict(os.environ, MDBRIEF_DATA=str(data)))
-
-
-def test_without_the_data_it_says_so_and_exits_0(tmp_path):
-    result = run(tmp_path)
-    assert result.returncode == 0, result.stderr
-    assert result.stdout.strip() == f"refinement_oxford.py: skipped, no {tmp_path}/oxford-affine/graf/H1to2p"
+from conftest import DATA, run_data_script
 
 
 # Refined points lie nearer the homographies' truth than the keypoints, most where the views turn
@@ -29,7 +13,7 @@ def test_without_the_data_it_says_so_and_exits_0(tmp_path):
 def test_refinement_moves_the_points_nearer_the_truth():
     if not os.path.isfile(os.path.join(DATA, "oxford-affine/graf/H1to2p")):
         pytest.skip(f"no Oxford sequences under {DATA}")
-    result = run(DATA)
+    result = run_data_script("refinement_oxford.py", DATA)
     assert result.returncode == 0, result.stderr
     rows = {m.group(1): [float(x) for x in m.groups()[1:]] for m in re.finditer(
         r"^(\w+)\s+(\d+)\s+(\d+)\s+([0-9.]+) / ([0-9.]+)\s+([0-9.]+) / ([0-9.]+)$", result.stdout, re.M)}

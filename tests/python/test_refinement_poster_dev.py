@@ -1,26 +1,10 @@
 """scripts/refinement_poster_dev.py: refinement against poster-dev's ground truth, by sigma."""
 import os
 import re
-import subprocess
-import sys
 
 import pytest
 
-from conftest import SOURCE
-
-SCRIPT = SOURCE / "scripts/refinement_poster_dev.py"
-DATA = os.environ.get("MDBRIEF_DATA", str(SOURCE.parent / "shared/data"))
-
-
-def run(data, *args):
-    return subprocess.run([sys.executable, str(SCRIPT), *args], capture_output=True, text=True, timeout=300,
-                          env=dict(os.environ, MDBRIEF_DATA=str(data)))
-
-
-def test_without_the_data_it_says_so_and_exits_0(tmp_path):
-    result = run(tmp_path)
-    assert result.returncode == 0, result.stderr
-    assert result.stdout.strip() == f"refinement_poster_dev.py: skipped, no {tmp_path}/fisheye/poster-dev/ground_truth.json"
+from conftest import DATA, run_data_script
 
 
 # The default smoothing places the refined points nearer the truth than the descriptors' sigma 2,
@@ -28,7 +12,7 @@ def test_without_the_data_it_says_so_and_exits_0(tmp_path):
 def test_the_default_sigma_refines_closer_to_the_truth_than_sigma_2():
     if not os.path.isfile(os.path.join(DATA, "fisheye/poster-dev/ground_truth.json")):
         pytest.skip(f"no poster-dev under {DATA}")
-    result = run(DATA, "--sigmas", "0.6", "2")
+    result = run_data_script("refinement_poster_dev.py", DATA, "--sigmas", "0.6", "2")
     assert result.returncode == 0, result.stderr
     medians = {name: float(value) for name, value in
                re.findall(r"^  (keypoints|refined sigma [0-9.]+)\s+median ([0-9.]+) px", result.stdout, re.M)}
