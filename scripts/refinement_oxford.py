@@ -39,7 +39,12 @@ def main():
         ka, da, ma = features.detect_and_compute(images[0])
         before, after, right, refined = [], [], 0, 0
         for k in range(2, 7):
-            homography = np.loadtxt(folder / name / f"H1to{k}p")
+            try:
+                homography = np.loadtxt(folder / name / f"H1to{k}p")
+            except (OSError, ValueError) as e:
+                sys.exit(f"refinement_oxford.py: cannot read {folder / name / f'H1to{k}p'}: {e}")
+            if homography.shape != (3, 3) or not np.all(np.isfinite(homography)):
+                sys.exit(f"refinement_oxford.py: {folder / name / f'H1to{k}p'} is no 3 x 3 matrix of finite numbers")
             if images[k - 1].shape != images[0].shape:
                 continue  # the camera is the first image's
             kb, db, mb = features.detect_and_compute(images[k - 1])

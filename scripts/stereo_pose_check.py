@@ -104,6 +104,52 @@ def angle_deg(pose_a, pose_b):
     return max(turn, np.degrees(np.arccos(np.clip(cosine, -1, 1))))
 
 
+def rows_of(path, set_name):
+    """The rows of one set in a CSV file, with the line each starts on; ValueError naming the file
+    when it has no header."""
+    with open(path, newline="") as f:
+        reader = csv.DictReader(f)
+        if not reader.fieldnames:
+            raise ValueError(f"{path}: empty, no header")
+        for row in reader:
+            if row.get("set") == set_name:
+                yield reader.line_num, row
+
+
+def read(folder, set_name):
+    """One set's known poses, and its right matches by pipeline. ValueError naming the file and line
+    of a missing column, a number that is not one or not finite, or a match of a pair without a pose."""
+    def numbers(path, line, row, names):
+        try:
+            values = [float(row[name]) for name in names]
+        except (KeyError, TypeError, ValueError):
+            raise ValueError(f"{path}:{line}: {', '.join(names)} must be numbers") from None
+        if not all(np.isfinite(values)):
+            raise ValueError(f"{path}:{line}: {', '.join(names)} must be finite")
+        return values
+
+    poses, pose_index = [], {}
+    path = folder / "stereo_poses.csv"
+    for line, row in rows_of(path, set_name):
+        values = numbers(path, line, row, [f"r{i}{j}" for i in range(3) for j in range(3)] + ["t_x", "t_y", "t_z"])
+        pose_index[(row.get("image_a"), row.get("image_b"))] = len(poses)
+        poses.append((np.array(values[:9]).reshape(3, 3), np.array(values[9:])))
+    by_pipeline = {}
+    path = folder / "stereo_matches.csv"
+    for line, row in rows_of(path, set_name):
+        pair = (row.get("image_a"), row.get("image_b"))
+        if pair not in pose_index:
+            raise ValueError(f"{path}:{line}: pair {pair[0]}, {pair[1]} has no pose in stereo_poses.csv")
+        values = numbers(path, line, row, ["a_x", "a_y", "a_z", "b_x", "b_y", "b_z", "b_px_per_radian", "residual_px"])
+        m = by_pipeline.setdefault(row.get("pipeline"), Matches())
+        m.a.append(values[0:3])
+        m.b.append(values[3:6])
+        m.scale.append(values[6])
+        m.residual.append(values[7])
+        m.pose.append(pose_index[pair])
+    return poses, {name: m.freeze() for name, m in by_pipeline.items()}
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("folder", type=pathlib.Path)
@@ -116,30 +162,14 @@ def main():
             print(f"stereo_pose_check.py: no {args.folder / name}; run mdbrief-eval tracker --datasets stereo "
                   "--stereo-matches --out DIR", file=sys.stderr)
             return 2
-    poses, pose_index = [], {}
-    with open(args.folder / "stereo_poses.csv", newline="") as f:
-        for row in csv.DictReader(f):
-            if row["set"] != args.set:
-                continue
-            r = np.array([float(row[f"r{i}{j}"]) for i in range(3) for j in range(3)]).reshape(3, 3)
-            t = np.array([float(row[f"t_{c}"]) for c in "xyz"])
-            pose_index[(row["image_a"], row["image_b"])] = len(poses)
-            poses.append((r, t))
+    try:
+        poses, by_pipeline = read(args.folder, args.set)
+    except ValueError as e:
+        print(f"stereo_pose_check.py: {e}", file=sys.stderr)
+        return 2
     if not poses:
         print(f"stereo_pose_check.py: set {args.set} is not in {args.folder / 'stereo_poses.csv'}", file=sys.stderr)
         return 2
-    by_pipeline = {}
-    with open(args.folder / "stereo_matches.csv", newline="") as f:
-        for row in csv.DictReader(f):
-            if row["set"] != args.set:
-                continue
-            m = by_pipeline.setdefault(row["pipeline"], Matches())
-            m.a.append([float(row[f"a_{c}"]) for c in "xyz"])
-            m.b.append([float(row[f"b_{c}"]) for c in "xyz"])
-            m.scale.append(float(row["b_px_per_radian"]))
-            m.residual.append(float(row["residual_px"]))
-            m.pose.append(pose_index[(row["image_a"], row["image_b"])])
-    by_pipeline = {name: m.freeze() for name, m in by_pipeline.items()}
     missing = [name for name in args.reference if name not in by_pipeline]
     if missing:
         print(f"stereo_pose_check.py: no right matches of {', '.join(missing)} in set {args.set}", file=sys.stderr)

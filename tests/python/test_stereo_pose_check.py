@@ -83,3 +83,20 @@ def test_a_reference_pipeline_without_matches_is_refused(tmp_path):
     result = run(tmp_path, "--reference", "SIFT")
     assert result.returncode == 2
     assert "no right matches of SIFT" in result.stderr
+
+
+# A damaged file is named with its line, and nothing is fitted: exit 2, never a traceback.
+@pytest.mark.parametrize("damage, message", [
+    (lambda text: text.replace(text.splitlines()[3].split(",")[5], "abc", 1), r"stereo_matches.csv:4: a_x, .* must be numbers"),
+    (lambda text: text.replace(text.splitlines()[3].split(",")[12], "nan", 1), r"stereo_matches.csv:4: a_x, .* must be finite"),
+    (lambda text: text.replace("a.png", "c.png"), r"stereo_matches.csv:2: pair c.png, b.png has no pose"),
+    (lambda text: "", r"stereo_matches.csv: empty, no header"),
+])
+def test_a_damaged_matches_file_is_refused_with_its_line(tmp_path, damage, message):
+    write_set(tmp_path, turn_mrad=0.5, noise_px=0.02)
+    path = tmp_path / "stereo_matches.csv"
+    path.write_text(damage(path.read_text()))
+    result = run(tmp_path, "--reference", "REF")
+    assert result.returncode == 2, result.stdout + result.stderr
+    assert re.search(message, result.stderr), result.stderr
+    assert "Traceback" not in result.stderr
